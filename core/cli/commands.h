@@ -1,0 +1,30 @@
+#pragma once
+// Each subcommand lives in its own file cmd_<name>.cpp and only parses options into the
+// core's option structs, calls the core and prints; no algorithm lives in the CLI.
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+
+namespace thermodec::cli {
+
+void add_info(CLI::App& app);
+void add_convert(CLI::App& app);
+void add_nodes(CLI::App& app);
+void add_viewfactors(CLI::App& app);
+void add_external(CLI::App& app);
+void add_simulate(CLI::App& app);
+void add_compare(CLI::App& app);
+void add_repair(CLI::App& app);
+void add_decimate(CLI::App& app);
+void add_reduce(CLI::App& app);
+
+//! Runs `body`, mapping thermodec errors to a one-line message on stderr and exit code 1.
+//! Sets the process exit code through `exit_code`.
+void run_guarded(const std::function<void()>& body);
+
+//! For subcommands whose capability has not landed yet: says so, exits non-zero.
+void not_implemented(CLI::App* sub, const std::string& what);
+
+int exit_code();
+
+}  // namespace thermodec::cli

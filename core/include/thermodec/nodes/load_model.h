@@ -1,0 +1,20 @@
+#pragma once
+//! Reading and writing the thermal model file (JSON, docs/model-format.md). A bare mesh path
+//! (.obj .ply .stl) is a valid model too: documented defaults apply, and a mesh without
+//! groups gets an automatic nodal breakdown.
+#include <filesystem>
+
+#include "thermodec/nodes/thermal_model.h"
+
+namespace thermodec {
+
+//! \throw InvalidInput naming the offending key (unknown node or material, negative
+//! capacitance, absorptivity/emissivity outside (0,1], ...); IOError if unreadable.
+ThermalModel load_model(const std::filesystem::path& path);
+
+//! Writes `model` as JSON at `json_path` and its mesh at `mesh_path` (relative path stored
+//! in the JSON), both atomically.
+void save_model(const ThermalModel& model, const std::filesystem::path& json_path,
+                const std::filesystem::path& mesh_path);
+
+}  // namespace thermodec

@@ -1,0 +1,85 @@
+#pragma once
+//! A thermal model: the shared mesh plus nodes, materials, conductive links, environment,
+//! analysis and radiation settings, as read from the JSON model file (docs/model-format.md).
+//! All quantities SI: m, K, W, J/K, W/K, W/m^2.
+#include <Eigen/Core>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "thermodec/mesh/mesh.h"
+
+namespace thermodec {
+
+//! Diffuse grey thermo-optical properties of a coating.
+struct Material {
+  std::string name;
+  double absorptivity = 0.5;  //!< solar absorptivity alpha in (0, 1]
+  double emissivity = 0.5;    //!< IR hemispherical emissivity epsilon in (0, 1]
+};
+
+//! A thermal node: an isothermal set of faces (same name as its mesh group).
+struct Node {
+  std::string name;
+  int material = -1;                        //!< default material of its faces (index), -1 = model default
+  double capacitance_J_per_K = 0.0;         //!< heat capacity C [J/K]; 0 = arithmetic (massless) node
+  double power_W = 0.0;                     //!< internal dissipation Q [W]
+  std::optional<double> fixed_temperature_K;  //!< boundary node held at this temperature [K]
+};
+
+//! Conductive link GL between two nodes [W/K].
+struct Conductance {
+  int from = -1;
+  int to = -1;
+  double conductance_W_per_K = 0.0;
+};
+
+enum class EnvironmentType { fixed_sun, orbit };
+enum class Attitude { nadir, sun, inertial };
+
+//! External heat sources. fixed_sun: deep space with a sun. orbit: circular Earth orbit.
+struct Environment {
+  EnvironmentType type = EnvironmentType::orbit;
+  Eigen::Vector3d sun_direction{1.0, 0.0, 0.0};  //!< fixed_sun: unit vector towards the sun, body axes
+  double solar_flux_W_per_m2 = 1361.0;          //!< fixed_sun: flux; orbit: derived from the date
+  double altitude_km = 500.0;
+  double inclination_deg = 51.6;
+  double raan_deg = 0.0;
+  int day_of_year = 80;  //!< 1..366
+  Attitude attitude = Attitude::nadir;
+  double albedo = 0.30;
+  double earth_ir_flux_W_per_m2 = 237.0;
+};
+
+enum class AnalysisType { steady, transient_orbit };
+
+struct Analysis {
+  AnalysisType type = AnalysisType::steady;
+  int steps_per_orbit = 72;  //!< transient_orbit only
+  int orbits = 3;            //!< transient_orbit: max orbits simulated to reach periodicity
+};
+
+//! Monte Carlo settings of the radiative engine.
+struct RadiationSettings {
+  int rays_per_face = 4000;
+  std::uint64_t seed = 1;
+};
+
+struct ThermalModel {
+  //! Shared mesh. After loading, face_node indexes `nodes` and face_material indexes
+  //! `materials` for every face (defaults resolved), and the name vectors of the mesh match.
+  Mesh mesh;
+  std::vector<Material> materials;
+  std::vector<Node> nodes;
+  std::vector<Conductance> conductances;
+  int default_material = 0;
+  Environment environment;
+  Analysis analysis;
+  RadiationSettings radiation;
+  double unit_scale = 1.0;             //!< mesh file units -> m (already applied to mesh.V)
+  std::filesystem::path mesh_path;     //!< mesh file the model was read from
+};
+
+}  // namespace thermodec
