@@ -187,6 +187,47 @@ def build(k, dish_rings, dish_segments):
     return m
 
 
+def check(mesh):
+    """Fails loudly unless the mesh has the properties the README promises: no T-junction
+    (no vertex inside another edge), and body + boom + instrument one closed surface with
+    consistent orientation (each of its edges used once in each direction)."""
+    closed = {"body_px", "body_mx", "body_py", "body_my", "body_pz", "body_mz", "boom", "instrument"}
+    directed = {}
+    edges = set()
+    for node, _, tri in mesh.faces:
+        for e in range(3):
+            a, b = tri[e], tri[(e + 1) % 3]
+            edges.add((min(a, b), max(a, b)))
+            if node in closed:
+                if (a, b) in directed:
+                    raise SystemExit("edge %d-%d used twice in one direction" % (a, b))
+                directed[(a, b)] = node
+    for a, b in directed:
+        if (b, a) not in directed:
+            raise SystemExit("closed surface has a boundary edge %d-%d" % (a, b))
+    cell = 0.05
+    buckets = {}
+    for i, p in enumerate(mesh.vertices):
+        buckets.setdefault(tuple(math.floor(c / cell) for c in p), []).append(i)
+    for a, b in sorted(edges):
+        pa, pb = mesh.vertices[a], mesh.vertices[b]
+        d = [q - p for p, q in zip(pa, pb)]
+        length2 = sum(x * x for x in d)
+        lo = [math.floor(min(p, q) / cell) for p, q in zip(pa, pb)]
+        hi = [math.floor(max(p, q) / cell) for p, q in zip(pa, pb)]
+        for cx in range(lo[0], hi[0] + 1):
+            for cy in range(lo[1], hi[1] + 1):
+                for cz in range(lo[2], hi[2] + 1):
+                    for v in buckets.get((cx, cy, cz), ()):
+                        if v in (a, b):
+                            continue
+                        w = [q - p for p, q in zip(pa, mesh.vertices[v])]
+                        t = sum(x * y for x, y in zip(w, d)) / length2
+                        off = sum((x - t * y) ** 2 for x, y in zip(w, d))
+                        if 1e-9 < t < 1 - 1e-9 and off < 1e-18:
+                            raise SystemExit("T-junction: vertex %d inside edge %d-%d" % (v, a, b))
+
+
 NODE_ORDER = ["body_px", "body_mx", "body_py", "body_my", "body_pz", "body_mz",
               "yoke_py", "wing_py", "yoke_my", "wing_my", "boom", "dish", "instrument"]
 
@@ -293,6 +334,7 @@ def main():
     variants = [("satellite.obj", "model.json", build(1, 7, 32), "coarse"),
                 ("satellite_dense.obj", "model_dense.json", build(4, 40, 128), "dense")]
     for mesh_file, model_file, mesh, label in variants:
+        check(mesh)
         write_obj(mesh, os.path.join(out, mesh_file),
                   "thermodec sample satellite (%s): %d vertices, %d triangles"
                   % (label, len(mesh.vertices), len(mesh.faces)))
