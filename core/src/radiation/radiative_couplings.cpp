@@ -160,11 +160,15 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
     nc.to_space_couplings_m2[i] = GR(i, SP);
     nc.to_space_couplings_standard_error[i] = std::sqrt(VG(i, SP));
   }
+  // Symmetrising moved each row sum by its noise. The self-coupling GR_ii carries no heat
+  // (T_i^4 - T_i^4 = 0), so it absorbs the difference and every node again absorbs exactly
+  // what it emits: A_i eps_i = sum_j GR_ij + GR_i,space (+ unassigned faces). The size of
+  // that correction is what `coupling_closure_error` reports.
   for (int i = 0; i < N; ++i)
     if (emit[i] > 0.0) {
-      const double closure =
-          (nc.radiative_couplings_m2.row(i).sum() + GR(i, SP) + GR(i, U)) / emit[i] - 1.0;
-      dg.coupling_closure_error = std::max(dg.coupling_closure_error, std::abs(closure));
+      const double missing = emit[i] - (nc.radiative_couplings_m2.row(i).sum() + GR(i, SP) + GR(i, U));
+      dg.coupling_closure_error = std::max(dg.coupling_closure_error, std::abs(missing) / emit[i]);
+      nc.radiative_couplings_m2(i, i) = std::max(0.0, nc.radiative_couplings_m2(i, i) + missing);
     }
   return nc;
 }

@@ -23,7 +23,8 @@ struct CouplingDiagnostics {
   //! is counted once).
   double view_factor_closure_error = 0.0;
   //! max over nodes of |(sum_j GR_ij + GR_i,space) / sum_{k in i} A_k eps_k - 1| after
-  //! symmetrisation; `gebhart_closure_error` is the same at face level before it.
+  //! symmetrisation, before the self-coupling GR_ii is corrected to restore closure exactly
+  //! (GR_ii carries no heat); `gebhart_closure_error` is the face-level closure of the solve.
   double coupling_closure_error = 0.0;
   double gebhart_closure_error = 0.0;
   int gebhart_iterations = 0;
@@ -39,7 +40,9 @@ struct NodeCouplings {
   Eigen::VectorXd area_m2;                  //!< radiating area per node [m^2] (both sides of two-sided faces)
   Eigen::MatrixXd view_factors;             //!< F_ij, area-weighted over the node's faces [-]
   Eigen::VectorXd to_space;                 //!< F_i,space [-]
-  Eigen::MatrixXd radiative_couplings_m2;   //!< GR_ij = sum A_k eps_k B_kl [m^2], symmetric
+  //! GR_ij = sum A_k eps_k B_kl [m^2], symmetric; rows close: sum_j GR_ij + GR_i,space =
+  //! sum_{k in i} A_k eps_k (faces without a node aside).
+  Eigen::MatrixXd radiative_couplings_m2;
   Eigen::VectorXd to_space_couplings_m2;    //!< GR_i,space [m^2]
   Eigen::MatrixXd view_factors_standard_error;          //!< Monte Carlo 1-sigma of F_ij
   Eigen::MatrixXd radiative_couplings_standard_error;   //!< Monte Carlo 1-sigma of GR_ij [m^2]
