@@ -55,6 +55,9 @@ RayScene::RayScene(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
   for (int f = 0; f < mesh.num_faces(); ++f) {
     if (is_traceable_face(mesh, f)) {
       s.face_of_prim.push_back(f);
+      const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+      const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+      for (int k = 0; k < 3; ++k) s.prim_normal.push_back(float(n[k]));
       for (int k = 0; k < 3; ++k) s.bounds.extend(Eigen::Vector3d(mesh.V.row(mesh.F(f, k))));
     } else {
       ++s.skipped;

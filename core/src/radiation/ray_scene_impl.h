@@ -14,6 +14,7 @@ struct RayScene::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
   std::vector<int> face_of_prim;  // Embree primID -> mesh face
+  std::vector<float> prim_normal;  // 3 per primID: unit front normal (CCW), for side tests
   int skipped = 0;
   Eigen::AlignedBox3d bounds;
   ~Impl();
