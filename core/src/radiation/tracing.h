@@ -88,15 +88,18 @@ void trace_emitter(const RayScene::Impl& scene, const SurfaceSides& sides, const
   }
 }
 
-//! Dense per-thread counter over sides + space, cleared in O(touched).
+//! Dense per-thread counter over sides + space (+ a "gone" bucket used by the incremental
+//! path for hits on reference faces that no longer exist), cleared in O(touched).
 struct Counter {
-  std::vector<std::int32_t> count;  // last entry = space
+  std::vector<std::int32_t> count;  // [0, n) sides, n = space, n + 1 = gone
   std::vector<int> touched;
-  std::int64_t back_hits = 0;
-  explicit Counter(int num_sides) : count(num_sides + 1, 0) {}
+  int num_sides;
+  explicit Counter(int n) : count(n + 2, 0), num_sides(n) {}
+  int space() const { return num_sides; }
+  int gone() const { return num_sides + 1; }
   void add(int side, int w) {
-    const int idx = side < 0 ? static_cast<int>(count.size()) - 1 : side;
-    if (count[idx] == 0) touched.push_back(idx);
+    const int idx = side < 0 ? space() : side;
+    if (count[idx] == 0) touched.push_back(idx);  // may repeat if a count returns to 0
     count[idx] += w;
   }
 };
