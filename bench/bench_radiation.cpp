@@ -229,6 +229,50 @@ void incremental_case(const std::string& name, const ThermalModel& model, int ra
              inc.view_factors == full.view_factors ? "yes" : "no");
 }
 
+// ~100k faces with a hidden interior: an outer closed box (80 x 80 quads per wall), an inner
+// box (40 x 40) and an internal partition inside it: 19.2k faces should be dropped.
+Mesh nested_boxes_100k() {
+  Mesh m;
+  std::vector<Eigen::RowVector3d> V;
+  std::vector<Eigen::RowVector3i> F;
+  std::vector<int> node;
+  auto quad_grid = [&](Eigen::RowVector3d c, Eigen::RowVector3d u, Eigen::RowVector3d v, int n, int nd) {
+    const int v0 = static_cast<int>(V.size());
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; j <= n; ++j) V.push_back(c + u * (double(i) / n) + v * (double(j) / n));
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const int a = v0 + i * (n + 1) + j, b = a + n + 1;
+        F.emplace_back(a, b, b + 1);
+        F.emplace_back(a, b + 1, a + 1);
+        node.push_back(nd);
+        node.push_back(nd);
+      }
+  };
+  auto box = [&](double h, int n, int nd) {
+    const Eigen::RowVector3d lo(-h, -h, -h), ex(2 * h, 0, 0), ey(0, 2 * h, 0), ez(0, 0, 2 * h);
+    quad_grid(lo, ey, ex, n, nd);
+    quad_grid(lo + ez, ex, ey, n, nd);
+    quad_grid(lo, ex, ez, n, nd);
+    quad_grid(lo + ey, ez, ex, n, nd);
+    quad_grid(lo, ez, ey, n, nd);
+    quad_grid(lo + ex, ey, ez, n, nd);
+  };
+  box(1.0, 80, 0);
+  box(0.5, 40, 1);
+  quad_grid({-0.9, 0.7, -0.9}, {1.8, 0, 0}, {0, 0, 1.8}, 20, 2);
+  m.V.resize(V.size(), 3);
+  for (std::size_t i = 0; i < V.size(); ++i) m.V.row(i) = V[i];
+  m.F.resize(F.size(), 3);
+  for (std::size_t i = 0; i < F.size(); ++i) m.F.row(i) = F[i];
+  m.face_node = Eigen::Map<Eigen::VectorXi>(node.data(), node.size());
+  m.face_material = Eigen::VectorXi::Zero(F.size());
+  m.face_back_material = Eigen::VectorXi::Constant(F.size(), -1);
+  m.node_names = {"outer", "inner", "partition"};
+  m.material_names = {"paint"};
+  return m;
+}
+
 void external_case(const std::string& name, const ThermalModel& model) {
   const auto t0 = Clock::now();
   const RayScene scene(model.mesh);
@@ -273,6 +317,9 @@ int main(int argc, char** argv) {
   if (want("external")) {
     external_case(dense_name, dense);
     external_case(dense_name + "_x4", big);
+    ThermalModel nested;
+    nested.mesh = nested_boxes_100k();
+    external_case("nested_boxes_100k", nested);
   }
   return 0;
 }
