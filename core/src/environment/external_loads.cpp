@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -15,43 +16,14 @@
 
 #include "thermodec/common/errors.h"
 #include "thermodec/environment/orbit.h"
+// The radiative engine's Owen-scrambled Sobol sampler (private to the core library): the same
+// sequences and side seeding as the view factors, so loads get the same variance properties.
+#include "../radiation/sampling.h"
 
 namespace thermodec {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-std::uint64_t mix(std::uint64_t x) {  // splitmix64 finaliser
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-double unit(std::uint64_t h) { return double(h >> 11) * (1.0 / 9007199254740992.0); }
-
-// Counter-based stream: the i-th uniform of (seed, side identity, purpose) is a pure function
-// of those, so every side's samples are independent of evaluation order and thread.
-struct Stream {
-  std::uint64_t base;
-  Stream(std::uint64_t seed, std::uint64_t key, std::uint64_t purpose)
-      : base(mix(mix(seed ^ 0x7468657266ull) ^ key) ^ mix(purpose)) {}
-  double operator()(std::uint64_t i) const { return unit(mix(base + 0x632be59bd9b4e019ull * (i + 1))); }
-};
-
-// Jittered stratified samples in the unit square: m x m cells (m = ceil(sqrt(n))), the first n
-// cells in a hashed order so n need not be a square.
-std::vector<Eigen::Vector2d> stratified_square(int n, const Stream& rng, std::uint64_t offset) {
-  const int m = static_cast<int>(std::ceil(std::sqrt(double(n))));
-  std::vector<std::pair<std::uint64_t, int>> order(m * m);
-  for (int c = 0; c < m * m; ++c) order[c] = {mix(rng.base ^ (offset + c)), c};
-  if (n < m * m) std::sort(order.begin(), order.end());
-  std::vector<Eigen::Vector2d> pts(n);
-  for (int k = 0; k < n; ++k) {
-    const int c = order[k].second;
-    pts[k] = {((c % m) + rng(offset + 2 * k)) / m, ((c / m) + rng(offset + 2 * k + 1)) / m};
-  }
-  return pts;
-}
 
 // Area-preserving square -> triangle map (barycentric (1 - sqrt u, sqrt u (1 - v), sqrt u v)).
 Eigen::Vector3d on_triangle(const Eigen::Vector2d& uv, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
@@ -60,25 +32,24 @@ Eigen::Vector3d on_triangle(const Eigen::Vector2d& uv, const Eigen::Vector3d& a,
   return (1.0 - su) * a + su * (1.0 - uv.y()) * b + su * uv.y() * c;
 }
 
-// Shirley-Chiu concentric map to the disk, lifted to the cosine-weighted hemisphere (Malley).
-Eigen::Vector3d cosine_direction(const Eigen::Vector2d& uv) {
-  const double a = 2.0 * uv.x() - 1.0, b = 2.0 * uv.y() - 1.0;
-  double r, phi;
-  if (a == 0.0 && b == 0.0) {
-    r = 0.0, phi = 0.0;
-  } else if (std::abs(a) > std::abs(b)) {
-    r = a, phi = (kPi / 4) * (b / a);
-  } else {
-    r = b, phi = kPi / 2 - (kPi / 4) * (a / b);
-  }
-  const double x = r * std::cos(phi), y = r * std::sin(phi);
-  return {x, y, std::sqrt(std::max(0.0, 1.0 - x * x - y * y))};
-}
-
 struct Side {
   Eigen::Vector3d a, b, c, normal;
   double area = 0.0;
+  double offset = 0.0;  // ray-origin lift along the normal [m]
 };
+
+// Scrambling seeds of a side for one purpose: a pure function of (seed, side identity), so
+// an unchanged face keeps its samples in a modified model and results ignore thread count.
+std::array<std::uint32_t, 4> side_seeds(std::uint64_t seed, std::uint64_t key, std::uint64_t purpose) {
+  std::array<std::uint32_t, 4> out;
+  const std::uint64_t h = sampling::hash_combine(sampling::hash_combine(key, seed), 0x10ad5000ull + purpose);
+  for (int d = 0; d < 4; ++d) out[d] = std::uint32_t(sampling::hash_combine(h, d) >> 32);
+  return out;
+}
+
+double scrambled(std::uint32_t sobol, std::uint32_t seed) {
+  return sampling::to_unit_float(sampling::owen_scramble(sobol, seed)) + 0.5 / 16777216.0;
+}
 
 std::vector<Side> side_geometry(const Mesh& mesh, const SurfaceSides& sides) {
   std::vector<Side> out(sides.size());
@@ -95,6 +66,10 @@ std::vector<Side> side_geometry(const Mesh& mesh, const SurfaceSides& sides) {
       g.normal = -g.normal;
       std::swap(g.b, g.c);  // keep the (a, b, c) winding counter-clockwise seen from this side
     }
+    // note: like the view-factor rays, the lift depends on this face only (not on the scene
+    // extent), so an unchanged face casts bit-identical rays in a decimated model.
+    g.offset = 1e-5 * std::max({g.a.cwiseAbs().maxCoeff(), g.b.cwiseAbs().maxCoeff(), g.c.cwiseAbs().maxCoeff(),
+                                (g.b - g.a).norm(), (g.c - g.a).norm()});
   }
   return out;
 }
@@ -112,30 +87,25 @@ RayQuery make_ray(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_f
   return r;
 }
 
-// Offset of ray origins along the side normal so a ray does not hit its own face.
-double origin_offset(const RayScene& scene) {
-  const auto& box = scene.bounds();
-  const double diag = box.isEmpty() ? 1.0 : (box.max() - box.min()).norm();
-  return std::max(1e-6 * diag, 1e-9);
-}
-
 // Unblocked fraction of each side's sample points towards the direction `toward` (unit),
 // for sides facing it; 0 for the others.
 Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
                                 const Eigen::Vector3d& toward, int rays, std::uint64_t seed) {
   const int ns = sides.size();
   Eigen::VectorXd frac = Eigen::VectorXd::Zero(ns);
-  const double eps = origin_offset(scene);
+  const auto sobol = sampling::sobol_4d(rays);
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
     std::vector<RayQuery> batch;
     std::vector<std::uint8_t> blocked;
     for (int s = range.begin(); s < range.end(); ++s) {
       const Side& g = geo[s];
       if (g.area <= 0.0 || g.normal.dot(toward) <= 0.0) continue;
-      const Stream rng(seed, sides.key[s], 1);
-      const auto pts = stratified_square(rays, rng, 0);
+      const auto sd = side_seeds(seed, sides.key[s], 1);
       batch.clear();
-      for (const auto& uv : pts) batch.push_back(make_ray(on_triangle(uv, g.a, g.b, g.c) + eps * g.normal, toward, 1e30));
+      for (const auto& q : sobol) {
+        const Eigen::Vector2d uv(scrambled(q[0], sd[0]), scrambled(q[1], sd[1]));
+        batch.push_back(make_ray(on_triangle(uv, g.a, g.b, g.c) + g.offset * g.normal, toward, 1e30));
+      }
       scene.occluded(batch, blocked);
       int open = 0;
       for (auto b : blocked) open += !b;
@@ -145,57 +115,69 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
   return frac;
 }
 
-// Earth rays of each side: normals (body axes) of the Earth points reached by unblocked rays.
+// Earth rays of each side. Directions are drawn uniformly (stratified) inside the cone the
+// Earth subtends, not over the hemisphere: every ray then lands on the Earth, the integrand
+// (cos theta x visibility x albedo lighting) is smooth wherever the spacecraft does not block
+// the view, and the estimate of an unobstructed side is nearly exact. Each ray keeps its
+// weight Omega_cap / (pi N) max(0, n . w) (its share of F_side->Earth) and the Earth normal
+// at its hit point (for the albedo lighting at every time step).
 struct EarthHits {
-  std::vector<std::vector<Eigen::Vector3f>> normals;  // per side
-  int rays = 0;
+  std::vector<std::vector<std::pair<float, Eigen::Vector3f>>> rays;  // per side: (weight, normal)
+  Eigen::VectorXd view_factor;                                        // per side: sum of weights
 };
 
 EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
-                     const Eigen::Vector3d& earth_dir, double distance_m, int rays, std::uint64_t seed) {
+                     const Eigen::Vector3d& earth_dir_in, double distance_m, int rays, std::uint64_t seed) {
   const int ns = sides.size();
   EarthHits out;
-  out.rays = rays;
-  out.normals.resize(ns);
-  const double eps = origin_offset(scene);
-  const Eigen::Vector3d centre = earth_dir.normalized() * distance_m;
+  out.rays.resize(ns);
+  out.view_factor = Eigen::VectorXd::Zero(ns);
+  const auto sobol = sampling::sobol_4d(rays);
+  const Eigen::Vector3d earth_dir = earth_dir_in.normalized();
+  const Eigen::Vector3d centre = earth_dir * distance_m;
   const double R2 = kEarthRadius_m * kEarthRadius_m;
+  const double sin_half = kEarthRadius_m / distance_m;
+  const double cos_half = std::sqrt(1.0 - sin_half * sin_half);
+  const double cap_weight = 2.0 * kPi * (1.0 - cos_half) / kPi / rays;  // Omega_cap / (pi N)
+  Eigen::Vector3d et, eu;
+  orthonormal_frame(earth_dir, et, eu);
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
     std::vector<RayQuery> batch;
     std::vector<std::uint8_t> blocked;
-    std::vector<Eigen::Vector3f> hit_normal;
+    std::vector<std::pair<float, Eigen::Vector3f>> candidate;
     for (int s = range.begin(); s < range.end(); ++s) {
       const Side& g = geo[s];
       if (g.area <= 0.0) continue;
-      // Skip sides that cannot see any of the Earth: the Earth cap lies beyond their horizon.
-      const double sin_half = kEarthRadius_m / distance_m;
-      if (g.normal.dot(earth_dir) <= -sin_half) continue;
-      Eigen::Vector3d t, u;
-      orthonormal_frame(g.normal, t, u);
-      const Stream rng(seed, sides.key[s], 2);
-      const auto dirs = stratified_square(rays, rng, 0);
-      const auto pts = stratified_square(rays, rng, 0x100000000ull);
+      if (g.normal.dot(earth_dir) <= -sin_half) continue;  // the whole Earth is below its horizon
+      const auto sd = side_seeds(seed, sides.key[s], 2);
       batch.clear();
-      hit_normal.clear();
+      candidate.clear();
       for (int k = 0; k < rays; ++k) {
-        const Eigen::Vector3d l = cosine_direction(dirs[k]);
-        const Eigen::Vector3d d = l.x() * t + l.y() * u + l.z() * g.normal;
-        // Decorrelate origin and direction strata by pairing direction k with point k' (hashed).
-        const Eigen::Vector3d o = on_triangle(pts[(k * 7919 + (rng.base & 0xffff)) % rays], g.a, g.b, g.c) + eps * g.normal;
+        const auto& q = sobol[k];
+        const Eigen::Vector2d uv(scrambled(q[0], sd[0]), scrambled(q[1], sd[1]));
+        const double cos_a = 1.0 - scrambled(q[2], sd[2]) * (1.0 - cos_half), phi = 2.0 * kPi * scrambled(q[3], sd[3]);
+        const double sin_a = std::sqrt(std::max(0.0, 1.0 - cos_a * cos_a));
+        const Eigen::Vector3d d = cos_a * earth_dir + sin_a * (std::cos(phi) * et + std::sin(phi) * eu);
+        const double cos_t = g.normal.dot(d);
+        if (cos_t <= 0.0) continue;
+        const Eigen::Vector3d o = on_triangle(uv, g.a, g.b, g.c) + g.offset * g.normal;
         const Eigen::Vector3d oc = centre - o;
         const double tc = oc.dot(d);
-        if (tc <= 0.0) continue;
-        const double d2 = oc.squaredNorm() - tc * tc;
-        if (d2 >= R2) continue;
-        const double t_hit = tc - std::sqrt(R2 - d2);
+        const double d2 = std::max(0.0, oc.squaredNorm() - tc * tc);
+        const double t_hit = d2 < R2 ? tc - std::sqrt(R2 - d2) : tc;  // grazing: nearest point
         batch.push_back(make_ray(o, d, 1e30));
-        hit_normal.push_back(((o + t_hit * d - centre) / kEarthRadius_m).cast<float>());
+        candidate.emplace_back(float(cap_weight * cos_t), ((o + t_hit * d - centre).normalized()).cast<float>());
       }
       if (batch.empty()) continue;
       scene.occluded(batch, blocked);
-      auto& keep = out.normals[s];
+      auto& keep = out.rays[s];
+      double f = 0.0;
       for (size_t k = 0; k < batch.size(); ++k)
-        if (!blocked[k]) keep.push_back(hit_normal[k]);
+        if (!blocked[k]) {
+          keep.push_back(candidate[k]);
+          f += candidate[k].first;
+        }
+      out.view_factor[s] = f;
     }
   });
   return out;
@@ -212,9 +194,7 @@ Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& si
   if (!(distance_m > kEarthRadius_m)) throw InvalidInput("Earth view factors: distance must exceed the Earth radius");
   const auto geo = side_geometry(scene.mesh(), sides);
   const EarthHits hits = earth_hits(scene, geo, sides, earth_direction_body, distance_m, rays, seed);
-  Eigen::VectorXd F(sides.size());
-  for (int s = 0; s < sides.size(); ++s) F[s] = double(hits.normals[s].size()) / rays;
-  return F;
+  return hits.view_factor;
 }
 
 Loads external_loads(const ThermalModel& model, const RayScene& scene, const SurfaceSides& sides,
@@ -283,20 +263,20 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     Eigen::Vector3d last_earth = Eigen::Vector3d::Zero();
     for (int k = 0; k < steps; ++k) {
       const OrbitState& st = states[k];
-      if (hits.normals.empty() || !same_direction(st.earth_direction_body, last_earth)) {
+      if (hits.rays.empty() || !same_direction(st.earth_direction_body, last_earth)) {
         hits = earth_hits(scene, geo, sides, st.earth_direction_body, distance, settings.earth_rays_per_face,
                           settings.seed);
         last_earth = st.earth_direction_body;
       }
       const Eigen::Vector3f sun = st.sun_direction_body.cast<float>();
       for (int s = 0; s < ns; ++s) {
-        const auto& normals = hits.normals[s];
-        if (normals.empty()) continue;
+        const auto& rays = hits.rays[s];
+        if (rays.empty()) continue;
         const int node = sides.node[s];
-        const double f_earth = double(normals.size()) / hits.rays;
+        const double f_earth = hits.view_factor[s];
         double lit_sum = 0.0;
-        for (const auto& n : normals) lit_sum += std::max(0.0f, n.dot(sun));
-        incident_albedo(s, k) = env.albedo * flux * geo[s].area * lit_sum / hits.rays;
+        for (const auto& [w, n] : rays) lit_sum += w * std::max(0.0f, n.dot(sun));
+        incident_albedo(s, k) = env.albedo * flux * geo[s].area * lit_sum;
         if (node >= 0) loads.earth_ir_W(node, k) += eps[s] * env.earth_ir_flux_W_per_m2 * geo[s].area * f_earth;
       }
     }
