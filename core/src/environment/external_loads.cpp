@@ -159,24 +159,26 @@ struct EarthHits {
 };
 
 EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
-                     const Eigen::Vector3d& earth_dir_in, double distance_m, int rays, std::uint64_t seed) {
+                     const Eigen::Vector3d& earth_dir_in, double distance_m, int rays, int pilot_rays,
+                     std::uint64_t seed) {
   const int ns = sides.size();
   EarthHits out;
   out.rays.resize(ns);
   out.view_factor = Eigen::VectorXd::Zero(ns);
   const auto sobol = sampling::sobol_4d(rays);
+  const int pilot = std::max(1, std::min(rays, pilot_rays));
   const Eigen::Vector3d earth_dir = earth_dir_in.normalized();
   const Eigen::Vector3d centre = earth_dir * distance_m;
   const double R2 = kEarthRadius_m * kEarthRadius_m;
   const double sin_half = kEarthRadius_m / distance_m;
   const double cos_half = std::sqrt(1.0 - sin_half * sin_half);
-  const double cap_weight = 2.0 * kPi * (1.0 - cos_half) / kPi / rays;  // Omega_cap / (pi N)
+  const double cap_over_pi = 2.0 * (1.0 - cos_half);  // Omega_cap / pi
   Eigen::Vector3d et, eu;
   orthonormal_frame(earth_dir, et, eu);
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
     std::vector<RayQuery> batch;
     std::vector<std::uint8_t> blocked;
-    std::vector<std::pair<float, Eigen::Vector3f>> candidate;
+    std::vector<std::pair<float, Eigen::Vector3f>> candidate;  // (cos theta, Earth normal)
     for (int s = range.begin(); s < range.end(); ++s) {
       const Side& g = geo[s];
       if (g.area <= 0.0) continue;
@@ -184,30 +186,49 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       const auto sd = side_seeds(seed, sides.key[s], 2);
       batch.clear();
       candidate.clear();
-      for (int k = 0; k < rays; ++k) {
-        const auto& q = sobol[k];
-        const Eigen::Vector2d uv(scrambled(q[0], sd[0]), scrambled(q[1], sd[1]));
-        const double cos_a = 1.0 - scrambled(q[2], sd[2]) * (1.0 - cos_half), phi = 2.0 * kPi * scrambled(q[3], sd[3]);
-        const double sin_a = std::sqrt(std::max(0.0, 1.0 - cos_a * cos_a));
-        const Eigen::Vector3d d = cos_a * earth_dir + sin_a * (std::cos(phi) * et + std::sin(phi) * eu);
-        const double cos_t = g.normal.dot(d);
-        if (cos_t <= 0.0) continue;
-        const Eigen::Vector3d o = on_triangle(uv, g.a, g.b, g.c) + g.offset * g.normal;
-        const Eigen::Vector3d oc = centre - o;
-        const double tc = oc.dot(d);
-        const double d2 = std::max(0.0, oc.squaredNorm() - tc * tc);
-        const double t_hit = d2 < R2 ? tc - std::sqrt(R2 - d2) : tc;  // grazing: nearest point
-        batch.push_back(make_ray(o, d, 1e30));
-        candidate.emplace_back(float(cap_weight * cos_t), ((o + t_hit * d - centre).normalized()).cast<float>());
-      }
+      auto add_rays = [&](int from, int to) {
+        for (int k = from; k < to; ++k) {
+          const auto& q = sobol[k];
+          const Eigen::Vector2d uv(scrambled(q[0], sd[0]), scrambled(q[1], sd[1]));
+          const double cos_a = 1.0 - scrambled(q[2], sd[2]) * (1.0 - cos_half), phi = 2.0 * kPi * scrambled(q[3], sd[3]);
+          const double sin_a = std::sqrt(std::max(0.0, 1.0 - cos_a * cos_a));
+          const Eigen::Vector3d d = cos_a * earth_dir + sin_a * (std::cos(phi) * et + std::sin(phi) * eu);
+          const double cos_t = g.normal.dot(d);
+          if (cos_t <= 0.0) continue;
+          const Eigen::Vector3d o = on_triangle(uv, g.a, g.b, g.c) + g.offset * g.normal;
+          const Eigen::Vector3d oc = centre - o;
+          const double tc = oc.dot(d);
+          const double d2 = std::max(0.0, oc.squaredNorm() - tc * tc);
+          const double t_hit = d2 < R2 ? tc - std::sqrt(R2 - d2) : tc;  // grazing: nearest point
+          batch.push_back(make_ray(o, d, 1e30));
+          candidate.emplace_back(float(cos_t), ((o + t_hit * d - centre).normalized()).cast<float>());
+        }
+      };
+      // Pilot: a side none of whose first `pilot` rays is blocked sees the Earth unobstructed
+      // and keeps those (the integrand is then smooth and the Sobol estimate accurate); a side
+      // with any blocked pilot ray traces all `rays`, where the visibility edge needs them.
+      add_rays(0, pilot);
       if (batch.empty()) continue;
       scene.occluded(batch, blocked);
+      int used = pilot;
+      bool any_blocked = false;
+      for (auto b : blocked) any_blocked |= b != 0;
+      if (any_blocked && rays > pilot) {
+        const size_t first_new = batch.size();
+        add_rays(pilot, rays);
+        std::vector<std::uint8_t> more;
+        std::vector<RayQuery> rest(batch.begin() + first_new, batch.end());
+        if (!rest.empty()) scene.occluded(rest, more);
+        blocked.insert(blocked.end(), more.begin(), more.end());
+        used = rays;
+      }
+      const double weight = cap_over_pi / used;
       auto& keep = out.rays[s];
       double f = 0.0;
       for (size_t k = 0; k < batch.size(); ++k)
         if (!blocked[k]) {
-          keep.push_back(candidate[k]);
-          f += candidate[k].first;
+          keep.emplace_back(float(weight * candidate[k].first), candidate[k].second);
+          f += weight * candidate[k].first;
         }
       out.view_factor[s] = f;
     }
@@ -226,7 +247,7 @@ Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& si
   if (rays < 1) throw InvalidInput("earth_rays_per_face must be >= 1");
   if (!(distance_m > kEarthRadius_m)) throw InvalidInput("Earth view factors: distance must exceed the Earth radius");
   const auto geo = side_geometry(scene.mesh(), sides);
-  const EarthHits hits = earth_hits(scene, geo, sides, earth_direction_body, distance_m, rays, seed);
+  const EarthHits hits = earth_hits(scene, geo, sides, earth_direction_body, distance_m, rays, rays, seed);
   return hits.view_factor;
 }
 
@@ -235,6 +256,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
                      const std::function<void(const std::string&)>& progress) {
   const Environment& env = model.environment;
   if (settings.sun_rays_per_face < 1) throw InvalidInput("sun_rays_per_face must be >= 1");
+  if (settings.earth_pilot_rays < 1) throw InvalidInput("earth_pilot_rays must be >= 1");
   if (settings.sun_pilot_rays < 1) throw InvalidInput("sun_pilot_rays must be >= 1");
   if (settings.earth_rays_per_face < 1) throw InvalidInput("earth_rays_per_face must be >= 1");
   const int num_nodes = static_cast<int>(model.nodes.size());
@@ -300,6 +322,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       const OrbitState& st = states[k];
       if (hits.empty() || !same_direction(st.earth_direction_body, last_earth)) {
         hits = earth_hits(scene, geo, sides, st.earth_direction_body, distance, settings.earth_rays_per_face,
+                          settings.earth_pilot_rays,
                           settings.seed);
         last_earth = st.earth_direction_body;
       }
