@@ -135,14 +135,25 @@ class Body {
   std::size_t word_ = 0;
 };
 
-void assign_names(std::vector<std::string>& names, const Eigen::VectorXi& ids,
-                  const std::map<int, std::string>& named, const char* prefix) {
-  const int max_id = ids.size() ? ids.maxCoeff() : -1;
+// Turns file ids into indices of a compact name table: the ids named in comments plus the ids
+// faces use, in ascending order. With the usual contiguous ids 0..n-1 this is the identity;
+// sparse ids (e.g. MeshLab quality labels 3 and 70) give two names, not seventy-one.
+void compact_ids(std::vector<std::string>& names, std::vector<Eigen::VectorXi*> ids,
+                 const std::map<int, std::string>& named, const char* prefix) {
+  std::map<int, int> index;
+  for (const auto& [id, name] : named) index.emplace(id, 0);
+  for (auto* v : ids)
+    for (int f = 0; f < v->size(); ++f)
+      if ((*v)[f] >= 0) index.emplace((*v)[f], 0);
   names.clear();
-  for (int i = 0; i <= max_id; ++i) {
-    auto it = named.find(i);
-    names.push_back(it != named.end() ? it->second : fmt::format("{}_{}", prefix, i));
+  for (auto& [id, position] : index) {
+    position = static_cast<int>(names.size());
+    auto it = named.find(id);
+    names.push_back(it != named.end() ? it->second : fmt::format("{}_{}", prefix, id));
   }
+  for (auto* v : ids)
+    for (int f = 0; f < v->size(); ++f)
+      if ((*v)[f] >= 0) (*v)[f] = index.at((*v)[f]);
 }
 
 }  // namespace
@@ -226,7 +237,7 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
       if (e.properties[px].is_list || e.properties[py].is_list || e.properties[pz].is_list)
         throw file_error(file, "PLY vertex x/y/z must be scalar properties");
       num_vertices = e.count;
-      xyz.reserve(3 * static_cast<std::size_t>(std::min<long long>(e.count, 1ll << 26)));
+      xyz.reserve(3 * static_cast<std::size_t>(std::min<long long>(e.count, static_cast<long long>(data.size()))));  // a header cannot make us allocate more than the file could hold
     }
     if (is_face) {
       pidx = e.find("vertex_indices");
@@ -326,11 +337,9 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
     if (has_material) mesh.face_material[f] = static_cast<int>(tri_material[f]);
     if (has_back) mesh.face_back_material[f] = static_cast<int>(tri_back[f]);
   }
-  assign_names(mesh.node_names, mesh.face_node, node_names, "node");
+  compact_ids(mesh.node_names, {&mesh.face_node}, node_names, "node");
   // Front and back materials share one name table.
-  Eigen::VectorXi all_materials(2 * nf);
-  all_materials << mesh.face_material, mesh.face_back_material;
-  assign_names(mesh.material_names, all_materials, material_names, "material");
+  compact_ids(mesh.material_names, {&mesh.face_material, &mesh.face_back_material}, material_names, "material");
   return mesh;
 }
 
