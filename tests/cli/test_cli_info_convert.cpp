@@ -136,3 +136,12 @@ TEST(CliConvert, unknown_output_format_exits_1) {
   EXPECT_NE(r.err.find("unknown mesh format"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(d / "out.dae"));
 }
+
+TEST(CliInfo, usage_errors_exit_1_with_one_line) {
+  auto d = temp_dir("usage");
+  for (const char* args : {"info", "convert only_one.obj", "info a.obj b.obj", "info --no-such-flag x.obj"}) {
+    const CliRun r = run_cli(args, d);
+    EXPECT_EQ(r.exit_code, 1) << args;
+    EXPECT_EQ(lines(r.err), 1) << args << ": " << r.err;
+  }
+}
