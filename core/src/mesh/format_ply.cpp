@@ -71,38 +71,38 @@ class Body {
   Body(std::string_view data, std::size_t start, int start_line, Format format, const std::string& file)
       : data_(data), pos_(start), line_(start_line), format_(format), file_(file) {}
 
-  // `what` names the record in errors, e.g. "face 12".
-  void begin_record(const std::string& what) {
-    what_ = what;
+  // The record is named in errors as "<element> <index>", e.g. "face 12" (built only on error).
+  void begin_record(const std::string& element, long long index) {
+    element_ = &element;
+    index_ = index;
     if (format_ != Format::ascii) return;
-    words_.clear();
     word_ = 0;
     LineReader lines(data_.substr(pos_));
     std::string_view line;
     while (true) {
-      if (!lines.next(line)) throw file_error(file_, "truncated PLY: file ends before " + what_);
+      if (!lines.next(line)) throw file_error(file_, "truncated PLY: file ends before " + what());
       ++line_;
-      words_ = split_words(trim(line));
+      split_words_into(trim(line), words_);
       if (!words_.empty()) break;
     }
     pos_ += lines.position();
   }
   void end_record() {
     if (format_ == Format::ascii && word_ != words_.size())
-      throw line_error(file_, line_, what_ + " has " + std::to_string(words_.size()) + " values, the header declares " + std::to_string(word_));
+      throw line_error(file_, line_, what() + " has " + std::to_string(words_.size()) + " values, the header declares " + std::to_string(word_));
   }
 
   double read(PlyType t) {
     if (format_ == Format::ascii) {
       if (word_ >= words_.size())
-        throw line_error(file_, line_, what_ + " has too few values (" + std::to_string(words_.size()) + ")");
+        throw line_error(file_, line_, what() + " has too few values (" + std::to_string(words_.size()) + ")");
       const std::string_view w = words_[word_++];
       double v;
-      if (!parse_double(w, v)) throw line_error(file_, line_, what_ + ": bad number '" + std::string(w) + "'");
+      if (!parse_double(w, v)) throw line_error(file_, line_, what() + ": bad number '" + std::string(w) + "'");
       return v;
     }
     const std::size_t n = type_size(t);
-    if (pos_ + n > data_.size()) throw file_error(file_, "truncated binary PLY: data ends inside " + what_);
+    if (pos_ + n > data_.size()) throw file_error(file_, "truncated binary PLY: data ends inside " + what());
     unsigned char b[8];
     std::memcpy(b, data_.data() + pos_, n);
     pos_ += n;
@@ -120,8 +120,9 @@ class Body {
     return 0.0;
   }
 
+  std::string what() const { return *element_ + " " + std::to_string(index_); }
   std::string where() const {
-    return format_ == Format::ascii ? file_ + ":" + std::to_string(line_) + ": " + what_ : file_ + ": " + what_;
+    return format_ == Format::ascii ? file_ + ":" + std::to_string(line_) + ": " + what() : file_ + ": " + what();
   }
 
  private:
@@ -130,7 +131,8 @@ class Body {
   int line_;
   Format format_;
   const std::string& file_;
-  std::string what_;
+  const std::string* element_ = nullptr;
+  long long index_ = 0;
   std::vector<std::string_view> words_;
   std::size_t word_ = 0;
 };
@@ -228,6 +230,7 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
   std::vector<double> tri_node, tri_material, tri_back, tri_quality;
   bool has_node = false, has_material = false, has_back = false, has_quality = false;
   long long num_vertices = -1;
+  std::vector<long long> polygon;
   for (const Element& e : elements) {
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
     int px = -1, py = -1, pz = -1, pidx = -1, pnode = -1, pmat = -1, pback = -1, pq = -1;
@@ -249,10 +252,10 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
       has_node = pnode >= 0, has_material = pmat >= 0, has_back = pback >= 0, has_quality = pq >= 0;
     }
     for (long long r = 0; r < e.count; ++r) {
-      body.begin_record(e.name + " " + std::to_string(r));
+      body.begin_record(e.name, r);
       double pos[3] = {0, 0, 0};
       double node = -1, material = -1, back = -1, quality = -1;
-      std::vector<long long> polygon;
+      polygon.clear();
       for (int p = 0; p < static_cast<int>(e.properties.size()); ++p) {
         const Property& prop = e.properties[p];
         if (prop.is_list) {

@@ -62,8 +62,8 @@ inline std::string_view trim(std::string_view s) {
   return s;
 }
 
-inline std::vector<std::string_view> split_words(std::string_view s) {
-  std::vector<std::string_view> words;
+inline void split_words_into(std::string_view s, std::vector<std::string_view>& words) {
+  words.clear();
   std::size_t i = 0;
   while (i < s.size()) {
     while (i < s.size() && is_space(s[i])) ++i;
@@ -72,6 +72,11 @@ inline std::vector<std::string_view> split_words(std::string_view s) {
     if (j > i) words.push_back(s.substr(i, j - i));
     i = j;
   }
+}
+
+inline std::vector<std::string_view> split_words(std::string_view s) {
+  std::vector<std::string_view> words;
+  split_words_into(s, words);
   return words;
 }
 
