@@ -184,12 +184,12 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
       else throw line_error(file, ln, "unknown PLY format '" + std::string(words[1]) + "'");
       have_format = true;
     } else if (key == "comment" || key == "obj_info") {
-      if (words.size() >= 4 && words[1] == "thermodec" && (words[2] == "node" || words[2] == "material")) {
+      if (words.size() >= 5 && words[1] == "thermodec" && (words[2] == "node" || words[2] == "material")) {
         long long id;
         if (!parse_long(words[3], id) || id < 0 || id > std::numeric_limits<int>::max())
           throw line_error(file, ln, "bad id in thermodec name comment");
         // The name is the rest of the line after the id (it may contain spaces).
-        const std::size_t at = line.find(words[3], words[2].data() + words[2].size() - line.data()) + words[3].size();
+        const std::size_t at = static_cast<std::size_t>(words[3].data() + words[3].size() - line.data());
         const std::string name(trim(line.substr(at)));
         (words[2] == "node" ? node_names : material_names)[static_cast<int>(id)] = name;
       }
