@@ -319,3 +319,16 @@ TEST(MeshIO, write_rejects_inconsistent_meshes) {
   EXPECT_THROW(write_mesh(d / "x.ply", m), InvalidInput);
   EXPECT_FALSE(std::filesystem::exists(d / "x.ply"));
 }
+
+TEST(SharedModelsMeshIO, nasa_binary_stls_read_with_their_documented_triangle_counts) {
+  const std::filesystem::path dir = std::filesystem::path(THERMODEC_SHARED_DIR) / "models" / "nasa";
+  if (!std::filesystem::exists(dir)) GTEST_SKIP() << dir << " missing";
+  const std::pair<const char*, int> files[] = {{"tdrs.stl", 20026}, {"NPP_16.stl", 4036}, {"Juno.stl", 17136}};
+  for (const auto& [name, triangles] : files) {
+    MeshReadOptions keep;
+    keep.drop_degenerate_faces = false;
+    const Mesh m = read_mesh(dir / name, keep);
+    EXPECT_EQ(m.num_faces(), triangles) << name;
+    EXPECT_LT(m.num_vertices(), m.num_faces()) << name << ": corners were not welded";
+  }
+}
