@@ -239,6 +239,9 @@ TEST(AutomaticNodes, bad_options_and_empty_mesh_are_rejected) {
   options = {};
   options.min_node_area_fraction = 1.0;
   EXPECT_THROW(assign_automatic_nodes(mesh, options), InvalidInput);
+  Mesh with_nan = mesh;
+  with_nan.V(2, 1) = std::nan("");
+  EXPECT_THROW(assign_automatic_nodes(with_nan), InvalidInput);
   mesh.F(3, 1) = 999;
   EXPECT_THROW(assign_automatic_nodes(mesh), InvalidInput);
 }
