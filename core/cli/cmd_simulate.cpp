@@ -20,12 +20,18 @@ struct SimulateOptions {
   bool noise_floor = false;
   int noise_runs = 3;
   bool quiet = false;
+  int rays_per_face = 0;  // 0 = the model's radiation.rays_per_face
   ExternalLoadSettings loads;
 };
 
 void run_simulate(const SimulateOptions& o) {
-  const ThermalModel model = load_model(o.model);
+  ThermalModel model = load_model(o.model);
+  if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
   const std::vector<std::filesystem::path> inputs{o.model, model.mesh_path};
+  // Refuse before the work, not after it.
+  for (const auto& in : inputs)
+    for (const auto& out : {o.json_out, o.plot_out})
+      if (!out.empty() && same_file(in, out)) throw InvalidInput("output " + out + " would overwrite the input " + in.string());
   ModelSimulationSettings settings;
   settings.loads = o.loads;
   if (!o.quiet) settings.progress = [](const std::string& m) { std::cerr << "simulate: " << m << "\n"; };
@@ -64,11 +70,7 @@ void run_simulate(const SimulateOptions& o) {
                    {"solar_reflections", o.loads.solar_reflections}};
   for (auto& [k, v] : extra.items()) j[k] = v;
   if (!o.json_out.empty()) write_text_atomically(o.json_out, j.dump(1) + "\n", inputs);
-  if (!o.plot_out.empty()) {
-    for (const auto& in : inputs)
-      if (same_file(in, o.plot_out)) throw InvalidInput("--plot would overwrite the input " + in.string());
-    plot_png("temperatures", j, o.plot_out);
-  }
+  if (!o.plot_out.empty()) plot_png("temperatures", j, o.plot_out);
 }
 
 }  // namespace
@@ -86,6 +88,8 @@ void add_simulate(CLI::App& app) {
   sub->add_flag("--noise-floor", opts->noise_floor,
                 "run with several seeds and report the max |dT| between runs and the run time");
   sub->add_option("--noise-runs", opts->noise_runs, "runs for --noise-floor")->check(CLI::Range(2, 100));
+  sub->add_option("--rays", opts->rays_per_face, "IR view-factor rays per face side (default: the model's)")
+      ->check(CLI::PositiveNumber);
   sub->add_option("--sun-rays", opts->loads.sun_rays_per_face, "shadow samples per face side")
       ->check(CLI::PositiveNumber)->capture_default_str();
   sub->add_option("--earth-rays", opts->loads.earth_rays_per_face, "Earth view rays per face side")

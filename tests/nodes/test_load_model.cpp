@@ -1,3 +1,4 @@
+#include <unistd.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -19,7 +20,7 @@ namespace {
 const fs::path kData = THERMODEC_TEST_DATA_DIR;
 
 fs::path temp_dir(const std::string& name) {
-  auto d = fs::temp_directory_path() / ("thermodec_test_model_" + name);
+  auto d = fs::temp_directory_path() / ("thermodec_test_model_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -293,6 +294,13 @@ TEST(LoadModelErrors, bad_files_name_the_file) {
     ADD_FAILURE();
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("inf.json"), std::string::npos) << e.what();
+  }
+  std::ofstream(d / "nan.json") << "{\"mesh\": \"satellite.obj\",\n \"unit_scale\": NaN}";
+  try {
+    load_model(d / "nan.json");
+    ADD_FAILURE();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("line 2"), std::string::npos) << e.what();
   }
   EXPECT_THROW(load_model(d / "missing.json"), IOError);
   std::ofstream(d / "nomesh.json") << R"({"mesh": "absent.obj"})";

@@ -45,23 +45,26 @@ double max_abs_diff(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, int skip
 TEST(IncrementalCouplings, equal_a_full_recompute_of_the_candidate) {
   const ThermalModel ref = satellite(0.0, 6);
   const ThermalModel cand = satellite(0.05, 3);  // antenna moved and coarsened
-  const RadiationReference prepared = prepare_radiation(ref, ref.radiation);
-  IncrementalStats stats;
-  const NodeCouplings inc = radiative_couplings_incremental(prepared, cand, &stats);
   const NodeCouplings full = radiative_couplings(cand, ref.radiation);
-  EXPECT_EQ(inc.view_factors, full.view_factors) << "same rays, same hits: bit-identical";
-  EXPECT_EQ(inc.to_space, full.to_space);
-  EXPECT_EQ(inc.view_factors_standard_error, full.view_factors_standard_error);
-  EXPECT_LT((inc.radiative_couplings_m2 - full.radiative_couplings_m2).cwiseAbs().maxCoeff(), 1e-9);
-  EXPECT_LT((inc.to_space_couplings_m2 - full.to_space_couplings_m2).cwiseAbs().maxCoeff(), 1e-9);
-  EXPECT_EQ(stats.changed_sides, 2 * 3 * 3);
-  EXPECT_EQ(stats.removed_sides, 2 * 6 * 6);
-  EXPECT_LT(stats.rays_retraced, stats.rays_total) << "unchanged rays are reused";
-  // The unchanged model reproduces the reference without tracing anything.
-  IncrementalStats same;
-  const NodeCouplings again = radiative_couplings_incremental(prepared, ref, &same);
-  EXPECT_EQ(same.rays_retraced, 0);
-  EXPECT_EQ(again.view_factors, prepared.couplings().view_factors);
+  // With per-ray reference records (default) and without them (budget 0): same answer.
+  for (const std::size_t budget : {std::size_t(1) << 30, std::size_t(0)}) {
+    const RadiationReference prepared = prepare_radiation(ref, ref.radiation, budget);
+    IncrementalStats stats;
+    const NodeCouplings inc = radiative_couplings_incremental(prepared, cand, &stats);
+    EXPECT_EQ(inc.view_factors, full.view_factors) << "same rays, same hits: bit-identical; budget " << budget;
+    EXPECT_EQ(inc.to_space, full.to_space);
+    EXPECT_EQ(inc.view_factors_standard_error, full.view_factors_standard_error);
+    EXPECT_LT((inc.radiative_couplings_m2 - full.radiative_couplings_m2).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_LT((inc.to_space_couplings_m2 - full.to_space_couplings_m2).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_EQ(stats.changed_sides, 2 * 3 * 3);
+    EXPECT_EQ(stats.removed_sides, 2 * 6 * 6);
+    EXPECT_LT(stats.rays_retraced, stats.rays_total) << "unchanged rays are reused";
+    // The unchanged model reproduces the reference without tracing anything.
+    IncrementalStats same;
+    const NodeCouplings again = radiative_couplings_incremental(prepared, ref, &same);
+    EXPECT_EQ(same.rays_retraced, 0);
+    EXPECT_EQ(again.view_factors, prepared.couplings().view_factors);
+  }
 }
 
 TEST(IncrementalCouplings, one_node_change_is_far_below_independent_seed_noise) {

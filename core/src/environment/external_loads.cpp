@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -15,43 +16,14 @@
 
 #include "thermodec/common/errors.h"
 #include "thermodec/environment/orbit.h"
+// The radiative engine's Owen-scrambled Sobol sampler (private to the core library): the same
+// sequences and side seeding as the view factors, so loads get the same variance properties.
+#include "../radiation/sampling.h"
 
 namespace thermodec {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-std::uint64_t mix(std::uint64_t x) {  // splitmix64 finaliser
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-double unit(std::uint64_t h) { return double(h >> 11) * (1.0 / 9007199254740992.0); }
-
-// Counter-based stream: the i-th uniform of (seed, side identity, purpose) is a pure function
-// of those, so every side's samples are independent of evaluation order and thread.
-struct Stream {
-  std::uint64_t base;
-  Stream(std::uint64_t seed, std::uint64_t key, std::uint64_t purpose)
-      : base(mix(mix(seed ^ 0x7468657266ull) ^ key) ^ mix(purpose)) {}
-  double operator()(std::uint64_t i) const { return unit(mix(base + 0x632be59bd9b4e019ull * (i + 1))); }
-};
-
-// Jittered stratified samples in the unit square: m x m cells (m = ceil(sqrt(n))), the first n
-// cells in a hashed order so n need not be a square.
-std::vector<Eigen::Vector2d> stratified_square(int n, const Stream& rng, std::uint64_t offset) {
-  const int m = static_cast<int>(std::ceil(std::sqrt(double(n))));
-  std::vector<std::pair<std::uint64_t, int>> order(m * m);
-  for (int c = 0; c < m * m; ++c) order[c] = {mix(rng.base ^ (offset + c)), c};
-  if (n < m * m) std::sort(order.begin(), order.end());
-  std::vector<Eigen::Vector2d> pts(n);
-  for (int k = 0; k < n; ++k) {
-    const int c = order[k].second;
-    pts[k] = {((c % m) + rng(offset + 2 * k)) / m, ((c / m) + rng(offset + 2 * k + 1)) / m};
-  }
-  return pts;
-}
 
 // Area-preserving square -> triangle map (barycentric (1 - sqrt u, sqrt u (1 - v), sqrt u v)).
 Eigen::Vector3d on_triangle(const Eigen::Vector2d& uv, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
@@ -60,25 +32,24 @@ Eigen::Vector3d on_triangle(const Eigen::Vector2d& uv, const Eigen::Vector3d& a,
   return (1.0 - su) * a + su * (1.0 - uv.y()) * b + su * uv.y() * c;
 }
 
-// Shirley-Chiu concentric map to the disk, lifted to the cosine-weighted hemisphere (Malley).
-Eigen::Vector3d cosine_direction(const Eigen::Vector2d& uv) {
-  const double a = 2.0 * uv.x() - 1.0, b = 2.0 * uv.y() - 1.0;
-  double r, phi;
-  if (a == 0.0 && b == 0.0) {
-    r = 0.0, phi = 0.0;
-  } else if (std::abs(a) > std::abs(b)) {
-    r = a, phi = (kPi / 4) * (b / a);
-  } else {
-    r = b, phi = kPi / 2 - (kPi / 4) * (a / b);
-  }
-  const double x = r * std::cos(phi), y = r * std::sin(phi);
-  return {x, y, std::sqrt(std::max(0.0, 1.0 - x * x - y * y))};
-}
-
 struct Side {
   Eigen::Vector3d a, b, c, normal;
   double area = 0.0;
+  double offset = 0.0;  // ray-origin lift along the normal [m]
 };
+
+// Scrambling seeds of a side for one purpose: a pure function of (seed, side identity), so
+// an unchanged face keeps its samples in a modified model and results ignore thread count.
+std::array<std::uint32_t, 4> side_seeds(std::uint64_t seed, std::uint64_t key, std::uint64_t purpose) {
+  std::array<std::uint32_t, 4> out;
+  const std::uint64_t h = sampling::hash_combine(sampling::hash_combine(key, seed), 0x10ad5000ull + purpose);
+  for (int d = 0; d < 4; ++d) out[d] = std::uint32_t(sampling::hash_combine(h, d) >> 32);
+  return out;
+}
+
+double scrambled(std::uint32_t sobol, std::uint32_t seed) {
+  return sampling::to_unit_float(sampling::owen_scramble(sobol, seed)) + 0.5 / 16777216.0;
+}
 
 std::vector<Side> side_geometry(const Mesh& mesh, const SurfaceSides& sides) {
   std::vector<Side> out(sides.size());
@@ -95,6 +66,10 @@ std::vector<Side> side_geometry(const Mesh& mesh, const SurfaceSides& sides) {
       g.normal = -g.normal;
       std::swap(g.b, g.c);  // keep the (a, b, c) winding counter-clockwise seen from this side
     }
+    // note: like the view-factor rays, the lift depends on this face only (not on the scene
+    // extent), so an unchanged face casts bit-identical rays in a decimated model.
+    g.offset = 1e-5 * std::max({g.a.cwiseAbs().maxCoeff(), g.b.cwiseAbs().maxCoeff(), g.c.cwiseAbs().maxCoeff(),
+                                (g.b - g.a).norm(), (g.c - g.a).norm()});
   }
   return out;
 }
@@ -112,93 +87,236 @@ RayQuery make_ray(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_f
   return r;
 }
 
-// Offset of ray origins along the side normal so a ray does not hit its own face.
-double origin_offset(const RayScene& scene) {
-  const auto& box = scene.bounds();
-  const double diag = box.isEmpty() ? 1.0 : (box.max() - box.min()).norm();
-  return std::max(1e-6 * diag, 1e-9);
-}
-
 // Unblocked fraction of each side's sample points towards the direction `toward` (unit),
-// for sides facing it; 0 for the others.
+// for sides facing it; 0 for the others. A pilot of the first P Sobol points (P a power of 2:
+// one per 1/P-area stratum of the Owen-scrambled net) decides fully lit or fully shadowed
+// sides; only sides where the pilot disagrees trace all `rays`. note: a shadow that slips
+// between all P pilot points is missed; it then covers well under 1/P of the face (measured on
+// the sample: P = 16 left 0.6 W seed-to-seed differences on single nodes, P = 64 < 0.2 W).
 Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
-                                const Eigen::Vector3d& toward, int rays, std::uint64_t seed) {
+                                const Eigen::Vector3d& toward, int rays, int pilot_rays, std::uint64_t seed) {
   const int ns = sides.size();
   Eigen::VectorXd frac = Eigen::VectorXd::Zero(ns);
-  const double eps = origin_offset(scene);
+  const auto sobol = sampling::sobol_4d(rays);
+  const int pilot = std::max(1, std::min(rays, pilot_rays));
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
     std::vector<RayQuery> batch;
     std::vector<std::uint8_t> blocked;
     for (int s = range.begin(); s < range.end(); ++s) {
       const Side& g = geo[s];
       if (g.area <= 0.0 || g.normal.dot(toward) <= 0.0) continue;
-      const Stream rng(seed, sides.key[s], 1);
-      const auto pts = stratified_square(rays, rng, 0);
-      batch.clear();
-      for (const auto& uv : pts) batch.push_back(make_ray(on_triangle(uv, g.a, g.b, g.c) + eps * g.normal, toward, 1e30));
-      scene.occluded(batch, blocked);
-      int open = 0;
-      for (auto b : blocked) open += !b;
-      frac[s] = double(open) / rays;
+      const auto sd = side_seeds(seed, sides.key[s], 1);
+      auto trace = [&](int from, int to) {
+        batch.clear();
+        for (int k = from; k < to; ++k) {
+          const Eigen::Vector2d uv(scrambled(sobol[k][0], sd[0]), scrambled(sobol[k][1], sd[1]));
+          batch.push_back(make_ray(on_triangle(uv, g.a, g.b, g.c) + g.offset * g.normal, toward, 1e30));
+        }
+        scene.occluded(batch, blocked);
+        int open = 0;
+        for (auto b : blocked) open += !b;
+        return open;
+      };
+      const int open_pilot = trace(0, pilot);
+      if (open_pilot == 0 || open_pilot == pilot || pilot == rays) {
+        frac[s] = double(open_pilot) / pilot;
+      } else {
+        frac[s] = double(open_pilot + trace(pilot, rays)) / rays;
+      }
     }
   });
   return frac;
 }
 
-// Earth rays of each side: normals (body axes) of the Earth points reached by unblocked rays.
+// Earth rays of each side. Directions are drawn uniformly (stratified) inside the cone the
+// Earth subtends, not over the hemisphere: every ray then lands on the Earth, the integrand
+// (cos theta x visibility x albedo lighting) is smooth wherever the spacecraft does not block
+// the view, and the estimate of an unobstructed side is nearly exact. Each ray keeps its
+// weight Omega_cap / (pi N) max(0, n . w) (its share of F_side->Earth) and the Earth normal
+// at its hit point (for the albedo lighting at every time step).
 struct EarthHits {
-  std::vector<std::vector<Eigen::Vector3f>> normals;  // per side
-  int rays = 0;
+  std::vector<std::vector<std::pair<float, Eigen::Vector3f>>> rays;  // per side: (weight, normal)
+  Eigen::VectorXd view_factor;                                        // per side: sum of weights
+  // The same, flattened for the per-step albedo sums: columns (nx, ny, nz) and weights, side s
+  // owning [begin[s], begin[s + 1]).
+  Eigen::Matrix<float, Eigen::Dynamic, 3> normals;
+  Eigen::VectorXf weights;
+  std::vector<int> begin;
+
+  void flatten() {
+    begin.assign(rays.size() + 1, 0);
+    for (size_t s = 0; s < rays.size(); ++s) begin[s + 1] = begin[s] + static_cast<int>(rays[s].size());
+    normals.resize(begin.back(), 3);
+    weights.resize(begin.back());
+    for (size_t s = 0; s < rays.size(); ++s)
+      for (size_t k = 0; k < rays[s].size(); ++k) {
+        weights[begin[s] + k] = rays[s][k].first;
+        normals.row(begin[s] + k) = rays[s][k].second.transpose();
+      }
+    rays.clear();
+  }
+  bool empty() const { return begin.empty(); }
 };
 
 EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
-                     const Eigen::Vector3d& earth_dir, double distance_m, int rays, std::uint64_t seed) {
+                     const Eigen::Vector3d& earth_dir_in, double distance_m, int rays, int pilot_rays,
+                     std::uint64_t seed) {
   const int ns = sides.size();
   EarthHits out;
-  out.rays = rays;
-  out.normals.resize(ns);
-  const double eps = origin_offset(scene);
-  const Eigen::Vector3d centre = earth_dir.normalized() * distance_m;
+  out.rays.resize(ns);
+  out.view_factor = Eigen::VectorXd::Zero(ns);
+  const auto sobol = sampling::sobol_4d(rays);
+  const int pilot = std::max(1, std::min(rays, pilot_rays));
+  const Eigen::Vector3d earth_dir = earth_dir_in.normalized();
+  const Eigen::Vector3d centre = earth_dir * distance_m;
   const double R2 = kEarthRadius_m * kEarthRadius_m;
+  const double sin_half = kEarthRadius_m / distance_m;
+  const double cos_half = std::sqrt(1.0 - sin_half * sin_half);
+  const double cap_over_pi = 2.0 * (1.0 - cos_half);  // Omega_cap / pi
+  Eigen::Vector3d et, eu;
+  orthonormal_frame(earth_dir, et, eu);
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
     std::vector<RayQuery> batch;
     std::vector<std::uint8_t> blocked;
-    std::vector<Eigen::Vector3f> hit_normal;
+    std::vector<std::pair<float, Eigen::Vector3f>> candidate;  // (cos theta, Earth normal)
     for (int s = range.begin(); s < range.end(); ++s) {
       const Side& g = geo[s];
       if (g.area <= 0.0) continue;
-      // Skip sides that cannot see any of the Earth: the Earth cap lies beyond their horizon.
-      const double sin_half = kEarthRadius_m / distance_m;
-      if (g.normal.dot(earth_dir) <= -sin_half) continue;
-      Eigen::Vector3d t, u;
-      orthonormal_frame(g.normal, t, u);
-      const Stream rng(seed, sides.key[s], 2);
-      const auto dirs = stratified_square(rays, rng, 0);
-      const auto pts = stratified_square(rays, rng, 0x100000000ull);
+      if (g.normal.dot(earth_dir) <= -sin_half) continue;  // the whole Earth is below its horizon
+      const auto sd = side_seeds(seed, sides.key[s], 2);
       batch.clear();
-      hit_normal.clear();
-      for (int k = 0; k < rays; ++k) {
-        const Eigen::Vector3d l = cosine_direction(dirs[k]);
-        const Eigen::Vector3d d = l.x() * t + l.y() * u + l.z() * g.normal;
-        // Decorrelate origin and direction strata by pairing direction k with point k' (hashed).
-        const Eigen::Vector3d o = on_triangle(pts[(k * 7919 + (rng.base & 0xffff)) % rays], g.a, g.b, g.c) + eps * g.normal;
-        const Eigen::Vector3d oc = centre - o;
-        const double tc = oc.dot(d);
-        if (tc <= 0.0) continue;
-        const double d2 = oc.squaredNorm() - tc * tc;
-        if (d2 >= R2) continue;
-        const double t_hit = tc - std::sqrt(R2 - d2);
-        batch.push_back(make_ray(o, d, 1e30));
-        hit_normal.push_back(((o + t_hit * d - centre) / kEarthRadius_m).cast<float>());
-      }
+      candidate.clear();
+      auto add_rays = [&](int from, int to) {
+        for (int k = from; k < to; ++k) {
+          const auto& q = sobol[k];
+          const Eigen::Vector2d uv(scrambled(q[0], sd[0]), scrambled(q[1], sd[1]));
+          const double cos_a = 1.0 - scrambled(q[2], sd[2]) * (1.0 - cos_half), phi = 2.0 * kPi * scrambled(q[3], sd[3]);
+          const double sin_a = std::sqrt(std::max(0.0, 1.0 - cos_a * cos_a));
+          const Eigen::Vector3d d = cos_a * earth_dir + sin_a * (std::cos(phi) * et + std::sin(phi) * eu);
+          const double cos_t = g.normal.dot(d);
+          if (cos_t <= 0.0) continue;
+          const Eigen::Vector3d o = on_triangle(uv, g.a, g.b, g.c) + g.offset * g.normal;
+          const Eigen::Vector3d oc = centre - o;
+          const double tc = oc.dot(d);
+          const double d2 = std::max(0.0, oc.squaredNorm() - tc * tc);
+          const double t_hit = d2 < R2 ? tc - std::sqrt(R2 - d2) : tc;  // grazing: nearest point
+          batch.push_back(make_ray(o, d, 1e30));
+          candidate.emplace_back(float(cos_t), ((o + t_hit * d - centre).normalized()).cast<float>());
+        }
+      };
+      // Pilot: a side none of whose first `pilot` rays is blocked sees the Earth unobstructed
+      // and keeps those (the integrand is then smooth and the Sobol estimate accurate); a side
+      // with any blocked pilot ray traces all `rays`, where the visibility edge needs them.
+      add_rays(0, pilot);
       if (batch.empty()) continue;
       scene.occluded(batch, blocked);
-      auto& keep = out.normals[s];
+      int used = pilot;
+      bool any_blocked = false;
+      for (auto b : blocked) any_blocked |= b != 0;
+      if (any_blocked && rays > pilot) {
+        const size_t first_new = batch.size();
+        add_rays(pilot, rays);
+        std::vector<std::uint8_t> more;
+        std::vector<RayQuery> rest(batch.begin() + first_new, batch.end());
+        if (!rest.empty()) scene.occluded(rest, more);
+        blocked.insert(blocked.end(), more.begin(), more.end());
+        used = rays;
+      }
+      const double weight = cap_over_pi / used;
+      auto& keep = out.rays[s];
+      double f = 0.0;
       for (size_t k = 0; k < batch.size(); ++k)
-        if (!blocked[k]) keep.push_back(hit_normal[k]);
+        if (!blocked[k]) {
+          keep.emplace_back(float(weight * candidate[k].first), candidate[k].second);
+          f += weight * candidate[k].first;
+        }
+      out.view_factor[s] = f;
     }
   });
+  out.flatten();
   return out;
+}
+
+// For attitudes in which the Earth moves in body axes (sun-pointing, inertial), tracing Earth
+// rays at every step would cost steps x the nadir case. Instead each side traces once a set of
+// cosine-weighted hemisphere rays and keeps the directions that escape the spacecraft; at each
+// step, the escaping directions that point into the Earth's cone are its Earth hits
+// (F = hits / N). The spacecraft is treated as a point against the Earth distance (metres
+// against thousands of kilometres). Noisier than the cone sampling at equal ray counts (the
+// cone edge is a discontinuity of the integrand), but independent of the step count.
+struct EscapingRays {
+  Eigen::Matrix<float, Eigen::Dynamic, 3> directions;  // all sides, side s owning [begin[s], begin[s+1])
+  std::vector<int> begin;
+  int rays = 0;
+};
+
+EscapingRays escaping_rays(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides, int rays,
+                           std::uint64_t seed) {
+  const int ns = sides.size();
+  const auto sobol = sampling::sobol_4d(rays);
+  std::vector<std::vector<Eigen::Vector3f>> per_side(ns);
+  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
+    std::vector<RayQuery> batch;
+    std::vector<std::uint8_t> blocked;
+    for (int s = range.begin(); s < range.end(); ++s) {
+      const Side& g = geo[s];
+      if (g.area <= 0.0) continue;
+      Eigen::Vector3d t, u;
+      orthonormal_frame(g.normal, t, u);
+      const auto sd = side_seeds(seed, sides.key[s], 3);
+      batch.clear();
+      std::vector<Eigen::Vector3f> dirs;
+      for (int k = 0; k < rays; ++k) {
+        const auto& q = sobol[k];
+        const Eigen::Vector2d uv(scrambled(q[0], sd[0]), scrambled(q[1], sd[1]));
+        const double r2 = scrambled(q[2], sd[2]), phi = 2.0 * kPi * scrambled(q[3], sd[3]);
+        const double st = std::sqrt(r2), ct = std::sqrt(std::max(0.0, 1.0 - r2));  // Malley
+        const Eigen::Vector3d d = st * std::cos(phi) * t + st * std::sin(phi) * u + ct * g.normal;
+        batch.push_back(make_ray(on_triangle(uv, g.a, g.b, g.c) + g.offset * g.normal, d, 1e30));
+        dirs.push_back(d.cast<float>());
+      }
+      scene.occluded(batch, blocked);
+      for (int k = 0; k < rays; ++k)
+        if (!blocked[k]) per_side[s].push_back(dirs[k]);
+    }
+  });
+  EscapingRays out;
+  out.rays = rays;
+  out.begin.assign(ns + 1, 0);
+  for (int s = 0; s < ns; ++s) out.begin[s + 1] = out.begin[s] + static_cast<int>(per_side[s].size());
+  out.directions.resize(out.begin.back(), 3);
+  for (int s = 0; s < ns; ++s)
+    for (size_t k = 0; k < per_side[s].size(); ++k) out.directions.row(out.begin[s] + k) = per_side[s][k].transpose();
+  return out;
+}
+
+// Per side, at one step: F_side->Earth and sum over Earth hits of w max(0, n_E . sun).
+void earth_view_from_escaping(const EscapingRays& esc, const Eigen::Vector3d& earth_dir_in, double distance_m,
+                              const Eigen::Vector3d& sun, Eigen::VectorXd& view_factor, Eigen::VectorXd& lit_sum) {
+  const int ns = static_cast<int>(esc.begin.size()) - 1;
+  const Eigen::Vector3d e = earth_dir_in.normalized();
+  const double sin_half = kEarthRadius_m / distance_m, cos_half = std::sqrt(1.0 - sin_half * sin_half);
+  const double R2 = kEarthRadius_m * kEarthRadius_m, r2 = distance_m * distance_m;
+  const double w = 1.0 / esc.rays;
+  view_factor.setZero(ns);
+  lit_sum.setZero(ns);
+  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
+    for (int s = range.begin(); s < range.end(); ++s) {
+      double f = 0.0, lit = 0.0;
+      for (int k = esc.begin[s]; k < esc.begin[s + 1]; ++k) {
+        const Eigen::Vector3d d = esc.directions.row(k).transpose().cast<double>();
+        const double c = d.dot(e);
+        if (c <= cos_half) continue;
+        // Nearest intersection with the sphere of the ray from the body origin.
+        const double t = distance_m * c - std::sqrt(std::max(0.0, R2 - r2 * (1.0 - c * c)));
+        const Eigen::Vector3d n = (t * d - distance_m * e) / kEarthRadius_m;
+        f += w;
+        lit += w * std::max(0.0, n.dot(sun));
+      }
+      view_factor[s] = f;
+      lit_sum[s] = lit;
+    }
+  });
 }
 
 bool same_direction(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).norm() < 1e-12; }
@@ -211,10 +329,8 @@ Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& si
   if (rays < 1) throw InvalidInput("earth_rays_per_face must be >= 1");
   if (!(distance_m > kEarthRadius_m)) throw InvalidInput("Earth view factors: distance must exceed the Earth radius");
   const auto geo = side_geometry(scene.mesh(), sides);
-  const EarthHits hits = earth_hits(scene, geo, sides, earth_direction_body, distance_m, rays, seed);
-  Eigen::VectorXd F(sides.size());
-  for (int s = 0; s < sides.size(); ++s) F[s] = double(hits.normals[s].size()) / rays;
-  return F;
+  const EarthHits hits = earth_hits(scene, geo, sides, earth_direction_body, distance_m, rays, rays, seed);
+  return hits.view_factor;
 }
 
 Loads external_loads(const ThermalModel& model, const RayScene& scene, const SurfaceSides& sides,
@@ -222,6 +338,8 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
                      const std::function<void(const std::string&)>& progress) {
   const Environment& env = model.environment;
   if (settings.sun_rays_per_face < 1) throw InvalidInput("sun_rays_per_face must be >= 1");
+  if (settings.earth_pilot_rays < 1) throw InvalidInput("earth_pilot_rays must be >= 1");
+  if (settings.sun_pilot_rays < 1) throw InvalidInput("sun_pilot_rays must be >= 1");
   if (settings.earth_rays_per_face < 1) throw InvalidInput("earth_rays_per_face must be >= 1");
   const int num_nodes = static_cast<int>(model.nodes.size());
   const int ns = sides.size();
@@ -268,36 +386,44 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     loads.in_shadow[k] = st.in_shadow;
     if (st.in_shadow || flux == 0.0) continue;
     if (lit.size() == 0 || !same_direction(st.sun_direction_body, last_dir)) {
-      lit = sunlit_fraction(scene, geo, sides, st.sun_direction_body, settings.sun_rays_per_face, settings.seed);
+      lit = sunlit_fraction(scene, geo, sides, st.sun_direction_body, settings.sun_rays_per_face,
+                            settings.sun_pilot_rays, settings.seed);
       last_dir = st.sun_direction_body;
     }
     for (int s = 0; s < ns; ++s)
       incident_direct(s, k) = flux * geo[s].area * std::max(0.0, geo[s].normal.dot(st.sun_direction_body)) * lit[s];
   }
 
-  // Earth: view rays once per distinct Earth direction (once for a nadir attitude).
+  // Earth: cone rays once if the Earth is fixed in body axes (nadir), else escaping
+  // hemisphere rays once, intersected with the Earth's cone at every step.
   if (orbit) {
     if (progress) progress("Earth view factors");
     const double distance = orbit_radius_m(env.altitude_km);
+    bool earth_fixed = true;
+    for (int k = 1; k < steps; ++k) earth_fixed &= same_direction(states[k].earth_direction_body, states[0].earth_direction_body);
     EarthHits hits;
-    Eigen::Vector3d last_earth = Eigen::Vector3d::Zero();
+    EscapingRays escaping;
+    if (earth_fixed)
+      hits = earth_hits(scene, geo, sides, states[0].earth_direction_body, distance, settings.earth_rays_per_face,
+                        settings.earth_pilot_rays, settings.seed);
+    else
+      escaping = escaping_rays(scene, geo, sides, settings.earth_rays_per_face, settings.seed);
+    Eigen::VectorXd view_factor, lit_sum(ns);
     for (int k = 0; k < steps; ++k) {
       const OrbitState& st = states[k];
-      if (hits.normals.empty() || !same_direction(st.earth_direction_body, last_earth)) {
-        hits = earth_hits(scene, geo, sides, st.earth_direction_body, distance, settings.earth_rays_per_face,
-                          settings.seed);
-        last_earth = st.earth_direction_body;
+      if (earth_fixed) {
+        const Eigen::Vector3f sun = st.sun_direction_body.cast<float>();
+        const Eigen::VectorXf lit = (hits.normals * sun).cwiseMax(0.0f).cwiseProduct(hits.weights);
+        for (int s = 0; s < ns; ++s) lit_sum[s] = lit.segment(hits.begin[s], hits.begin[s + 1] - hits.begin[s]).sum();
+        view_factor = hits.view_factor;
+      } else {
+        earth_view_from_escaping(escaping, st.earth_direction_body, distance, st.sun_direction_body, view_factor, lit_sum);
       }
-      const Eigen::Vector3f sun = st.sun_direction_body.cast<float>();
       for (int s = 0; s < ns; ++s) {
-        const auto& normals = hits.normals[s];
-        if (normals.empty()) continue;
+        if (view_factor[s] == 0.0) continue;
+        incident_albedo(s, k) = env.albedo * flux * geo[s].area * lit_sum[s];
         const int node = sides.node[s];
-        const double f_earth = double(normals.size()) / hits.rays;
-        double lit_sum = 0.0;
-        for (const auto& n : normals) lit_sum += std::max(0.0f, n.dot(sun));
-        incident_albedo(s, k) = env.albedo * flux * geo[s].area * lit_sum / hits.rays;
-        if (node >= 0) loads.earth_ir_W(node, k) += eps[s] * env.earth_ir_flux_W_per_m2 * geo[s].area * f_earth;
+        if (node >= 0) loads.earth_ir_W(node, k) += eps[s] * env.earth_ir_flux_W_per_m2 * geo[s].area * view_factor[s];
       }
     }
   }

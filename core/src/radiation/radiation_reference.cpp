@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <atomic>
+#include <limits>
 #include <string>
 #include <unordered_map>
 
@@ -23,6 +24,7 @@ struct RadiationReference::Impl {
   GebhartFactors gebhart;
   NodeCouplings couplings;
   std::unordered_map<std::uint64_t, int> side_of_key;
+  std::vector<tracing::RayRecord> records;  // #S x R reference hits, empty if over budget
   Impl(const ThermalModel& m, const RadiationSettings& s) : model(m), settings(s), scene(m.mesh) {}
 };
 
@@ -36,11 +38,14 @@ const FaceViewFactors& RadiationReference::face_view_factors() const { return im
 const GebhartFactors& RadiationReference::gebhart() const { return impl_->gebhart; }
 const NodeCouplings& RadiationReference::couplings() const { return impl_->couplings; }
 
-RadiationReference prepare_radiation(const ThermalModel& reference, const RadiationSettings& settings) {
+RadiationReference prepare_radiation(const ThermalModel& reference, const RadiationSettings& settings,
+                                     std::size_t max_record_bytes) {
   auto impl = std::make_unique<RadiationReference::Impl>(reference, settings);
   const int N = static_cast<int>(reference.nodes.size());
   const SurfaceSides sides = surface_sides(impl->model);
-  impl->vf = thermodec::face_view_factors(impl->scene, sides, settings);
+  const bool keep = double(sides.size()) * std::max(settings.rays_per_face, 0) * sizeof(tracing::RayRecord) <=
+                    double(max_record_bytes);
+  impl->vf = detail::trace_all(impl->scene, sides, settings, keep ? &impl->records : nullptr);
   const Eigen::VectorXd eps = side_emissivity(impl->model, sides);
   impl->gebhart = gebhart_factors(impl->vf, eps, node_groups(sides, N), N + 1);
   impl->couplings = aggregate_couplings(impl->vf, eps, impl->gebhart, N);
@@ -99,6 +104,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
 
   const RayScene scene(candidate.mesh);
   const tracing::SobolTable sobol = sampling::sobol_4d(R);
+  const bool records = !ref.records.empty();
   detail::SideRows rows(S);
   std::atomic<std::int64_t> retraced{0};
   std::atomic<int> bookkeeping_failures{0};
@@ -110,33 +116,57 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
       const sampling::Emitter e = tracing::side_emitter(candidate.mesh, sides, c, settings.seed);
       std::int64_t back = 0;
       const int r = twin[c];
-      if (r < 0 || box.isEmpty()) {
-        if (r >= 0) {  // nothing changed anywhere: reuse the reference row as is
-          for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(ref.vf.F, r); it; ++it)
-            cnt.add(cand_of_ref[it.col()], static_cast<int>(std::lround(it.value() * R)));
-          cnt.add(-1, static_cast<int>(std::lround(ref.vf.to_space[r] * R)));
-          back = ref.vf.back_hits_per_side[r];
-        } else {
-          tracing::trace_emitter(scene.impl(), sides, e, sobol, R, nullptr, [&](int hit, bool b) {
-            cnt.add(hit, 1);
-            back += b;
-          });
-          traced += R;
-        }
-      } else {
-        // Reference counts, minus the reference hits of the rays that meet the changed box,
-        // plus their candidate hits.
-        auto to_cand = [&](int ref_side) { return ref_side < 0 ? -1 : (cand_of_ref[ref_side] < 0 ? cnt.gone() : cand_of_ref[ref_side]); };
-        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(ref.vf.F, r); it; ++it)
-          cnt.add(to_cand(static_cast<int>(it.col())), static_cast<int>(std::lround(it.value() * R)));
-        cnt.add(-1, static_cast<int>(std::lround(ref.vf.to_space[r] * R)));
-        back = ref.vf.back_hits_per_side[r];
-        tracing::trace_emitter(ref.scene.impl(), ref.vf.sides, e, sobol, R, &box, [&](int hit, bool b) {
+      if (r < 0) {  // new or changed face: all its rays
+        tracing::trace_emitter(scene.impl(), sides, e, sobol, R, tracing::AllRays{}, [&](int, int hit, bool b, float) {
+          cnt.add(hit, 1);
+          back += b;
+        });
+        traced += R;
+        if (rows.take(c, cnt, back) != 0) bookkeeping_failures.fetch_add(1);
+        continue;
+      }
+      // Unchanged face: the reference counts, corrected for the rays that can meet the changed
+      // region: minus their reference hit, plus their candidate hit.
+      auto to_cand = [&](int ref_side) {
+        return ref_side < 0 ? -1 : (cand_of_ref[ref_side] < 0 ? cnt.gone() : cand_of_ref[ref_side]);
+      };
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(ref.vf.F, r); it; ++it)
+        cnt.add(to_cand(static_cast<int>(it.col())), static_cast<int>(std::lround(it.value() * R)));
+      cnt.add(-1, static_cast<int>(std::lround(ref.vf.to_space[r] * R)));
+      back = ref.vf.back_hits_per_side[r];
+      // Every point a ray of this side reaches lies strictly in front of its plane: if the
+      // whole box is behind it, no ray can meet it.
+      bool box_in_front = false;
+      if (!box.isEmpty())
+        for (int k = 0; k < 8 && !box_in_front; ++k)
+          box_in_front = (box.corner(Eigen::AlignedBox3f::CornerType(k)).cast<double>() - e.a).dot(e.n) > 0.0;
+      if (box_in_front && records) {
+        // A ray whose reference hit comes before it enters the box hits the same face in the
+        // candidate (the faces in front of the box did not change, the new ones are inside).
+        const tracing::RayRecord* rec = ref.records.data() + std::size_t(r) * R;
+        tracing::trace_emitter(
+            scene.impl(), sides, e, sobol, R,
+            [&](int i, const float* o, const float* d) {
+              const float entry = tracing::ray_box_entry(o, d, box);
+              return entry < std::numeric_limits<float>::infinity() && entry <= rec[i].t;
+            },
+            [&](int i, int hit, bool b, float) {
+              cnt.add(to_cand(rec[i].side()), -1);
+              back -= rec[i].back();
+              cnt.add(hit, 1);
+              back += b;
+              ++traced;
+            });
+      } else if (box_in_front) {
+        auto meets = [&](int, const float* o, const float* d) {
+          return tracing::ray_box_entry(o, d, box) < std::numeric_limits<float>::infinity();
+        };
+        tracing::trace_emitter(ref.scene.impl(), ref.vf.sides, e, sobol, R, meets, [&](int, int hit, bool b, float) {
           cnt.add(to_cand(hit), -1);
           back -= b;
           ++traced;
         });
-        tracing::trace_emitter(scene.impl(), sides, e, sobol, R, &box, [&](int hit, bool b) {
+        tracing::trace_emitter(scene.impl(), sides, e, sobol, R, meets, [&](int, int hit, bool b, float) {
           cnt.add(hit, 1);
           back += b;
           ++traced;

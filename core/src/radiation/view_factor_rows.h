@@ -62,4 +62,9 @@ inline FaceViewFactors assemble(const SurfaceSides& sides, const SideRows& rows,
   return vf;
 }
 
+//! All rays of all sides (the full computation); `records`, if non-null, is resized to
+//! #S x R and receives every ray's hit, in side-major ray order.
+FaceViewFactors trace_all(const RayScene& scene, const SurfaceSides& sides, const RadiationSettings& settings,
+                          std::vector<tracing::RayRecord>* records);
+
 }  // namespace thermodec::detail

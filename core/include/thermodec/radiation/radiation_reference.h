@@ -12,6 +12,7 @@
 //! its reference count is reused as is. The view factors are therefore *identical* to a full
 //! recompute of the candidate with the same settings (same rays, same hits), and the Gebhart
 //! solve is warm-started from the reference solution.
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 
@@ -40,13 +41,17 @@ class RadiationReference {
 
  private:
   explicit RadiationReference(std::unique_ptr<Impl> impl);
-  friend RadiationReference prepare_radiation(const ThermalModel&, const RadiationSettings&);
+  friend RadiationReference prepare_radiation(const ThermalModel&, const RadiationSettings&, std::size_t);
   std::unique_ptr<Impl> impl_;
 };
 
-//! Traces `reference` fully (as radiative_couplings) and keeps the state for reuse.
+//! Traces `reference` fully (as radiative_couplings) and keeps the state for reuse. Each
+//! ray's first hit (8 bytes) is kept too when all fit in `max_record_bytes`: candidates then
+//! re-trace only rays that reach the changed region before their reference hit, and only in
+//! the candidate scene; without records, every ray meeting the region's box is traced in both.
 //! \throw InvalidInput as radiative_couplings.
-RadiationReference prepare_radiation(const ThermalModel& reference, const RadiationSettings& settings);
+RadiationReference prepare_radiation(const ThermalModel& reference, const RadiationSettings& settings,
+                                     std::size_t max_record_bytes = std::size_t(1) << 30);
 
 //! What an incremental evaluation reused and re-traced.
 struct IncrementalStats {
