@@ -835,6 +835,10 @@ DecimationResult decimate_to_global_ratio(const Mesh& mesh, double global_ratio,
     res = decimate_nodes(mesh, ratios.head(num_nodes), o);
     // A node stopped short by the constraints caps its ratio at what it reached; the rule then
     // hands its deficit to the next nodes.
+    // Each node stops within one collapse (<= 2 faces) of its rounded target, so a total within
+    // `groups` faces of the global target is met; rerunning for that would only cost time.
+    const int global_target = static_cast<int>(std::lround((1.0 - global_ratio) * mesh.num_faces()));
+    if (res.mesh.num_faces() <= global_target + groups) break;
     bool short_of_target = false;
     for (int g = 0; g < groups; ++g)
       if (!res.nodes[g].reached && counts[g] > 0) {
