@@ -55,6 +55,10 @@ struct Context : vcg::BaseParameterClass {
   double cost_scale = 1.0;      // 1 / (bbox diagonal)^6: makes priorities scale-free floats
   double degenerate_area2 = 0;  // squared doubled-area below which a new face is degenerate
   int mark = 0;
+  // Collapse counter and, per vertex, the counter value when its star last changed: an entry
+  // evaluated after both its ends' stamps is still exact and need not be re-evaluated.
+  int clock = 0;
+  std::vector<int> stamp;
 
   std::vector<int> face_region, region_node, region_faces, face_component;
   std::vector<uint8_t> vclass;
@@ -152,6 +156,14 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     _priority = std::numeric_limits<float>::max();
     VVertex* a = pos.V(0);
     VVertex* b = pos.V(1);
+    evaluated_at_ = c.clock;
+    // A collapse removes the faces on its edge; if one of their nodes is at its target the
+    // collapse can never run (budgets only shrink), so do not even queue it.
+    for (vcg::face::VFIterator<VFace> it(a); !it.End(); ++it)
+      if (it.V1() == b || it.V2() == b) {
+        const int node = c.region_node[c.face_region[c.fi(it.F())]];
+        if (c.node_faces[node] <= c.node_target[node]) return _priority;
+      }
     const uint8_t ca = c.vclass[c.vi(a)], cb = c.vclass[c.vi(b)];
     if (ca == kFree && cb == kFree) {
       evaluate(c, a, b, /*optimal=*/true);
@@ -191,7 +203,8 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     // other entries whose stars changed are re-evaluated here when they surface. If the cost
     // rose, the collapse goes back into the heap at its new priority instead of running now.
     const ScalarType stored = _priority;
-    ComputePriority(pp);
+    const bool fresh = c.stamp[c.vi(pos.V(0))] <= evaluated_at_ && c.stamp[c.vi(pos.V(1))] <= evaluated_at_;
+    if (!fresh) ComputePriority(pp);
     if (!valid_) return false;
     if (_priority > stored) {
       auto& heap = *static_cast<HeapType*>(c.heap);
@@ -259,6 +272,9 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     }
     std::sort(ring.begin(), ring.end());
     ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    ++c.clock;
+    c.stamp[c.vi(kept)] = c.clock;
+    for (VVertex* r : ring) c.stamp[c.vi(r)] = c.clock;
     for (VVertex* r : ring) push(heap, std::min(kept, r), std::max(kept, r), c);
   }
 
@@ -513,6 +529,7 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   }
 
   bool valid_ = false;
+  int evaluated_at_ = 0;
   Vec3 x_ = Vec3::Zero();
   Deltas removed_per_node_, removed_per_region_, area_delta_, volume_delta_;
 };
@@ -725,6 +742,7 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     for (int j = 0; j < 3; ++j) m.face[f].V(j) = &m.vert[mesh.F(f, j)];
   vcg::tri::UpdateTopology<VMesh>::VertexFace(m);
   c.absorbed_by.assign(nf, -1);
+  c.stamp.assign(nv, 0);
 
   int collapses = 0;
   bool needs_work = false;
