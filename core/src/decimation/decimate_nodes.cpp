@@ -309,7 +309,6 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   static float HeapSimplexRatio(vcg::BaseParameterClass*) { return 8.0f; }
 
  private:
- private:
   // Does the edge (a, b) separate two regions, or bound the surface (1 face or > 2 faces)?
   static bool is_contour_edge(const Context& c, VVertex* a, VVertex* b) {
     int count = 0, region0 = -1;
@@ -615,7 +614,7 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     }
   std::sort(ef.begin(), ef.end());
   std::vector<int> contour_edges_at(nv, 0);
-  std::vector<char> frozen(nv, 0), has_boundary(nv, 0);
+  std::vector<char> frozen(nv, 0);
   // Parts: faces connected across manifold edges (exactly two faces), so that a fin standing
   // on a closed box (a non-manifold edge) does not make the box "open". A part is closed when
   // each of its edges is shared by exactly two of its faces; its enclosed volume is then kept.
@@ -802,12 +801,9 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
 
   res.nodes.resize(groups);
   for (int g = 0; g < groups; ++g) {
-    auto& s = res.nodes[g];
-    s.faces_before = c.node_faces[g] + 0;  // overwritten below from the input
-    s.area_before_m2 = c.node_area0[g];
-    s.target_faces = c.node_target[g];
+    res.nodes[g].area_before_m2 = c.node_area0[g];
+    res.nodes[g].target_faces = c.node_target[g];
   }
-  for (int g = 0; g < groups; ++g) res.nodes[g].faces_before = 0;
   for (int f = 0; f < nf; ++f) ++res.nodes[group_of(f)].faces_before;
   for (int i = 0; i < nf_out; ++i) {
     const int f = kept_faces[i];
