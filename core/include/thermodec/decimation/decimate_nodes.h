@@ -91,7 +91,9 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
 //! Decimates to a global ratio with the paper's rule (node_ratios_for_global_ratio): the
 //! ratios are computed from the face counts, and when constraints stop a node short of its
 //! ratio, its deficit is handed to the next larger nodes and the decimation rerun from the
-//! input (at most `max_rounds` rounds). Unassigned faces (node -1) form one more group.
+//! input (at most `max_rounds` rounds; no rerun once the total is within one face per node of
+//! global_ratio). Unassigned faces (node -1) form one more group.
+//! \throw InvalidInput if global_ratio is outside [0, 1) or the mesh is invalid.
 DecimationResult decimate_to_global_ratio(const Mesh& mesh, double global_ratio,
                                           const DecimationOptions& options = {},
                                           int max_rounds = 3);
