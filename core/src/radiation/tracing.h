@@ -46,16 +46,18 @@ inline float ray_box_entry(const float* o, const float* d, const Eigen::AlignedB
 
 //! Accept-all ray filter.
 struct AllRays {
+  bool operator()(int) const { return true; }
   bool operator()(int, const float*, const float*) const { return true; }
 };
 
-//! Traces the rays i in [0, rays) of emitter `e` accepted by keep(i, origin, direction) in
+//! Traces the rays i in [0, rays) of emitter `e` accepted by pre(i) and then by
+//! keep(i, origin, direction) in
 //! `scene`, calling on_hit(i, side, crossed, t) in ray order, with side = hit side of `sides`
 //! (the sides of scene's mesh) or -1 for space (t = +inf), and crossed = the ray passed
 //! through the back of a one-sided face on its way.
-template <class Keep, class OnHit>
+template <class Keep, class OnHit, class Pre = AllRays>
 void trace_emitter(const RayScene::Impl& scene, const SurfaceSides& sides, const sampling::Emitter& e,
-                   const SobolTable& sobol, int rays, Keep&& keep, OnHit&& on_hit) {
+                   const SobolTable& sobol, int rays, Keep&& keep, OnHit&& on_hit, Pre&& pre = Pre{}) {
   constexpr int kChunk = 64;
   alignas(16) RTCRayHit buf[kChunk];
   int index[kChunk];
@@ -66,6 +68,7 @@ void trace_emitter(const RayScene::Impl& scene, const SurfaceSides& sides, const
   while (i < rays) {
     int n = 0;
     for (; i < rays && n < kChunk; ++i) {
+      if (!pre(i)) continue;  // decided without generating the ray
       float org[3], dir[3];
       sampling::emit(e, sobol[i], true, org, dir);
       if (!keep(i, org, dir)) continue;
