@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include <sys/wait.h>
+
 #include "analytic.h"
 
 namespace fs = std::filesystem;
