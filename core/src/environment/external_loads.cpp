@@ -204,14 +204,15 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       };
       // Pilot: a side none of whose first `pilot` rays is blocked sees the Earth unobstructed
       // and keeps those (the integrand is then smooth and the Sobol estimate accurate); a side
-      // with any blocked pilot ray traces all `rays`, where the visibility edge needs them.
+      // all of whose pilot rays are blocked (e.g. an internal wall) sees none of it; only sides
+      // with both trace all `rays`, where the visibility edge needs them.
       add_rays(0, pilot);
       if (batch.empty()) continue;
       scene.occluded(batch, blocked);
-      int used = pilot;
-      bool any_blocked = false;
-      for (auto b : blocked) any_blocked |= b != 0;
-      if (any_blocked && rays > pilot) {
+      int used = pilot, n_blocked = 0;
+      for (auto b : blocked) n_blocked += b != 0;
+      const bool mixed = n_blocked > 0 && n_blocked < static_cast<int>(blocked.size());
+      if (mixed && rays > pilot) {
         const size_t first_new = batch.size();
         add_rays(pilot, rays);
         std::vector<std::uint8_t> more;
