@@ -3,20 +3,25 @@
 //! thermal node and time step:
 //!  - direct solar: S A max(0, n.s) x (fraction of the face's sample points that see the sun
 //!    past the spacecraft itself), absorbed with the side's absorptivity; zero in eclipse;
-//!  - albedo: each face side shoots cosine-weighted rays; those reaching the Earth sphere
-//!    unblocked by the spacecraft carry a S max(0, n_earth(hit) . s) (a diffuse Lambertian
-//!    Earth lit by the sun, so the terminator and the lit crescent seen from eclipse are
-//!    resolved); absorbed with the absorptivity;
-//!  - Earth IR: q_IR F_side->Earth (same rays), absorbed with the emissivity;
+//!  - albedo: each face side shoots rays into the cone the Earth subtends (uniform in solid
+//!    angle, weight Omega_cap / (pi N) max(0, n.w)); those not blocked by the spacecraft carry
+//!    a S max(0, n_earth(hit) . s) (a diffuse Lambertian Earth lit by the sun, so the
+//!    terminator and the lit crescent seen from eclipse are resolved); absorbed with the
+//!    absorptivity. When the Earth moves in body axes (sun / inertial attitudes) the rays are
+//!    cosine-weighted over the hemisphere instead, traced once, and intersected with the
+//!    Earth's cone at each step;
+//!  - Earth IR: q_IR F_side->Earth (the sum of the same weights), absorbed with the emissivity;
 //!  - solar-band reflections: the unabsorbed part (1 - alpha) of direct + albedo power is
 //!    reflected diffusely; solar Gebhart factors (radiation/gebhart_factors.h with the
 //!    absorptivities) on the radiative engine's side-to-side view factors give the power each
 //!    node finally absorbs. They depend on geometry only, so they are solved once per model.
 //! Earth-IR reflections between faces are neglected (documented in docs/thermal.md).
 //!
-//! Sampling is stratified and jittered per side from a hash of the global seed and the side's
-//! stable identity (SurfaceSides::key): unchanged faces keep their sample points and rays in a
-//! modified model (correlated sampling), results are independent of thread count.
+//! Sampling: the radiative engine's Owen-scrambled Sobol points, scrambled per side from a
+//! hash of the seed and the side's stable identity (SurfaceSides::key): unchanged faces keep
+//! their sample points and rays in a modified model (correlated sampling), and results are
+//! independent of thread count. Pilots (see the settings) spend the rays where a shadow or a
+//! blocked Earth view makes the integrand discontinuous.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <cstdint>
@@ -41,15 +46,16 @@ struct ExternalLoadSettings {
   //! by the spacecraft (decided by the first earth_pilot_rays rays; unobstructed sides keep
   //! only those, the integrand being smooth there).
   int earth_rays_per_face = 4096;
-  int earth_pilot_rays = 256;
+  int earth_pilot_rays = 256;     //!< see earth_rays_per_face
   int steps_per_orbit = 0;        //!< orbit samples; 0 = model.analysis.steps_per_orbit
   std::uint64_t seed = 1;         //!< sampling seed (combined with each side's identity)
   bool solar_reflections = true;  //!< solar-band diffuse reflections between faces
 };
 
-//! Fraction of each side's hemisphere occupied by the Earth and not blocked by the spacecraft
-//! (F_side->Earth) for an Earth centre at `earth_direction_body * distance_m` from the body
-//! origin, estimated with `rays` cosine-weighted rays per side. Returns #sides.
+//! View factor from each side to the Earth, F_side->Earth = (1/pi) int cos(theta) V dw over
+//! the Earth's cone, V = 0 where the spacecraft blocks the view, for an Earth centre at
+//! `earth_direction_body * distance_m` [m] from the body origin; `rays` cone rays per side
+//! (no pilot). Returns #sides. 	hrow InvalidInput if rays < 1 or distance <= Earth radius.
 Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& sides,
                                    const Eigen::Vector3d& earth_direction_body, double distance_m,
                                    int rays, std::uint64_t seed);
