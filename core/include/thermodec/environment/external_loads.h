@@ -23,10 +23,13 @@
 //! independent of thread count. Pilots (see the settings) spend the rays where a shadow or a
 //! blocked Earth view makes the integrand discontinuous.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "thermodec/environment/loads.h"
 #include "thermodec/nodes/thermal_model.h"
@@ -60,12 +63,41 @@ Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& si
                                    const Eigen::Vector3d& earth_direction_body, double distance_m,
                                    int rays, std::uint64_t seed);
 
+//! What one external_loads run sampled per face side, the geometry-dependent part of the
+//! loads: for a modified model (a trial of the reduction driver) the sides that did not
+//! change and whose rays cannot reach the change reuse it instead of tracing again.
+struct LoadSamples {
+  std::vector<std::uint64_t> key;  //!< #sides identity (SurfaceSides::key)
+  Eigen::MatrixXf sunlit;          //!< #sides x S lit fraction of the side's sun samples
+  //! Per side: Earth rays kept, (weight, Earth normal at the hit) for an Earth fixed in body
+  //! axes, else (1/N, escaping direction).
+  std::vector<std::vector<std::pair<float, Eigen::Vector3f>>> earth;
+  Eigen::VectorXd earth_view_factor;  //!< #sides F_side->Earth (Earth fixed in body axes)
+  bool earth_fixed = true;
+};
+
+//! Reuse request: sides present in `reference` (same key) whose sun rays, Earth rays or
+//! hemisphere cannot reach `changed_region` take their samples from it. `changed_region`
+//! [m, body axes] must bound the changed geometry before AND after the change (what was
+//! removed can have shadowed others). Same environment and settings as the reference run.
+struct LoadReuse {
+  const LoadSamples* reference = nullptr;
+  Eigen::AlignedBox3d changed_region;
+  // out: how much came from the reference: (side, sun direction) shadow evaluations and
+  // sides' Earth rays, reused / total.
+  long reused_sun = 0, total_sun = 0;
+  int reused_earth = 0, total_earth = 0;
+};
+
 //! Loads of `model` (whose mesh is scene.mesh() and whose sides are `sides`) in its
 //! environment. `view_factors` (side-to-side, of the same sides) is needed for solar
 //! reflections; pass nullptr to skip them. `progress` (optional) receives short messages.
+//! `samples` (optional, out) records what was sampled for later reuse; `reuse` (optional)
+//! takes unaffected sides from a reference run: the result is identical to a full run.
 //! \throw InvalidInput on bad settings (rays < 1, steps < 2 for an orbit) or environment.
 Loads external_loads(const ThermalModel& model, const RayScene& scene, const SurfaceSides& sides,
                      const FaceViewFactors* view_factors, const ExternalLoadSettings& settings = {},
-                     const std::function<void(const std::string&)>& progress = {});
+                     const std::function<void(const std::string&)>& progress = {},
+                     LoadSamples* samples = nullptr, LoadReuse* reuse = nullptr);
 
 }  // namespace thermodec
