@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/mesh/weld.h"
 
 namespace thermodec {
 namespace {
@@ -46,37 +47,6 @@ struct CellHash {
 CellKey cell_of(const Vec3& p, double h) {
   return {static_cast<long long>(std::floor(p.x() / h)), static_cast<long long>(std::floor(p.y() / h)),
           static_cast<long long>(std::floor(p.z() / h))};
-}
-
-// Welds in index order: each vertex joins the first earlier representative within tol, so the
-// result does not depend on hash-table iteration order.
-int weld(Work& w, double tol) {
-  if (!(tol > 0)) return 0;
-  std::unordered_map<CellKey, std::vector<int>, CellHash> grid;
-  std::vector<int> rep(w.v.size());
-  int welded = 0;
-  for (size_t i = 0; i < w.v.size(); ++i) {
-    const CellKey c = cell_of(w.v[i], tol);
-    int found = -1;
-    for (long long dx = -1; dx <= 1 && found < 0; ++dx)
-      for (long long dy = -1; dy <= 1 && found < 0; ++dy)
-        for (long long dz = -1; dz <= 1 && found < 0; ++dz) {
-          auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
-          if (it == grid.end()) continue;
-          for (int j : it->second)
-            if ((w.v[j] - w.v[i]).norm() <= tol && (found < 0 || j < found)) found = j;
-        }
-    if (found >= 0) {
-      rep[i] = found;
-      ++welded;
-    } else {
-      rep[i] = static_cast<int>(i);
-      grid[c].push_back(static_cast<int>(i));
-    }
-  }
-  for (auto& t : w.f)
-    for (int& k : t) k = rep[k];
-  return welded;
 }
 
 std::pair<int, int> ekey(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
@@ -334,7 +304,14 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& o) {
   RepairResult res;
   RepairReport& rep = res.report;
 
-  if (o.weld) rep.vertices_welded = weld(w, tol);
+  if (o.weld && tol > 0) {
+    const WeldResult welded = weld_vertices(mesh.V, tol);
+    rep.vertices_welded = nv - static_cast<int>(welded.V.rows());
+    w.v.resize(welded.V.rows());
+    for (int i = 0; i < welded.V.rows(); ++i) w.v[i] = welded.V.row(i).transpose();
+    for (auto& t : w.f)
+      for (int& k : t) k = welded.new_index[k];
+  }
 
   auto filter = [&w](const std::vector<char>& keep) {
     Work n;
@@ -390,7 +367,7 @@ RepairResult repair_mesh(const Mesh& mesh, const RepairOptions& o) {
     for (int k : t) used[k] = 1;
   int nv_out = 0;
   for (auto& u : used) u = u > 0 ? nv_out++ : -1;
-  rep.unreferenced_vertices_removed = static_cast<int>(w.v.size()) - nv_out - rep.vertices_welded;
+  rep.unreferenced_vertices_removed = static_cast<int>(w.v.size()) - nv_out;
   Mesh& out = res.mesh;
   out.V.resize(nv_out, 3);
   for (size_t i = 0; i < w.v.size(); ++i)

@@ -15,7 +15,7 @@
 
 namespace thermodec::tracing {
 
-using SobolTable = std::vector<std::array<std::uint32_t, 4>>;
+using SobolTable = std::vector<std::array<std::uint32_t, 4>>;  // sampling::sobol_4d_reversed
 
 //! Emitter of side `s` of `sides` (geometry from `mesh`), seeded by its identity and `seed`.
 inline sampling::Emitter side_emitter(const Mesh& mesh, const SurfaceSides& sides, int s, std::uint64_t seed) {
@@ -44,17 +44,40 @@ inline float ray_box_entry(const float* o, const float* d, const Eigen::AlignedB
   return t0;
 }
 
+//! Per Embree primitive, what the hot loop needs to classify a hit, packed in one cache line
+//! access: unit front normal and the surface sides of its face.
+struct PrimInfo {
+  float n[3];
+  int front;  // side index of the face's front
+  int back;   // side index of its back, -1 if one-sided
+};
+using PrimTable = std::vector<PrimInfo>;
+
+inline PrimTable prim_table(const RayScene::Impl& scene, const SurfaceSides& sides) {
+  PrimTable t(scene.face_of_prim.size());
+  for (std::size_t p = 0; p < t.size(); ++p) {
+    const int f = scene.face_of_prim[p];
+    for (int k = 0; k < 3; ++k) t[p].n[k] = scene.prim_normal[3 * p + k];
+    t[p].front = sides.front_side[f];
+    t[p].back = sides.back_side[f];
+  }
+  return t;
+}
+
 //! Accept-all ray filter.
 struct AllRays {
+  bool operator()(int) const { return true; }
   bool operator()(int, const float*, const float*) const { return true; }
 };
 
-//! Traces the rays i in [0, rays) of emitter `e` accepted by keep(i, origin, direction) in
-//! `scene`, calling on_hit(i, side, back_hit_on_one_sided, t) in ray order, with side = hit
-//! side of `sides` (the sides of scene's mesh) or -1 for space (t = +inf).
-template <class Keep, class OnHit>
-void trace_emitter(const RayScene::Impl& scene, const SurfaceSides& sides, const sampling::Emitter& e,
-                   const SobolTable& sobol, int rays, Keep&& keep, OnHit&& on_hit) {
+//! Traces the rays i in [0, rays) of emitter `e` accepted by pre(i) and then by
+//! keep(i, origin, direction) in
+//! `scene`, calling on_hit(i, side, crossed, t) in ray order, with side = hit side of `sides`
+//! (the sides of scene's mesh) or -1 for space (t = +inf), and crossed = the ray passed
+//! through the back of a one-sided face on its way.
+template <class Keep, class OnHit, class Pre = AllRays>
+void trace_emitter(const RayScene::Impl& scene, const PrimTable& prims, const sampling::Emitter& e,
+                   const SobolTable& sobol, int rays, Keep&& keep, OnHit&& on_hit, Pre&& pre = Pre{}) {
   constexpr int kChunk = 64;
   alignas(16) RTCRayHit buf[kChunk];
   int index[kChunk];
@@ -65,6 +88,7 @@ void trace_emitter(const RayScene::Impl& scene, const SurfaceSides& sides, const
   while (i < rays) {
     int n = 0;
     for (; i < rays && n < kChunk; ++i) {
+      if (!pre(i)) continue;  // decided without generating the ray
       float org[3], dir[3];
       sampling::emit(e, sobol[i], true, org, dir);
       if (!keep(i, org, dir)) continue;
@@ -81,32 +105,45 @@ void trace_emitter(const RayScene::Impl& scene, const SurfaceSides& sides, const
     if (n == 0) continue;
     rtcIntersect1M(scene.scene, &ctx, buf, static_cast<unsigned>(n), sizeof(RTCRayHit));
     for (int k = 0; k < n; ++k) {
-      const RTCRayHit& rh = buf[k];
+      RTCRayHit& rh = buf[k];
+      bool crossed = false;
+      // The back of a one-sided face neither emits nor absorbs (Mesh::face_back_material):
+      // a ray reaching it passes through and goes on. A closed, consistently oriented model
+      // never gets here; an open one (e.g. a CAD sheet exported one-sided) stays reciprocal.
+      for (int pass = 0; pass < 64; ++pass) {
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+        const PrimInfo& pi = prims[rh.hit.primID];
+        const bool from_back = rh.ray.dir_x * pi.n[0] + rh.ray.dir_y * pi.n[1] + rh.ray.dir_z * pi.n[2] > 0.0f;
+        if (!from_back || pi.back >= 0) break;
+        crossed = true;
+        const float t = rh.ray.tfar;
+        rh.ray.tnear = t + std::max(1e-6f * t, 1e-30f);
+        rh.ray.tfar = std::numeric_limits<float>::infinity();
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene.scene, &ctx, &rh);
+      }
       if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-        on_hit(index[k], -1, false, std::numeric_limits<float>::infinity());
+        on_hit(index[k], -1, crossed, std::numeric_limits<float>::infinity());
         continue;
       }
-      const unsigned p = rh.hit.primID;
-      const int f = scene.face_of_prim[p];
-      const float* nf = &scene.prim_normal[3 * p];
-      const bool from_back = rh.ray.dir_x * nf[0] + rh.ray.dir_y * nf[1] + rh.ray.dir_z * nf[2] > 0.0f;
-      if (from_back && sides.back_side[f] >= 0) {
-        on_hit(index[k], sides.back_side[f], false, rh.ray.tfar);
-      } else {
-        on_hit(index[k], sides.front_side[f], from_back, rh.ray.tfar);
-      }
+      const PrimInfo& pi = prims[rh.hit.primID];
+      const bool from_back = rh.ray.dir_x * pi.n[0] + rh.ray.dir_y * pi.n[1] + rh.ray.dir_z * pi.n[2] > 0.0f;
+      // from_back on a one-sided face here only if 64 crossings were not enough (pathological):
+      // counted on its front.
+      on_hit(index[k], from_back && pi.back >= 0 ? pi.back : pi.front, crossed, rh.ray.tfar);
     }
   }
 }
 
-//! What one reference ray hit: code = 0 for space, else 2 (side + 1) + back_hit_on_one_sided;
+//! What one reference ray hit: code = 0 (space) or 2 (side + 1), + 1 if it crossed a back;
 //! t = hit distance [m] (+inf for space).
 struct RayRecord {
   std::int32_t code;
   float t;
-  int side() const { return code == 0 ? -1 : code / 2 - 1; }
-  bool back() const { return code != 0 && (code & 1); }
-  static RayRecord of(int side, bool back, float t) { return {side < 0 ? 0 : 2 * (side + 1) + (back ? 1 : 0), t}; }
+  int side() const { return code / 2 - 1; }  // -1 = space
+  bool back() const { return (code & 1) != 0; }
+  static RayRecord of(int side, bool back, float t) { return {2 * (side + 1) + (back ? 1 : 0), t}; }
 };
 
 //! Dense per-thread counter over sides + space (+ a "gone" bucket used by the incremental
