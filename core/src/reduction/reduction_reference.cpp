@@ -18,6 +18,7 @@ struct ReductionReference::Impl {
   SimulationResult result;
   Eigen::VectorXi faces_per_node;
   std::unique_ptr<RadiationReference> radiation;
+  LoadSamples load_samples;  //!< the reference's load sampling, reused by trials
   mutable std::mutex cache_mutex;
   mutable std::map<std::vector<double>, TrialResult> cache;
   mutable std::atomic<int> evaluated{0};
@@ -61,6 +62,15 @@ ReductionReference::ReductionReference(const ThermalModel& model, const Reductio
   ModelSimulationSettings sim = settings.simulation;  // the caller's progress for the reference
   impl_->result = simulate_model(model, sim);
   impl_->radiation = std::make_unique<RadiationReference>(prepare_radiation(model, model.radiation));
+  {
+    // Record the reference's load samples (the loads themselves equal those of the reference
+    // simulation: same seeds, same sides) so trials re-sample only sides the change can reach.
+    const RayScene scene(model.mesh);
+    const FaceViewFactors& vf = impl_->radiation->face_view_factors();
+    ExternalLoadSettings ls = impl_->settings.simulation.loads;
+    ls.seed = model.radiation.seed;
+    external_loads(model, scene, vf.sides, ls.solar_reflections ? &vf : nullptr, ls, {}, &impl_->load_samples);
+  }
 }
 
 ReductionReference::~ReductionReference() = default;
@@ -94,12 +104,16 @@ Candidate ReductionReference::candidate(const Eigen::VectorXd& ratios, bool full
     // Same chain as simulate_model, but the IR couplings reuse the reference's rays and the
     // loads are sampled with the same per-side seeds, so unchanged faces see unchanged rays.
     FaceViewFactors vf;
-    const NodeCouplings couplings = radiative_couplings_incremental(*s.radiation, c.model, nullptr, &vf);
+    IncrementalStats stats;
+    const NodeCouplings couplings = radiative_couplings_incremental(*s.radiation, c.model, &stats, &vf);
     const RayScene scene(c.model.mesh);
     ExternalLoadSettings load_settings = s.settings.simulation.loads;
     load_settings.seed = c.model.radiation.seed;
-    const Loads loads = external_loads(c.model, scene, vf.sides,
-                                       load_settings.solar_reflections ? &vf : nullptr, load_settings);
+    LoadReuse reuse;
+    reuse.reference = &s.load_samples;
+    reuse.changed_region = stats.changed_box;
+    const Loads loads = external_loads(c.model, scene, vf.sides, load_settings.solar_reflections ? &vf : nullptr,
+                                       load_settings, {}, nullptr, stats.changed_box.isEmpty() ? nullptr : &reuse);
     c.result = simulate(c.model, couplings, loads, s.settings.simulation.solver);
   }
   c.difference = compare_results(s.result, c.result);
