@@ -1,0 +1,187 @@
+// pybind11 module `thermodec`: the core's plain data (Mesh, ThermalModel and its parts) and
+// its free functions, for the FreeCAD workbench and scripts. It only binds: every algorithm
+// and every check lives in the core, so Python sees the same errors as the CLI.
+//
+// Eigen matrices cross as numpy arrays (copies; numpy is row-major, Eigen column-major).
+// The model's node/material/conductance lists are opaque vectors so that
+// `model.nodes.append(n)` and `model.nodes[0].power_W = 5` change the model in place.
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+#include <pybind11/stl_bind.h>
+
+#include "thermodec/common/errors.h"
+#include "thermodec/mesh/io.h"
+#include "thermodec/mesh/mesh.h"
+#include "thermodec/nodes/automatic_nodes.h"
+#include "thermodec/nodes/load_model.h"
+#include "thermodec/nodes/thermal_model.h"
+
+namespace py = pybind11;
+using namespace thermodec;
+
+PYBIND11_MAKE_OPAQUE(std::vector<thermodec::Material>)
+PYBIND11_MAKE_OPAQUE(std::vector<thermodec::Node>)
+PYBIND11_MAKE_OPAQUE(std::vector<thermodec::Conductance>)
+
+namespace {
+
+void bind_errors(py::module_& m) {
+  // Translators run newest first, so the base goes first and each subclass is caught as itself.
+  static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
+  static py::exception<InvalidInput> invalid_input(m, "InvalidInput", error.ptr());
+  static py::exception<IOError> io_error(m, "IOError", error.ptr());
+  static py::exception<SolverError> solver_error(m, "SolverError", error.ptr());
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InvalidInput& e) {
+      invalid_input(e.what());
+    } catch (const IOError& e) {
+      io_error(e.what());
+    } catch (const SolverError& e) {
+      solver_error(e.what());
+    } catch (const Error& e) {
+      error(e.what());
+    }
+  });
+}
+
+void bind_mesh(py::module_& m) {
+  py::class_<Mesh>(m, "Mesh", "Indexed triangle mesh with per-face node, material and sidedness (SI: m).")
+      .def(py::init<>())
+      .def(py::init([](const Eigen::MatrixXd& V, const Eigen::MatrixXi& F) {
+             Mesh mesh;
+             mesh.V = V;
+             mesh.F = F;
+             const Eigen::Index n = F.rows();
+             mesh.face_node = Eigen::VectorXi::Constant(n, -1);
+             mesh.face_material = Eigen::VectorXi::Constant(n, -1);
+             mesh.face_back_material = Eigen::VectorXi::Constant(n, -1);
+             return mesh;
+           }),
+           py::arg("V"), py::arg("F"),
+           "Mesh from #Vx3 positions [m] and #Fx3 vertex indices; every face unassigned (-1).")
+      .def_readwrite("V", &Mesh::V, "#V x 3 vertex positions [m]")
+      .def_readwrite("F", &Mesh::F, "#F x 3 vertex indices, counter-clockwise seen from the front")
+      .def_readwrite("face_node", &Mesh::face_node, "#F node index per face, -1 = unassigned")
+      .def_readwrite("face_material", &Mesh::face_material, "#F front material index, -1 = the node's")
+      .def_readwrite("face_back_material", &Mesh::face_back_material,
+                     "#F back material index, -1 = one-sided")
+      .def_readwrite("node_names", &Mesh::node_names)
+      .def_readwrite("material_names", &Mesh::material_names)
+      .def_property_readonly("num_vertices", &Mesh::num_vertices)
+      .def_property_readonly("num_faces", &Mesh::num_faces)
+      .def("__repr__", [](const Mesh& mesh) {
+        return "<thermodec.Mesh " + std::to_string(mesh.num_vertices()) + " vertices, " +
+               std::to_string(mesh.num_faces()) + " faces, " + std::to_string(mesh.node_names.size()) +
+               " nodes>";
+      });
+
+  py::class_<MeshReadOptions>(m, "MeshReadOptions")
+      .def(py::init<>())
+      .def_readwrite("weld_tolerance", &MeshReadOptions::weld_tolerance)
+      .def_readwrite("drop_degenerate_faces", &MeshReadOptions::drop_degenerate_faces);
+}
+
+void bind_model(py::module_& m) {
+  py::class_<Material>(m, "Material", "Diffuse grey coating: solar absorptivity, IR emissivity.")
+      .def(py::init([](std::string name, double absorptivity, double emissivity) {
+             return Material{std::move(name), absorptivity, emissivity};
+           }),
+           py::arg("name") = "", py::arg("absorptivity") = 0.5, py::arg("emissivity") = 0.5)
+      .def_readwrite("name", &Material::name)
+      .def_readwrite("absorptivity", &Material::absorptivity)
+      .def_readwrite("emissivity", &Material::emissivity)
+      .def("__repr__", [](const Material& mat) {
+        return "<thermodec.Material " + mat.name + " a=" + std::to_string(mat.absorptivity) +
+               " e=" + std::to_string(mat.emissivity) + ">";
+      });
+
+  py::class_<Node>(m, "Node", "Isothermal node (SI: J/K, W, K).")
+      .def(py::init([](std::string name, int material, double capacitance_J_per_K, double power_W,
+                       std::optional<double> fixed_temperature_K) {
+             return Node{std::move(name), material, capacitance_J_per_K, power_W, fixed_temperature_K};
+           }),
+           py::arg("name") = "", py::arg("material") = -1, py::arg("capacitance_J_per_K") = 0.0,
+           py::arg("power_W") = 0.0, py::arg("fixed_temperature_K") = py::none())
+      .def_readwrite("name", &Node::name)
+      .def_readwrite("material", &Node::material)
+      .def_readwrite("capacitance_J_per_K", &Node::capacitance_J_per_K)
+      .def_readwrite("power_W", &Node::power_W)
+      .def_readwrite("fixed_temperature_K", &Node::fixed_temperature_K);
+
+  py::class_<Conductance>(m, "Conductance", "Conductive link between two node indices [W/K].")
+      .def(py::init([](int from, int to, double conductance_W_per_K) {
+             return Conductance{from, to, conductance_W_per_K};
+           }),
+           py::arg("from_node") = -1, py::arg("to_node") = -1, py::arg("conductance_W_per_K") = 0.0)
+      .def_readwrite("from_node", &Conductance::from)
+      .def_readwrite("to_node", &Conductance::to)
+      .def_readwrite("conductance_W_per_K", &Conductance::conductance_W_per_K);
+
+  py::bind_vector<std::vector<Material>>(m, "MaterialList");
+  py::bind_vector<std::vector<Node>>(m, "NodeList");
+  py::bind_vector<std::vector<Conductance>>(m, "ConductanceList");
+
+  py::enum_<EnvironmentType>(m, "EnvironmentType")
+      .value("fixed_sun", EnvironmentType::fixed_sun)
+      .value("orbit", EnvironmentType::orbit);
+  py::enum_<Attitude>(m, "Attitude")
+      .value("nadir", Attitude::nadir)
+      .value("sun", Attitude::sun)
+      .value("inertial", Attitude::inertial);
+  py::class_<Environment>(m, "Environment")
+      .def(py::init<>())
+      .def_readwrite("type", &Environment::type)
+      .def_readwrite("sun_direction", &Environment::sun_direction)
+      .def_readwrite("solar_flux_W_per_m2", &Environment::solar_flux_W_per_m2)
+      .def_readwrite("altitude_km", &Environment::altitude_km)
+      .def_readwrite("inclination_deg", &Environment::inclination_deg)
+      .def_readwrite("raan_deg", &Environment::raan_deg)
+      .def_readwrite("day_of_year", &Environment::day_of_year)
+      .def_readwrite("attitude", &Environment::attitude)
+      .def_readwrite("albedo", &Environment::albedo)
+      .def_readwrite("earth_ir_flux_W_per_m2", &Environment::earth_ir_flux_W_per_m2);
+
+  py::enum_<AnalysisType>(m, "AnalysisType")
+      .value("steady", AnalysisType::steady)
+      .value("transient_orbit", AnalysisType::transient_orbit);
+  py::class_<Analysis>(m, "Analysis")
+      .def(py::init<>())
+      .def_readwrite("type", &Analysis::type)
+      .def_readwrite("steps_per_orbit", &Analysis::steps_per_orbit)
+      .def_readwrite("orbits", &Analysis::orbits);
+
+  py::class_<RadiationSettings>(m, "RadiationSettings")
+      .def(py::init<>())
+      .def_readwrite("rays_per_face", &RadiationSettings::rays_per_face)
+      .def_readwrite("seed", &RadiationSettings::seed);
+
+  py::class_<ThermalModel>(m, "ThermalModel", "Shared mesh + nodes, materials, links, environment (SI).")
+      .def(py::init<>())
+      .def_readwrite("mesh", &ThermalModel::mesh)
+      .def_readwrite("materials", &ThermalModel::materials)
+      .def_readwrite("nodes", &ThermalModel::nodes)
+      .def_readwrite("conductances", &ThermalModel::conductances)
+      .def_readwrite("default_material", &ThermalModel::default_material)
+      .def_readwrite("environment", &ThermalModel::environment)
+      .def_readwrite("analysis", &ThermalModel::analysis)
+      .def_readwrite("radiation", &ThermalModel::radiation)
+      .def_readwrite("unit_scale", &ThermalModel::unit_scale)
+      .def_readwrite("mesh_path", &ThermalModel::mesh_path);
+}
+
+void bind_functions(py::module_& m) {
+}
+
+}  // namespace
+
+PYBIND11_MODULE(thermodec, m) {
+  m.doc() = "thermodec core: thermal mesh reduction for spacecraft radiative analysis (SI units)";
+  bind_errors(m);
+  bind_mesh(m);
+  bind_model(m);
+  bind_functions(m);
+}
