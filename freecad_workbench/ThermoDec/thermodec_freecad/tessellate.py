@@ -115,32 +115,57 @@ def _mesh_face(face, max_edge_mm, label):
     return P, F
 
 
-def object_edge_length(shape, max_edge_mm):
-    """Max edge length used for one shape [mm]: Mefisto needs 3 segments on a closed edge (a
-    circle), and one value per shape keeps shared edges discretised alike on both sides."""
-    closed = [e.Length for e in shape.Edges if e.isClosed() and e.Length > 1e-9]
+def _closed_edge_limit(shape, max_edge_mm):
+    """Mefisto needs 3 segments on a closed edge (a circle): the max edge length it may use."""
+    closed = [e.Length for e in shape.Edges
+              if e.isClosed() and not e.Degenerated and e.Length > 1e-3]
     return min([max_edge_mm] + [0.999 * length / 3 for length in closed])
 
 
+def _max_edge(P, F):
+    E = np.vstack([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
+    return float(np.max(np.linalg.norm(P[E[:, 0]] - P[E[:, 1]], axis=1)))
+
+
+def mesh_object_faces(obj, faces, max_edge_mm, iterations=6):
+    """Meshes the given (index, face) pairs of one shape object with one Mefisto target length,
+    shrunk until no triangle edge exceeds max_edge_mm (Mefisto treats the length as a target:
+    interior edges come out up to ~1.3x longer on planes, more on strongly curved patches).
+    One target per object keeps shared edges discretised identically on both sides.
+    Returns ([(P [mm], F)], longest edge [mm])."""
+    target = _closed_edge_limit(obj.Shape, max_edge_mm)
+    for _ in range(iterations):
+        meshes = [_mesh_face(face, target, "%s.Face%d" % (obj.Label, i + 1)) for i, face in faces]
+        longest = max(_max_edge(P, F) for P, F in meshes)
+        if longest <= max_edge_mm:
+            break
+        target *= 0.97 * max_edge_mm / longest
+    else:
+        FreeCAD.Console.PrintWarning("ThermoDec: %s: longest edge %.4g mm > %.4g mm after %d passes\n"
+                                     % (obj.Label, longest, max_edge_mm, iterations))
+    return meshes, longest
+
+
 def tessellate_faces(assignment, max_edge_mm):
-    """Dense mesh of all assigned faces: (V [mm] #Vx3, F #Fx3, face_node #F, face_material #F)."""
+    """Dense mesh of all assigned faces: (V [mm] #Vx3, F #Fx3, face_node #F, face_material #F,
+    longest edge [mm])."""
     if max_edge_mm <= 0:
         raise ThermoDecError("max edge length must be > 0 (got %g mm)" % max_edge_mm)
+    by_object = {}
+    for k, (obj, i, face) in enumerate(assignment.faces):
+        by_object.setdefault(obj.Name, (obj, []))[1].append(k)
     Ps, Fs, nodes, mats = [], [], [], []
     offset = 0
-    per_object = {}
-    for (obj, i, face), n, m in zip(assignment.faces, assignment.face_node, assignment.face_material):
-        if obj.Name not in per_object:
-            per_object[obj.Name] = object_edge_length(obj.Shape, max_edge_mm)
-            if per_object[obj.Name] < max_edge_mm:
-                FreeCAD.Console.PrintLog("ThermoDec: %s meshed with max edge %.3g mm (closed edges "
-                                         "need 3 segments)\n" % (obj.Label, per_object[obj.Name]))
-        P, F = _mesh_face(face, per_object[obj.Name], "%s.Face%d" % (obj.Label, i + 1))
-        Ps.append(P)
-        Fs.append(F + offset)
-        offset += len(P)
-        nodes.append(np.full(len(F), n))
-        mats.append(np.full(len(F), m))
+    longest = 0.0
+    for obj, ks in by_object.values():
+        meshes, obj_longest = mesh_object_faces(obj, [assignment.faces[k][1:] for k in ks], max_edge_mm)
+        longest = max(longest, obj_longest)
+        for k, (P, F) in zip(ks, meshes):
+            Ps.append(P)
+            Fs.append(F + offset)
+            offset += len(P)
+            nodes.append(np.full(len(F), assignment.face_node[k]))
+            mats.append(np.full(len(F), assignment.face_material[k]))
     V = np.vstack(Ps)
     F = np.vstack(Fs)
     # Weld the copies of shared-edge vertices: both faces discretise an edge identically, so
@@ -153,7 +178,7 @@ def tessellate_faces(assignment, max_edge_mm):
     rank[order] = np.arange(len(order))
     V = V[first[order]]
     F = rank[inverse.reshape(-1)][F]
-    return V, F, np.concatenate(nodes), np.concatenate(mats)
+    return V, F, np.concatenate(nodes), np.concatenate(mats), longest
 
 
 def tessellate(analysis, max_edge_mm=None):
@@ -165,7 +190,7 @@ def tessellate(analysis, max_edge_mm=None):
         FreeCAD.Console.PrintWarning("ThermoDec: %s\n" % message)
     if max_edge_mm is None:
         max_edge_mm = float(analysis.MaxEdgeLength.getValueAs("mm"))
-    V, F, face_node, face_material = tessellate_faces(assignment, max_edge_mm)
+    V, F, face_node, face_material, longest = tessellate_faces(assignment, max_edge_mm)
 
     mesh = Mesh.Mesh(([FreeCAD.Vector(*p) for p in V], [tuple(int(j) for j in t) for t in F]))
     if mesh.CountFacets != len(F):
@@ -185,6 +210,7 @@ def tessellate(analysis, max_edge_mm=None):
     obj.NodeNames = [objects.model_name(n) for n in assignment.nodes]
     obj.MaterialNames = [objects.model_name(m) for m in assignment.materials]
     obj.MaxEdgeLength = max_edge_mm
+    obj.LongestEdge = longest
     if FreeCAD.GuiUp:
         from . import viewproviders
         viewproviders.colour_by_node(obj)
@@ -209,6 +235,7 @@ class ThermalMesh(objects._Proxy):
         objects._add(obj, "App::PropertyIntegerList", "FaceMaterial", g, "Material index per triangle")
         objects._add(obj, "App::PropertyStringList", "NodeNames", g, "Node names")
         objects._add(obj, "App::PropertyStringList", "MaterialNames", g, "Material names")
-        objects._add(obj, "App::PropertyFloat", "MaxEdgeLength", g, "Max edge length used [mm]")
+        objects._add(obj, "App::PropertyFloat", "MaxEdgeLength", g, "Max edge length asked for [mm]")
+        objects._add(obj, "App::PropertyFloat", "LongestEdge", g, "Longest triangle edge obtained [mm]")
         objects._add(obj, "App::PropertyFloatList", "FaceTemperature", "Results",
                      "Temperature per triangle [K] (imported results)")
