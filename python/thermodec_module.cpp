@@ -12,8 +12,11 @@
 #include <pybind11/stl_bind.h>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/mesh/face_geometry.h"
 #include "thermodec/mesh/io.h"
 #include "thermodec/mesh/mesh.h"
+#include "thermodec/mesh/mesh_stats.h"
+#include "thermodec/mesh/weld.h"
 #include "thermodec/nodes/automatic_nodes.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/nodes/thermal_model.h"
@@ -83,6 +86,34 @@ void bind_mesh(py::module_& m) {
       .def(py::init<>())
       .def_readwrite("weld_tolerance", &MeshReadOptions::weld_tolerance)
       .def_readwrite("drop_degenerate_faces", &MeshReadOptions::drop_degenerate_faces);
+  py::class_<MeshReadReport>(m, "MeshReadReport")
+      .def(py::init<>())
+      .def_readwrite("welded_vertices", &MeshReadReport::welded_vertices)
+      .def_readwrite("degenerate_faces", &MeshReadReport::degenerate_faces)
+      .def_readwrite("degenerate_faces_dropped", &MeshReadReport::degenerate_faces_dropped);
+  py::class_<MeshWriteOptions>(m, "MeshWriteOptions")
+      .def(py::init<>())
+      .def_readwrite("binary", &MeshWriteOptions::binary)
+      .def_readwrite("protected_inputs", &MeshWriteOptions::protected_inputs);
+  py::class_<MeshStats>(m, "MeshStats")
+      .def(py::init<>())
+      .def_readwrite("faces", &MeshStats::faces)
+      .def_readwrite("vertices", &MeshStats::vertices)
+      .def_readwrite("unreferenced_vertices", &MeshStats::unreferenced_vertices)
+      .def_readwrite("edges", &MeshStats::edges)
+      .def_readwrite("components", &MeshStats::components)
+      .def_readwrite("boundary_edges", &MeshStats::boundary_edges)
+      .def_readwrite("non_manifold_edges", &MeshStats::non_manifold_edges)
+      .def_readwrite("degenerate_faces", &MeshStats::degenerate_faces)
+      .def_readwrite("area_m2", &MeshStats::area_m2);
+  py::class_<WeldResult>(m, "WeldResult")
+      .def_readonly("V", &WeldResult::V)
+      .def_readonly("new_index", &WeldResult::new_index);
+  py::class_<AutomaticNodeOptions>(m, "AutomaticNodeOptions")
+      .def(py::init<>())
+      .def_readwrite("max_normal_deviation_deg", &AutomaticNodeOptions::max_normal_deviation_deg)
+      .def_readwrite("min_node_area_fraction", &AutomaticNodeOptions::min_node_area_fraction)
+      .def_readwrite("max_nodes", &AutomaticNodeOptions::max_nodes);
 }
 
 void bind_model(py::module_& m) {
@@ -174,6 +205,40 @@ void bind_model(py::module_& m) {
 }
 
 void bind_functions(py::module_& m) {
+  using release = py::call_guard<py::gil_scoped_release>;
+
+  // mesh/io.h
+  m.def("read_mesh", py::overload_cast<const std::filesystem::path&, const MeshReadOptions&>(&read_mesh),
+        py::arg("path"), py::arg("options") = MeshReadOptions{}, release{},
+        "Reads an OBJ/PLY/STL mesh (groups -> nodes, usemtl -> materials). Raises IOError, InvalidInput.");
+  m.def("read_mesh_with_report",
+        [](const std::filesystem::path& path, const MeshReadOptions& options) {
+          MeshReadReport report;
+          Mesh mesh = read_mesh(path, options, report);
+          return py::make_tuple(std::move(mesh), std::move(report));
+        },
+        py::arg("path"), py::arg("options") = MeshReadOptions{},
+        "(Mesh, MeshReadReport): read_mesh that reports welding and dropped faces instead of logging.");
+  m.def("write_mesh", &write_mesh, py::arg("path"), py::arg("mesh"),
+        py::arg("options") = MeshWriteOptions{}, release{},
+        "Writes a mesh atomically; format from the extension (.obj .ply .stl).");
+
+  // mesh/weld.h, mesh/face_geometry.h, mesh/mesh_stats.h
+  m.def("weld_vertices", &weld_vertices, py::arg("V"), py::arg("tolerance"),
+        "Merges vertices closer than tolerance (units of V) into the first of them; WeldResult.");
+  m.def("face_areas", &face_areas, py::arg("V"), py::arg("F"), "#F face areas [m^2 if V in m]");
+  m.def("face_normals", &face_normals, py::arg("V"), py::arg("F"), "#F x 3 unit normals");
+  m.def("degenerate_faces", &degenerate_faces, py::arg("V"), py::arg("F"));
+  m.def("face_components", &face_components, py::arg("F"), "#F edge-connected component id per face");
+  m.def("mesh_stats", &mesh_stats, py::arg("mesh"));
+  m.def("node_face_counts", &node_face_counts, py::arg("mesh"));
+  m.def("node_areas_m2", &node_areas_m2, py::arg("mesh"));
+  m.def("node_materials", &node_materials, py::arg("mesh"));
+
+  // nodes/automatic_nodes.h
+  m.def("assign_automatic_nodes", &assign_automatic_nodes, py::arg("mesh"),
+        py::arg("options") = AutomaticNodeOptions{}, release{},
+        "Overwrites mesh.face_node and mesh.node_names with an automatic nodal breakdown.");
 }
 
 }  // namespace

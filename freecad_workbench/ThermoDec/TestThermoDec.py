@@ -147,6 +147,26 @@ class SampleSatellite(_DocTest):
         self.assertEqual(info["faces"], tm.Mesh.CountFacets)
         self.assertEqual(info["vertices"], tm.Mesh.CountPoints)
 
+    def test_core_reads_the_exported_mesh_in_metres(self):
+        folder = _output_dir("core_mesh")
+        _, mesh_path = export.write_model(self.analysis, os.path.join(folder, "model.json"))
+        mesh = thermodec.read_mesh(mesh_path)
+        tm = self.analysis.ThermalMesh
+        self.assertEqual(mesh.num_faces, tm.Mesh.CountFacets)
+        stats = thermodec.mesh_stats(mesh)
+        self.assertEqual((stats.boundary_edges, stats.non_manifold_edges, stats.degenerate_faces), (0, 0, 0))
+        self.assertEqual(stats.components, 5)  # body, two wings, boom, dish
+        areas = dict(zip(mesh.node_names, thermodec.node_areas_m2(mesh)))
+        self.assertAlmostEqual(areas["body_px"], 1.0, places=9)  # 1000 mm x 1000 mm
+        shapes = {o.Label: o.Shape for o in self.doc.Objects if o.TypeId == "Part::Feature"}
+        self.assertAlmostEqual(areas["wing_plusy"], shapes["WingPlusY"].Area * 1e-6, places=9)
+        # The dish is curved: its chordal mesh is slightly smaller than the B-rep surface.
+        self.assertLess(areas["dish"], shapes["Dish"].Area * 1e-6)
+        self.assertGreater(areas["dish"], 0.99 * shapes["Dish"].Area * 1e-6)
+        cells = mesh.material_names.index("solar_cell")
+        cell_area = float(np.sum(thermodec.face_areas(mesh.V, mesh.F)[mesh.face_material == cells]))
+        self.assertAlmostEqual(cell_area, 2 * 0.8 * 1.8, places=9)  # the two wing fronts
+
     def test_binding_loads_the_export(self):
         if thermodec is None or not hasattr(thermodec, "load_model"):
             self.skipTest("thermodec module without load_model in this build")

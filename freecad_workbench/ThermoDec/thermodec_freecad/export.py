@@ -1,4 +1,5 @@
 """Export of an analysis as a thermodec model: model.json + OBJ mesh (docs/model-format.md).
+The mesh file is written by the core (thermodec.write_mesh), the JSON here.
 
 model_data() gathers everything in SI units (the conversion from FreeCAD's mm happens there,
 through units.py, and nowhere else); write_model() writes it; to_thermodec_model() gives the
@@ -12,7 +13,7 @@ import numpy as np
 
 import FreeCAD
 
-from . import objects, tessellate, units
+from . import core, objects, tessellate, units
 from .errors import ThermoDecError
 
 
@@ -121,22 +122,15 @@ def _atomic_write(path, text):
     os.replace(tmp, path)
 
 
-def obj_text(V_m, F, face_node, face_material, node_names, material_names):
-    """OBJ text: vertices [m], one `g` group per node, `usemtl` on every material change."""
-    lines = ["# thermodec mesh written by the ThermoDec FreeCAD workbench (units: m)"]
-    lines += ["v %.9g %.9g %.9g" % tuple(p) for p in V_m]
-    order = np.lexsort((np.arange(len(F)), face_material, face_node))
-    current_node, current_mat = None, None
-    for f in order:
-        if face_node[f] != current_node:
-            current_node, current_mat = face_node[f], None
-            lines.append("g %s" % node_names[current_node])
-        if face_material[f] != current_mat:
-            current_mat = face_material[f]
-            lines.append("usemtl %s" % material_names[current_mat])
-        a, b, c = F[f] + 1
-        lines.append("f %d %d %d" % (a, b, c))
-    return "\n".join(lines) + "\n"
+def core_mesh(V_m, F, face_node, face_material, node_names, material_names):
+    """thermodec.Mesh of the export arrays (one-sided faces: every part is a closed solid)."""
+    td = core.module()
+    mesh = td.Mesh(V_m, F)
+    mesh.face_node = face_node
+    mesh.face_material = face_material
+    mesh.node_names = list(node_names)
+    mesh.material_names = list(material_names)
+    return mesh
 
 
 def write_model(analysis, json_path, mesh_path=None):
@@ -153,7 +147,8 @@ def write_model(analysis, json_path, mesh_path=None):
     data, V, F, face_node, face_material = model_data(analysis, rel)
     node_names = list(data["nodes"])
     material_names = list(data["materials"])
-    _atomic_write(mesh_path, obj_text(V, F, face_node, face_material, node_names, material_names))
+    mesh = core_mesh(V, F, face_node, face_material, node_names, material_names)
+    core.module().write_mesh(mesh_path, mesh)  # atomic, the core's own OBJ writer
     _atomic_write(json_path, json.dumps(data, indent=2) + "\n")
     analysis.ModelFile = json_path
     return json_path, mesh_path

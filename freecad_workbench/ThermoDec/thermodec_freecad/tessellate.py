@@ -10,7 +10,7 @@ import numpy as np
 
 import FreeCAD
 
-from . import objects, references
+from . import core, objects, references
 from .errors import ThermoDecError
 
 
@@ -171,13 +171,9 @@ def tessellate_faces(assignment, max_edge_mm):
     # Weld the copies of shared-edge vertices: both faces discretise an edge identically, so
     # a tolerance far below the model size only merges true duplicates.
     extent = float(np.max(V.max(axis=0) - V.min(axis=0))) or 1.0
-    keys = np.round(V / (extent * 1e-9)).astype(np.int64)
-    _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
-    order = np.argsort(first)  # keep first-seen order: deterministic, readable output
-    rank = np.empty_like(order)
-    rank[order] = np.arange(len(order))
-    V = V[first[order]]
-    F = rank[inverse.reshape(-1)][F]
+    welded = core.module().weld_vertices(V, extent * 1e-9)
+    V = np.array(welded.V)
+    F = np.array(welded.new_index, dtype=np.int64)[F]
     return V, F, np.concatenate(nodes), np.concatenate(mats), longest
 
 
