@@ -16,7 +16,7 @@ import numpy as np
 import FreeCAD
 from FreeCAD import Vector
 
-from thermodec_freecad import coatings, export, objects, references, sample, tessellate
+from thermodec_freecad import coatings, export, objects, references, results, sample, tessellate
 from thermodec_freecad.errors import ThermoDecError
 
 try:
@@ -166,6 +166,20 @@ class SampleSatellite(_DocTest):
         cells = mesh.material_names.index("solar_cell")
         cell_area = float(np.sum(thermodec.face_areas(mesh.V, mesh.F)[mesh.face_material == cells]))
         self.assertAlmostEqual(cell_area, 2 * 0.8 * 1.8, places=9)  # the two wing fronts
+
+    def test_import_results_tags_triangles_with_node_temperatures(self):
+        folder = _output_dir("import")
+        _, mesh_path = export.write_model(self.analysis, os.path.join(folder, "model.json"))
+        names = list(self.analysis.ThermalMesh.NodeNames)
+        given = {name: 250.0 + 5.0 * k for k, name in enumerate(names)}  # test input, not a solution
+        feature, summary = results.import_results(self.analysis, mesh_path, {"temperatures_K": given})
+        self.assertEqual(summary["faces"], self.analysis.ThermalMesh.Mesh.CountFacets)
+        self.assertEqual((summary["temperature_min_K"], summary["temperature_max_K"]), (250.0, 295.0))
+        for n, t in zip(feature.FaceNode, feature.FaceTemperature):
+            self.assertEqual(t, given[feature.NodeNames[n]])
+        del given["dish"]
+        with self.assertRaisesRegex(ThermoDecError, "no temperature for node\\(s\\) dish"):
+            results.import_results(self.analysis, mesh_path, given)
 
     def test_binding_loads_the_export(self):
         if thermodec is None or not hasattr(thermodec, "load_model"):
