@@ -51,8 +51,15 @@ def refs_code(refs):
     return "[%s]" % ", ".join("(App.ActiveDocument.%s, %r)" % (obj.Name, list(subs)) for obj, subs in refs)
 
 
+#: False in scripted GUI sessions (gui_demo.py): errors are raised instead of shown in a
+#: modal dialog that nobody would close.
+SHOW_DIALOGS = True
+
+
 def error(message):
     FreeCAD.Console.PrintError("ThermoDec: %s\n" % message)
+    if not SHOW_DIALOGS:
+        raise RuntimeError(str(message))
     from PySide import QtGui
     QtGui.QMessageBox.critical(FreeCADGui.getMainWindow(), "ThermoDec", str(message))
 

@@ -95,7 +95,10 @@ class MaterialPanel(_Panel):
         k = self.choice.currentIndex()
         names = coatings.coating_names()
         lines = ["analysis = App.ActiveDocument.%s" % self.analysis.Name]
-        if k < len(names):
+        reuse = [m for m in self.existing if m.Coating == names[k]] if k < len(names) else []
+        if reuse:  # one material object per library coating
+            lines.append("mat = App.ActiveDocument.%s" % reuse[0].Name)
+        elif k < len(names):
             lines.append("mat = tdo.makeMaterial(analysis, %r)" % names[k])
         else:
             lines.append("mat = App.ActiveDocument.%s" % self.existing[k - len(names)].Name)
