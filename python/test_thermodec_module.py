@@ -84,5 +84,21 @@ class CoreFunctions(unittest.TestCase):
         np.testing.assert_allclose(thermodec.node_areas_m2(mesh), [1.0] * 6, rtol=1e-12)
 
 
+class ModelErrors(unittest.TestCase):
+    def test_unknown_material_is_named_with_its_key(self):
+        V, F = unit_cube()
+        with tempfile.TemporaryDirectory() as folder:
+            mesh = thermodec.Mesh(V, F)
+            mesh.node_names = ["cube"]
+            mesh.face_node = np.zeros(12, dtype=int)
+            thermodec.write_mesh(os.path.join(folder, "cube.obj"), mesh)
+            path = os.path.join(folder, "model.json")
+            with open(path, "w") as f:
+                f.write('{"mesh": "cube.obj", "materials": {"osr": {"absorptivity": 0.08, "emissivity": 0.8}},'
+                        ' "nodes": {"cube": {"material": "gold"}}}')
+            with self.assertRaisesRegex(thermodec.InvalidInput, "nodes.cube.material"):
+                thermodec.load_model(path)
+
+
 if __name__ == "__main__":
     unittest.main()

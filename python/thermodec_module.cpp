@@ -6,12 +6,14 @@
 // The model's node/material/conductance lists are opaque vectors so that
 // `model.nodes.append(n)` and `model.nodes[0].power_W = 5` change the model in place.
 #include <pybind11/eigen.h>
+#include <pybind11/functional.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 #include <pybind11/stl_bind.h>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/decimation/decimate_nodes.h"
 #include "thermodec/mesh/face_geometry.h"
 #include "thermodec/mesh/io.h"
 #include "thermodec/mesh/mesh.h"
@@ -20,6 +22,8 @@
 #include "thermodec/nodes/automatic_nodes.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/nodes/thermal_model.h"
+#include "thermodec/thermal/result_json.h"
+#include "thermodec/thermal/simulate_model.h"
 
 namespace py = pybind11;
 using namespace thermodec;
@@ -204,6 +208,70 @@ void bind_model(py::module_& m) {
       .def_readwrite("mesh_path", &ThermalModel::mesh_path);
 }
 
+void bind_results(py::module_& m) {
+  py::class_<Loads>(m, "Loads", "Absorbed external loads, N nodes x S times [W].")
+      .def_readonly("times_s", &Loads::times_s)
+      .def_readonly("period_s", &Loads::period_s)
+      .def_readonly("solar_W", &Loads::solar_W)
+      .def_readonly("albedo_W", &Loads::albedo_W)
+      .def_readonly("earth_ir_W", &Loads::earth_ir_W)
+      .def_readonly("reflected_solar_W", &Loads::reflected_solar_W)
+      .def_readonly("in_shadow", &Loads::in_shadow)
+      .def("total_W", &Loads::total_W);
+  py::class_<OrbitEnergy>(m, "OrbitEnergy")
+      .def_readonly("absorbed_J", &OrbitEnergy::absorbed_J)
+      .def_readonly("emitted_J", &OrbitEnergy::emitted_J)
+      .def_readonly("to_boundary_J", &OrbitEnergy::to_boundary_J)
+      .def_readonly("stored_J", &OrbitEnergy::stored_J)
+      .def("relative_imbalance", &OrbitEnergy::relative_imbalance);
+  py::class_<SimulationResult>(m, "SimulationResult", "Temperatures of N nodes (model order) at S times.")
+      .def_readonly("nodes", &SimulationResult::nodes)
+      .def_readonly("times_s", &SimulationResult::times_s)
+      .def_readonly("temperature_K", &SimulationResult::temperature_K, "N x S [K]")
+      .def_readonly("loads", &SimulationResult::loads)
+      .def_readonly("internal_power_W", &SimulationResult::internal_power_W)
+      .def_readonly("transient", &SimulationResult::transient)
+      .def_readonly("orbits", &SimulationResult::orbits)
+      .def_readonly("periodicity_residual_K", &SimulationResult::periodicity_residual_K)
+      .def_readonly("energy", &SimulationResult::energy)
+      .def("to_json", [](const SimulationResult& r) {
+        // The result file's own format (thermal/result_json.h), as Python objects.
+        return py::module_::import("json").attr("loads")(result_to_json(r).dump());
+      });
+  py::class_<TemperatureDifference>(m, "TemperatureDifference")
+      .def_readonly("max_abs_K", &TemperatureDifference::max_abs_K)
+      .def_readonly("node", &TemperatureDifference::node)
+      .def_readonly("time_s", &TemperatureDifference::time_s)
+      .def_readonly("time_index", &TemperatureDifference::time_index);
+
+  py::class_<DecimationOptions>(m, "DecimationOptions")
+      .def(py::init<>())
+      .def_readwrite("max_relative_area_change", &DecimationOptions::max_relative_area_change)
+      .def_readwrite("max_relative_volume_change", &DecimationOptions::max_relative_volume_change)
+      .def_readwrite("max_contour_deviation", &DecimationOptions::max_contour_deviation)
+      .def_readwrite("max_normal_deviation_deg", &DecimationOptions::max_normal_deviation_deg)
+      .def_readwrite("shape_weight", &DecimationOptions::shape_weight)
+      .def_readwrite("unassigned_ratio", &DecimationOptions::unassigned_ratio)
+      .def_readwrite("min_faces_per_node", &DecimationOptions::min_faces_per_node);
+  py::class_<NodeDecimationStats>(m, "NodeDecimationStats")
+      .def_readonly("faces_before", &NodeDecimationStats::faces_before)
+      .def_readonly("faces_after", &NodeDecimationStats::faces_after)
+      .def_readonly("target_faces", &NodeDecimationStats::target_faces)
+      .def_readonly("area_before_m2", &NodeDecimationStats::area_before_m2)
+      .def_readonly("area_after_m2", &NodeDecimationStats::area_after_m2)
+      .def_readonly("reached", &NodeDecimationStats::reached)
+      .def("relative_area_change", &NodeDecimationStats::relative_area_change);
+  py::class_<DecimationResult>(m, "DecimationResult")
+      .def_readonly("mesh", &DecimationResult::mesh)
+      .def_readonly("fine_face_of_coarse", &DecimationResult::fine_face_of_coarse)
+      .def_readonly("coarse_face_of_fine", &DecimationResult::coarse_face_of_fine)
+      .def_readonly("fine_vertex_of_coarse", &DecimationResult::fine_vertex_of_coarse)
+      .def_readonly("nodes", &DecimationResult::nodes)
+      .def_readonly("closed_volume_before_m3", &DecimationResult::closed_volume_before_m3)
+      .def_readonly("closed_volume_after_m3", &DecimationResult::closed_volume_after_m3)
+      .def_readonly("collapses", &DecimationResult::collapses);
+}
+
 void bind_functions(py::module_& m) {
   using release = py::call_guard<py::gil_scoped_release>;
 
@@ -235,6 +303,41 @@ void bind_functions(py::module_& m) {
   m.def("node_areas_m2", &node_areas_m2, py::arg("mesh"));
   m.def("node_materials", &node_materials, py::arg("mesh"));
 
+  // nodes/load_model.h
+  m.def("load_model", py::overload_cast<const std::filesystem::path&>(&load_model), py::arg("path"),
+        release{}, "Reads a model.json (or a bare mesh) into a ThermalModel. Raises InvalidInput naming the key.");
+  m.def("load_model", py::overload_cast<const std::filesystem::path&, const MeshReadOptions&>(&load_model),
+        py::arg("path"), py::arg("mesh_options"), release{});
+  m.def("save_model", &save_model, py::arg("model"), py::arg("json_path"), py::arg("mesh_path"), release{},
+        "Writes the model JSON and its mesh atomically.");
+
+  // thermal/simulate_model.h, thermal/result_json.h
+  m.def("simulate_model",
+        [](const ThermalModel& model, std::function<void(const std::string&)> progress) {
+          ModelSimulationSettings settings;
+          if (progress) {
+            settings.progress = [progress](const std::string& message) {
+              py::gil_scoped_acquire gil;
+              progress(message);
+            };
+          }
+          py::gil_scoped_release unlocked;
+          return simulate_model(model, settings);
+        },
+        py::arg("model"), py::arg("progress") = nullptr,
+        "The reference simulation (`thermodec simulate`): couplings, external loads, solve. "
+        "progress(message) is called with stage names. Raises InvalidInput, SolverError.");
+  m.def("compare_results", &compare_results, py::arg("a"), py::arg("b"));
+  m.def("read_result", &read_result, py::arg("path"), "Reads a result JSON (nodes, times, temperatures).");
+
+  // decimation/decimate_nodes.h
+  m.def("decimate_nodes", &decimate_nodes, py::arg("mesh"), py::arg("target_ratio_per_node"),
+        py::arg("options") = DecimationOptions{}, release{},
+        "Node-preserving decimation; target_ratio_per_node = fraction of each node's faces to remove.");
+  m.def("decimate_to_global_ratio", &decimate_to_global_ratio, py::arg("mesh"), py::arg("global_ratio"),
+        py::arg("options") = DecimationOptions{}, py::arg("max_rounds") = 3, release{},
+        "Decimation to a global ratio of removed faces with the paper's per-node rule.");
+
   // nodes/automatic_nodes.h
   m.def("assign_automatic_nodes", &assign_automatic_nodes, py::arg("mesh"),
         py::arg("options") = AutomaticNodeOptions{}, release{},
@@ -248,5 +351,6 @@ PYBIND11_MODULE(thermodec, m) {
   bind_errors(m);
   bind_mesh(m);
   bind_model(m);
+  bind_results(m);
   bind_functions(m);
 }

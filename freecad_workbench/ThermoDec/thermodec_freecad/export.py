@@ -55,6 +55,7 @@ def model_data(analysis, mesh_file="model.obj"):
         raise ThermoDecError("two thermal nodes share a label; node labels must be unique")
 
     materials = {}
+    sources = {}
     for name in tm.MaterialNames:
         if name not in mats_by_name:
             raise ThermoDecError("ThermalMesh refers to material '%s' which is no longer in the "
@@ -62,7 +63,7 @@ def model_data(analysis, mesh_file="model.obj"):
         m = mats_by_name[name]
         materials[name] = {"absorptivity": m.Absorptivity, "emissivity": m.Emissivity}
         if m.Source:
-            materials[name]["source"] = m.Source
+            sources[name] = m.Source
 
     default = analysis.DefaultMaterial
     if default is not None:
@@ -83,6 +84,13 @@ def model_data(analysis, mesh_file="model.obj"):
             entry["material"] = mname
         if n.IsBoundary:
             entry["fixed_temperature"] = n.FixedTemperature
+        if n.BackMaterial is not None:
+            bname = objects.model_name(n.BackMaterial)
+            materials.setdefault(bname, {"absorptivity": n.BackMaterial.Absorptivity,
+                                         "emissivity": n.BackMaterial.Emissivity})
+            entry["back_material"] = bname
+        elif n.TwoSided:
+            entry["two_sided"] = True
         if n.Capacitance < 0:
             raise ThermoDecError("node '%s': negative capacitance %g J/K" % (n.Label, n.Capacitance))
         nodes[name] = entry
@@ -99,6 +107,8 @@ def model_data(analysis, mesh_file="model.obj"):
 
     data = {"mesh": mesh_file, "unit_scale": 1.0, "materials": materials, "default_material": dname,
             "nodes": nodes, "conductances": conductances}
+    if sources:  # provenance of the coating values; top-level '_' keys are comments to the core
+        data["_material_sources"] = sources
     envs = objects.members(analysis, objects.Environment)
     if len(envs) > 1:
         raise ThermoDecError("analysis '%s' has %d environments; keep one" % (analysis.Label, len(envs)))

@@ -67,12 +67,14 @@ class ThermalAnalysis(_Proxy):
         _add(obj, "App::PropertyInteger", "RaysPerFace", g, "Monte Carlo rays per face", 4000)
         _add(obj, "App::PropertyInteger", "Seed", g, "Monte Carlo seed", 1)
         g = "Reduction"
-        _add(obj, "App::PropertyInteger", "TargetFaces", g, "Face count of the reduced mesh", 500)
+        _add(obj, "App::PropertyFloat", "GlobalRatio", g,
+             "Decimate: fraction of the dense mesh's faces to remove (0.9 keeps 10 %)", 0.8)
         g = "Output"
         _add(obj, "App::PropertyLink", "ThermalMesh", g, "Dense tagged mesh made by Tessellate")
         _add(obj, "App::PropertyPath", "OutputDirectory", g,
              "Folder for model.json, the mesh and results (empty: beside the document)")
         _add(obj, "App::PropertyFile", "ModelFile", g, "Last exported model.json")
+        _add(obj, "App::PropertyFile", "ResultFile", g, "Last simulation result.json")
 
 
 class ThermalNode(_Proxy):
@@ -91,6 +93,9 @@ class ThermalNode(_Proxy):
         _add(obj, "App::PropertyFloat", "Power", g, "Internal dissipation [W]", 0.0)
         _add(obj, "App::PropertyBool", "IsBoundary", g, "Held at FixedTemperature", False)
         _add(obj, "App::PropertyFloat", "FixedTemperature", g, "Boundary temperature [K]", 293.15)
+        _add(obj, "App::PropertyBool", "TwoSided", g,
+             "Thin sheet radiating from both faces (not part of a closed solid)", False)
+        _add(obj, "App::PropertyLink", "BackMaterial", g, "Coating of the back side (implies TwoSided)")
 
     def onChanged(self, obj, prop):
         if prop == "References" and "ReferenceSignatures" in obj.PropertiesList:

@@ -3,12 +3,13 @@ node or by temperature, and a short report. simulate/reduce run the core through
 once this build of the core has them."""
 
 import json
+import os
 
 import numpy as np
 
 import FreeCAD
 
-from . import core, objects, tessellate, units
+from . import core, export, objects, tessellate, units
 from .errors import ThermoDecError
 
 
@@ -75,10 +76,85 @@ def import_results(analysis, mesh_path, temperatures=None, name="Results"):
     return feature, summary
 
 
-def simulate(analysis):
-    """Thermal simulation of the exported model through the core (when the core has it)."""
-    core.require("simulate")
-    raise ThermoDecError("simulate is not wired into the workbench yet")
+def _progress(message):
+    FreeCAD.Console.PrintMessage("ThermoDec: %s\n" % message)
+    if FreeCAD.GuiUp:
+        import FreeCADGui
+        from PySide import QtGui
+        FreeCADGui.getMainWindow().statusBar().showMessage("ThermoDec: %s" % message)
+        QtGui.QApplication.processEvents()
+
+
+def _write_json(path, data):
+    tmp = "%s.tmp%d" % (path, os.getpid())
+    with open(tmp, "w", encoding="utf-8") as f:
+        json.dump(data, f, indent=1)
+        f.write("\n")
+    os.replace(tmp, path)
+
+
+def simulate(analysis, json_path=None):
+    """Exports the analysis, runs the core's reference simulation (thermodec.simulate_model,
+    what `thermodec simulate` runs) and writes result.json beside the model. The ThermalMesh
+    gets each triangle's node mean temperature [K] (coloured in the GUI).
+    Returns (result path, {node: {"min_K", "mean_K", "max_K"}})."""
+    td = core.module()
+    core.require("simulate_model")
+    json_path, _ = export.write_model(analysis, json_path or export.default_paths(analysis)[0])
+    _progress("simulating %s" % json_path)
+    model = td.load_model(json_path)
+    result = td.simulate_model(model, _progress)
+    data = result.to_json()
+    result_path = os.path.join(os.path.dirname(json_path), "result.json")
+    _write_json(result_path, data)
+    analysis.ResultFile = result_path
+    summary = data["summary"]
+    tm = analysis.ThermalMesh
+    face_t = [summary[tm.NodeNames[n]]["mean_K"] for n in tm.FaceNode]
+    tm.FaceTemperature = face_t
+    if FreeCAD.GuiUp:
+        from . import viewproviders
+        viewproviders.colour_by_temperature(tm, face_t, min(face_t), max(face_t))
+    _progress("simulation done: %s (%.1f K .. %.1f K)" % (result_path, min(face_t), max(face_t)))
+    return result_path, summary
+
+
+def node_mean_temperatures(result_path):
+    """{node: mean temperature [K]} of a result.json written by simulate()."""
+    with open(result_path, encoding="utf-8") as f:
+        return {name: v["mean_K"] for name, v in json.load(f)["summary"].items()}
+
+
+def decimate(analysis, global_ratio=None, json_path=None):
+    """Exports the analysis and decimates its mesh with the core's node-preserving decimation
+    to a global ratio of removed faces (the paper's per-node rule). Writes reduced/model.json
+    and reduced/model.obj beside the export and imports the reduced mesh, coloured by the last
+    simulation's temperatures when there is one. Returns (feature, summary)."""
+    td = core.module()
+    ratio = analysis.GlobalRatio if global_ratio is None else float(global_ratio)
+    json_path, _ = export.write_model(analysis, json_path or export.default_paths(analysis)[0])
+    _progress("decimating %s (remove %.0f %% of the faces)" % (json_path, 100 * ratio))
+    model = td.load_model(json_path)
+    result = td.decimate_to_global_ratio(model.mesh, ratio)
+    folder = os.path.join(os.path.dirname(json_path), "reduced")
+    os.makedirs(folder, exist_ok=True)
+    mesh_path = os.path.join(folder, "model.obj")
+    td.write_mesh(mesh_path, result.mesh)
+    with open(json_path, encoding="utf-8") as f:
+        data = json.load(f)
+    data["mesh"] = "model.obj"
+    _write_json(os.path.join(folder, "model.json"), data)
+    temperatures = None
+    if analysis.ResultFile and os.path.exists(analysis.ResultFile):
+        temperatures = node_mean_temperatures(analysis.ResultFile)
+    old = analysis.Document.getObject("ReducedMesh")
+    if old is not None:
+        analysis.Document.removeObject(old.Name)
+    feature, summary = import_results(analysis, mesh_path, temperatures, name="ReducedMesh")
+    summary.update(faces_before=int(model.mesh.num_faces), global_ratio=ratio,
+                   nodes_reached=sum(1 for n in result.nodes if n.reached))
+    _progress("reduced to %d faces (from %d)" % (summary["faces"], summary["faces_before"]))
+    return feature, summary
 
 
 def reduce(analysis):
