@@ -40,7 +40,7 @@ def screenshot(name):
 
 
 def main():
-    from thermodec_freecad import commands, export, objects, sample, taskpanels, results
+    from thermodec_freecad import commands, export, objects, sample, taskpanels
     from FreeCAD import Vector
 
     commands.SHOW_DIALOGS = False
@@ -105,14 +105,33 @@ def main():
     process_events()
     screenshot("tessellated_by_node")
 
+    # Export, simulate (command: status-bar progress, temperature colours), decimate.
+    analysis.OutputDirectory = os.path.join(OUT, "model")
     json_path, mesh_path = export.write_model(analysis, os.path.join(OUT, "model", "model.json"))
-    feature, summary = results.import_results(analysis, mesh_path, name="ImportedMesh")
-    feature.ViewObject.Visibility = False
+    Gui.runCommand("ThermoDec_Simulate")
+    process_events()
+    if not analysis.ResultFile:
+        raise RuntimeError("simulation did not run (is the thermodec module on THERMODEC_PYTHON_DIR?)")
+    screenshot("simulated_dense")
+    assert commands.run("Decimate", ["analysis = App.ActiveDocument.%s" % analysis.Name,
+                                     "analysis.GlobalRatio = 0.9",
+                                     "import thermodec_freecad.results as tdresults",
+                                     "tdresults.decimate(analysis)"]), "decimate"
+    reduced = doc.getObject("ReducedMesh")
+    analysis.ThermalMesh.ViewObject.Visibility = False
+    reduced.ViewObject.DisplayMode = "Flat Lines"
+    Gui.SendMsgToActiveView("ViewFit")
+    process_events()
+    screenshot("reduced")
     doc.saveAs(os.path.join(OUT, "satellite.FCStd"))
+    tm = analysis.ThermalMesh
+    t = tm.FaceTemperature
     with open(os.path.join(OUT, "summary.txt"), "w") as f:
-        tm = analysis.ThermalMesh
-        f.write("triangles %d\nvertices %d\nnodes %d\nlongest edge %.1f mm\nmodel %s\n" % (
-            tm.Mesh.CountFacets, tm.Mesh.CountPoints, len(tm.NodeNames), tm.LongestEdge, json_path))
+        f.write("dense: %d triangles, %d vertices, %d nodes, longest edge %.1f mm\n" % (
+            tm.Mesh.CountFacets, tm.Mesh.CountPoints, len(tm.NodeNames), tm.LongestEdge))
+        f.write("node mean temperatures %.1f K .. %.1f K\n" % (min(t), max(t)))
+        f.write("reduced: %d triangles\nmodel %s\nresult %s\n" % (
+            reduced.Mesh.CountFacets, json_path, analysis.ResultFile))
 
 
 def run():

@@ -13,8 +13,8 @@ from . import objects, viewproviders
 SETUP = ["ThermoDec_Analysis", "ThermoDec_NodeFromSelection", "ThermoDec_MaterialToSelection",
          "ThermoDec_AutoNodesPerFace", "ThermoDec_AutoNodesPerSolid", "ThermoDec_Conductance",
          "ThermoDec_Environment"]
-RUN = ["ThermoDec_Tessellate", "ThermoDec_Export", "ThermoDec_Simulate", "ThermoDec_Reduce",
-       "ThermoDec_ImportResults"]
+RUN = ["ThermoDec_Tessellate", "ThermoDec_Export", "ThermoDec_Simulate", "ThermoDec_Decimate",
+       "ThermoDec_Reduce", "ThermoDec_ImportResults"]
 
 
 def active_analysis(doc=None):
@@ -227,7 +227,7 @@ class _CoreCommand(_Command):
 
 class Simulate(_CoreCommand):
     icon, menu, tip, function = "Simulate.svg", "Simulate", \
-        "Run the thermal simulation through the thermodec core (enabled once the core has it)", "simulate"
+        "Export and run the reference thermal simulation through the thermodec core", "simulate_model"
 
     def Activated(self):
         status("ThermoDec: simulating ...")
@@ -236,9 +236,27 @@ class Simulate(_CoreCommand):
             status("ThermoDec: simulation done")
 
 
+class Decimate(_CoreCommand):
+    icon, menu, tip, function = "Reduce.svg", "Decimate", \
+        "Node-preserving decimation of the dense mesh to a global ratio (thermodec core)", \
+        "decimate_to_global_ratio"
+
+    def Activated(self):
+        from PySide import QtGui
+        analysis = active_analysis()
+        ratio, ok = QtGui.QInputDialog.getDouble(FreeCADGui.getMainWindow(), "Decimate",
+                                                 "Fraction of faces to remove", analysis.GlobalRatio,
+                                                 0.0, 0.999, 3)
+        if ok and run("Decimate", [analysis_line(), "analysis.GlobalRatio = %r" % ratio,
+                                   "import thermodec_freecad.results as tdresults",
+                                   "tdresults.decimate(analysis)"]):
+            status("ThermoDec: reduced mesh imported")
+
+
 class Reduce(_CoreCommand):
     icon, menu, tip, function = "Reduce.svg", "Reduce", \
-        "Simulation-driven mesh reduction through the thermodec core (enabled once the core has it)", "reduce"
+        "Simulation-driven mesh reduction through the thermodec core (enabled once the core has it)", \
+        "reduce"
 
     def Activated(self):
         status("ThermoDec: reducing ...")
@@ -270,6 +288,7 @@ def register():
                       ("ThermoDec_Conductance", ConductanceCommand),
                       ("ThermoDec_Environment", EnvironmentCommand),
                       ("ThermoDec_Tessellate", Tessellate), ("ThermoDec_Export", Export),
-                      ("ThermoDec_Simulate", Simulate), ("ThermoDec_Reduce", Reduce),
+                      ("ThermoDec_Simulate", Simulate), ("ThermoDec_Decimate", Decimate),
+                      ("ThermoDec_Reduce", Reduce),
                       ("ThermoDec_ImportResults", ImportResults)):
         FreeCADGui.addCommand(name, cls())

@@ -62,7 +62,7 @@ def _heat(t):
 def _colour_faces(obj, colours):
     """Per-triangle colours on a Mesh feature: one segment per colour, highlighted."""
     import Mesh
-    mesh = obj.Mesh.copy()
+    mesh = Mesh.Mesh(obj.Mesh.Topology)  # same points and facets, no earlier segments
     groups = {}
     for f, c in enumerate(colours):
         groups.setdefault(c, []).append(f)
