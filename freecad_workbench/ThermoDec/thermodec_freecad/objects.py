@@ -101,6 +101,16 @@ class ThermalNode(_Proxy):
         if prop == "References" and "ReferenceSignatures" in obj.PropertiesList:
             references.store_signatures(obj)
 
+    def execute(self, obj):
+        _recheck(obj)
+
+
+def _recheck(obj):
+    """Runs on recompute after a referenced shape changed: repairs renumbered faces at once
+    (warnings say which) and marks the object in error when a face is gone."""
+    for message in references.check(obj):
+        FreeCAD.Console.PrintWarning("ThermoDec: %s\n" % message)
+
 
 class ThermalMaterial(_Proxy):
     Type = "ThermoDec::ThermalMaterial"
@@ -131,6 +141,9 @@ class ThermalMaterial(_Proxy):
             obj.Source = obj.MaterialCard
         elif prop == "References" and "ReferenceSignatures" in obj.PropertiesList:
             references.store_signatures(obj)
+
+    def execute(self, obj):
+        _recheck(obj)
 
 
 class Conductance(_Proxy):
