@@ -136,3 +136,33 @@ TEST(CliConvert, unknown_output_format_exits_1) {
   EXPECT_NE(r.err.find("unknown mesh format"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(d / "out.dae"));
 }
+
+TEST(CliInfo, usage_errors_exit_1_with_one_line) {
+  auto d = temp_dir("usage");
+  for (const char* args : {"info", "convert only_one.obj", "info a.obj b.obj", "info --no-such-flag x.obj"}) {
+    const CliRun r = run_cli(args, d);
+    EXPECT_EQ(r.exit_code, 1) << args;
+    EXPECT_EQ(lines(r.err), 1) << args << ": " << r.err;
+  }
+}
+
+TEST(SharedModelsCliInfo, info_succeeds_on_every_sample_and_nasa_model) {
+  auto d = temp_dir("info_all");
+  std::vector<fs::path> models;
+  const fs::path samples = fs::path(THERMODEC_SOURCE_DIR) / "sample_models";
+  const fs::path nasa = fs::path(THERMODEC_SHARED_DIR) / "models" / "nasa";
+  for (const fs::path& dir : {samples, nasa}) {
+    if (!fs::exists(dir)) continue;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+      const std::string ext = e.path().extension().string();
+      if (ext == ".json" || ext == ".obj" || ext == ".ply" || ext == ".stl") models.push_back(e.path());
+    }
+  }
+  if (models.empty()) GTEST_SKIP() << "no sample or NASA models found";
+  std::sort(models.begin(), models.end());
+  for (const auto& m : models) {
+    const CliRun r = run_cli("info " + q(m), d);
+    EXPECT_EQ(r.exit_code, 0) << m << ": " << r.err;
+    EXPECT_NE(r.out.find("nodes "), std::string::npos) << m;
+  }
+}

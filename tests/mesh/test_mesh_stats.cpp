@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "mesh/mesh_test_util.h"
 #include "thermodec/mesh/face_geometry.h"
 #include "thermodec/mesh/mesh_stats.h"
@@ -109,4 +111,30 @@ TEST(MeshStats, components_touching_at_a_vertex_are_separate) {
   F << 0, 1, 2, 2, 3, 4;
   const Eigen::VectorXi c = face_components(F);
   EXPECT_EQ(c, Eigen::Vector2i(0, 1));
+}
+
+TEST(Weld, hash_grid_matches_brute_force_greedy_clustering) {
+  // Points scattered around a few centres at distances of the order of the tolerance, so
+  // many pairs straddle cell faces and the tolerance itself.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> centre(-1.0, 1.0), jitter(-1.5e-3, 1.5e-3);
+  const double tol = 1e-3;
+  Eigen::MatrixXd V(600, 3);
+  Eigen::MatrixXd C(40, 3);
+  for (int i = 0; i < 40; ++i) C.row(i) << centre(rng), centre(rng), centre(rng);
+  for (int i = 0; i < 600; ++i) V.row(i) = C.row(i % 40) + Eigen::RowVector3d(jitter(rng), jitter(rng), jitter(rng));
+  std::vector<int> kept, expected(600);
+  for (int i = 0; i < 600; ++i) {
+    int found = -1;
+    for (int j = 0; j < static_cast<int>(kept.size()) && found < 0; ++j)
+      if ((V.row(kept[j]) - V.row(i)).squaredNorm() <= tol * tol) found = j;
+    if (found < 0) {
+      found = static_cast<int>(kept.size());
+      kept.push_back(i);
+    }
+    expected[i] = found;
+  }
+  const WeldResult w = weld_vertices(V, tol);
+  ASSERT_EQ(w.V.rows(), static_cast<Eigen::Index>(kept.size()));
+  for (int i = 0; i < 600; ++i) EXPECT_EQ(w.new_index[i], expected[i]) << i;
 }

@@ -294,6 +294,13 @@ TEST(LoadModelErrors, bad_files_name_the_file) {
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("inf.json"), std::string::npos) << e.what();
   }
+  std::ofstream(d / "nan.json") << "{\"mesh\": \"satellite.obj\",\n \"unit_scale\": NaN}";
+  try {
+    load_model(d / "nan.json");
+    ADD_FAILURE();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("line 2"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(load_model(d / "missing.json"), IOError);
   std::ofstream(d / "nomesh.json") << R"({"mesh": "absent.obj"})";
   EXPECT_THROW(load_model(d / "nomesh.json"), IOError);

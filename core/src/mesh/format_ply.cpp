@@ -71,38 +71,38 @@ class Body {
   Body(std::string_view data, std::size_t start, int start_line, Format format, const std::string& file)
       : data_(data), pos_(start), line_(start_line), format_(format), file_(file) {}
 
-  // `what` names the record in errors, e.g. "face 12".
-  void begin_record(const std::string& what) {
-    what_ = what;
+  // The record is named in errors as "<element> <index>", e.g. "face 12" (built only on error).
+  void begin_record(const std::string& element, long long index) {
+    element_ = &element;
+    index_ = index;
     if (format_ != Format::ascii) return;
-    words_.clear();
     word_ = 0;
     LineReader lines(data_.substr(pos_));
     std::string_view line;
     while (true) {
-      if (!lines.next(line)) throw file_error(file_, "truncated PLY: file ends before " + what_);
+      if (!lines.next(line)) throw file_error(file_, "truncated PLY: file ends before " + what());
       ++line_;
-      words_ = split_words(trim(line));
+      split_words_into(trim(line), words_);
       if (!words_.empty()) break;
     }
     pos_ += lines.position();
   }
   void end_record() {
     if (format_ == Format::ascii && word_ != words_.size())
-      throw line_error(file_, line_, what_ + " has " + std::to_string(words_.size()) + " values, the header declares " + std::to_string(word_));
+      throw line_error(file_, line_, what() + " has " + std::to_string(words_.size()) + " values, the header declares " + std::to_string(word_));
   }
 
   double read(PlyType t) {
     if (format_ == Format::ascii) {
       if (word_ >= words_.size())
-        throw line_error(file_, line_, what_ + " has too few values (" + std::to_string(words_.size()) + ")");
+        throw line_error(file_, line_, what() + " has too few values (" + std::to_string(words_.size()) + ")");
       const std::string_view w = words_[word_++];
       double v;
-      if (!parse_double(w, v)) throw line_error(file_, line_, what_ + ": bad number '" + std::string(w) + "'");
+      if (!parse_double(w, v)) throw line_error(file_, line_, what() + ": bad number '" + std::string(w) + "'");
       return v;
     }
     const std::size_t n = type_size(t);
-    if (pos_ + n > data_.size()) throw file_error(file_, "truncated binary PLY: data ends inside " + what_);
+    if (pos_ + n > data_.size()) throw file_error(file_, "truncated binary PLY: data ends inside " + what());
     unsigned char b[8];
     std::memcpy(b, data_.data() + pos_, n);
     pos_ += n;
@@ -120,8 +120,9 @@ class Body {
     return 0.0;
   }
 
+  std::string what() const { return *element_ + " " + std::to_string(index_); }
   std::string where() const {
-    return format_ == Format::ascii ? file_ + ":" + std::to_string(line_) + ": " + what_ : file_ + ": " + what_;
+    return format_ == Format::ascii ? file_ + ":" + std::to_string(line_) + ": " + what() : file_ + ": " + what();
   }
 
  private:
@@ -130,19 +131,31 @@ class Body {
   int line_;
   Format format_;
   const std::string& file_;
-  std::string what_;
+  const std::string* element_ = nullptr;
+  long long index_ = 0;
   std::vector<std::string_view> words_;
   std::size_t word_ = 0;
 };
 
-void assign_names(std::vector<std::string>& names, const Eigen::VectorXi& ids,
-                  const std::map<int, std::string>& named, const char* prefix) {
-  const int max_id = ids.size() ? ids.maxCoeff() : -1;
+// Turns file ids into indices of a compact name table: the ids named in comments plus the ids
+// faces use, in ascending order. With the usual contiguous ids 0..n-1 this is the identity;
+// sparse ids (e.g. MeshLab quality labels 3 and 70) give two names, not seventy-one.
+void compact_ids(std::vector<std::string>& names, std::vector<Eigen::VectorXi*> ids,
+                 const std::map<int, std::string>& named, const char* prefix) {
+  std::map<int, int> index;
+  for (const auto& [id, name] : named) index.emplace(id, 0);
+  for (auto* v : ids)
+    for (int f = 0; f < v->size(); ++f)
+      if ((*v)[f] >= 0) index.emplace((*v)[f], 0);
   names.clear();
-  for (int i = 0; i <= max_id; ++i) {
-    auto it = named.find(i);
-    names.push_back(it != named.end() ? it->second : fmt::format("{}_{}", prefix, i));
+  for (auto& [id, position] : index) {
+    position = static_cast<int>(names.size());
+    auto it = named.find(id);
+    names.push_back(it != named.end() ? it->second : fmt::format("{}_{}", prefix, id));
   }
+  for (auto* v : ids)
+    for (int f = 0; f < v->size(); ++f)
+      if ((*v)[f] >= 0) (*v)[f] = index.at((*v)[f]);
 }
 
 }  // namespace
@@ -171,12 +184,12 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
       else throw line_error(file, ln, "unknown PLY format '" + std::string(words[1]) + "'");
       have_format = true;
     } else if (key == "comment" || key == "obj_info") {
-      if (words.size() >= 4 && words[1] == "thermodec" && (words[2] == "node" || words[2] == "material")) {
+      if (words.size() >= 5 && words[1] == "thermodec" && (words[2] == "node" || words[2] == "material")) {
         long long id;
         if (!parse_long(words[3], id) || id < 0 || id > std::numeric_limits<int>::max())
           throw line_error(file, ln, "bad id in thermodec name comment");
         // The name is the rest of the line after the id (it may contain spaces).
-        const std::size_t at = line.find(words[3], words[2].data() + words[2].size() - line.data()) + words[3].size();
+        const std::size_t at = static_cast<std::size_t>(words[3].data() + words[3].size() - line.data());
         const std::string name(trim(line.substr(at)));
         (words[2] == "node" ? node_names : material_names)[static_cast<int>(id)] = name;
       }
@@ -217,6 +230,7 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
   std::vector<double> tri_node, tri_material, tri_back, tri_quality;
   bool has_node = false, has_material = false, has_back = false, has_quality = false;
   long long num_vertices = -1;
+  std::vector<long long> polygon;
   for (const Element& e : elements) {
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
     int px = -1, py = -1, pz = -1, pidx = -1, pnode = -1, pmat = -1, pback = -1, pq = -1;
@@ -226,7 +240,7 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
       if (e.properties[px].is_list || e.properties[py].is_list || e.properties[pz].is_list)
         throw file_error(file, "PLY vertex x/y/z must be scalar properties");
       num_vertices = e.count;
-      xyz.reserve(3 * static_cast<std::size_t>(std::min<long long>(e.count, 1ll << 26)));
+      xyz.reserve(3 * static_cast<std::size_t>(std::min<long long>(e.count, static_cast<long long>(data.size()))));  // a header cannot make us allocate more than the file could hold
     }
     if (is_face) {
       pidx = e.find("vertex_indices");
@@ -238,10 +252,10 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
       has_node = pnode >= 0, has_material = pmat >= 0, has_back = pback >= 0, has_quality = pq >= 0;
     }
     for (long long r = 0; r < e.count; ++r) {
-      body.begin_record(e.name + " " + std::to_string(r));
+      body.begin_record(e.name, r);
       double pos[3] = {0, 0, 0};
       double node = -1, material = -1, back = -1, quality = -1;
-      std::vector<long long> polygon;
+      polygon.clear();
       for (int p = 0; p < static_cast<int>(e.properties.size()); ++p) {
         const Property& prop = e.properties[p];
         if (prop.is_list) {
@@ -326,11 +340,9 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
     if (has_material) mesh.face_material[f] = static_cast<int>(tri_material[f]);
     if (has_back) mesh.face_back_material[f] = static_cast<int>(tri_back[f]);
   }
-  assign_names(mesh.node_names, mesh.face_node, node_names, "node");
+  compact_ids(mesh.node_names, {&mesh.face_node}, node_names, "node");
   // Front and back materials share one name table.
-  Eigen::VectorXi all_materials(2 * nf);
-  all_materials << mesh.face_material, mesh.face_back_material;
-  assign_names(mesh.material_names, all_materials, material_names, "material");
+  compact_ids(mesh.material_names, {&mesh.face_material, &mesh.face_back_material}, material_names, "material");
   return mesh;
 }
 

@@ -2,6 +2,7 @@
 // Private to core/src/mesh: one parser and one writer per format, plus the small text and
 // number helpers they share. read_mesh/write_mesh (io.cpp) do the format-independent work:
 // file access, welding, degenerate faces, atomic writes.
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -40,7 +41,7 @@ class LineReader {
     while (end < data_.size() && data_[end] != '\n' && data_[end] != '\r') ++end;
     line = data_.substr(pos_, end - pos_);
     if (end < data_.size() && data_[end] == '\r' && end + 1 < data_.size() && data_[end + 1] == '\n') ++end;
-    pos_ = end + 1;
+    pos_ = std::min(end + 1, data_.size());
     ++line_number_;
     return true;
   }
@@ -61,8 +62,8 @@ inline std::string_view trim(std::string_view s) {
   return s;
 }
 
-inline std::vector<std::string_view> split_words(std::string_view s) {
-  std::vector<std::string_view> words;
+inline void split_words_into(std::string_view s, std::vector<std::string_view>& words) {
+  words.clear();
   std::size_t i = 0;
   while (i < s.size()) {
     while (i < s.size() && is_space(s[i])) ++i;
@@ -71,6 +72,11 @@ inline std::vector<std::string_view> split_words(std::string_view s) {
     if (j > i) words.push_back(s.substr(i, j - i));
     i = j;
   }
+}
+
+inline std::vector<std::string_view> split_words(std::string_view s) {
+  std::vector<std::string_view> words;
+  split_words_into(s, words);
   return words;
 }
 

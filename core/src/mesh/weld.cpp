@@ -30,33 +30,48 @@ WeldResult weld_vertices(const Eigen::MatrixXd& V, double tolerance) {
     if (!std::isfinite(V.data()[i])) throw InvalidInput("cannot weld vertices with non-finite coordinates");
     max_abs = std::max(max_abs, std::abs(V.data()[i]));
   }
-  // The grid cell must be at least the tolerance (so the 27 neighbouring cells hold every
-  // candidate) and large enough that cell indices fit in 64 bits; tolerance 0 then still
-  // finds exact duplicates, which always share a cell.
-  const double cell = std::max({tolerance, max_abs * 1e-12, 1e-300});
+  // Cells of at least twice the tolerance: a ball of radius `tolerance` then reaches at most
+  // the neighbouring cell on the near side of each axis, so a vertex away from cell faces
+  // probes one cell, not 27. The floor on the size keeps cell indices within 64 bits.
+  const double cell = std::max({2.0 * tolerance, max_abs * 1e-12, 1e-300});
+  const double reach = tolerance + cell * 1e-9;  // slack for rounding in the face distances
   const double tol2 = tolerance * tolerance;
 
   WeldResult out;
   out.new_index.resize(V.rows());
   std::vector<Eigen::Index> kept;  // input rows of surviving vertices
-  std::unordered_map<Cell, std::vector<int>, CellHash> grid;  // cell -> surviving vertex ids
+  std::vector<int> next_in_cell;   // per surviving vertex: the previous one in its cell, or -1
+  std::unordered_map<Cell, int, CellHash> head;  // cell -> latest surviving vertex in it
+  head.reserve(static_cast<std::size_t>(V.rows()));
   for (Eigen::Index i = 0; i < V.rows(); ++i) {
     Cell c;
-    for (int k = 0; k < 3; ++k) c[k] = static_cast<std::int64_t>(std::floor(V(i, k) / cell));
+    std::array<std::array<int, 2>, 3> offsets;  // per axis: 0 and, if near a face, -1 or +1
+    std::array<int, 3> num_offsets;
+    for (int k = 0; k < 3; ++k) {
+      const double x = V(i, k) / cell;
+      c[k] = static_cast<std::int64_t>(std::floor(x));
+      const double from_low = (x - static_cast<double>(c[k])) * cell;
+      offsets[k] = {0, 0};
+      num_offsets[k] = 1;
+      if (from_low <= reach) offsets[k][num_offsets[k]++] = -1;
+      else if (cell - from_low <= reach) offsets[k][num_offsets[k]++] = 1;
+    }
     int found = -1;
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
-          if (it == grid.end()) continue;
-          for (int id : it->second)
-            // Earliest surviving vertex wins, whatever cell order we visit: deterministic.
+    for (int a = 0; a < num_offsets[0]; ++a)
+      for (int b = 0; b < num_offsets[1]; ++b)
+        for (int d = 0; d < num_offsets[2]; ++d) {
+          auto it = head.find({c[0] + offsets[0][a], c[1] + offsets[1][b], c[2] + offsets[2][d]});
+          if (it == head.end()) continue;
+          for (int id = it->second; id >= 0; id = next_in_cell[id])
+            // Earliest surviving vertex wins, whatever order the cells are visited: deterministic.
             if ((found < 0 || id < found) && (V.row(kept[id]) - V.row(i)).squaredNorm() <= tol2) found = id;
         }
     if (found < 0) {
       found = static_cast<int>(kept.size());
       kept.push_back(i);
-      grid[c].push_back(found);
+      auto [it, added] = head.try_emplace(c, found);
+      next_in_cell.push_back(added ? -1 : it->second);
+      it->second = found;
     }
     out.new_index[i] = found;
   }

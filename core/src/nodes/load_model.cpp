@@ -200,7 +200,11 @@ ThermalModel model_from_bare_mesh(const fs::path& path, const MeshReadOptions& o
   // default coating, so the model is valid and the names are kept for a later model file.
   for (const auto& name : model.mesh.material_names)
     if (index_of(model.materials, name) < 0) model.materials.push_back({name, kDefaultAbsorptivity, kDefaultEmissivity});
-  for (const auto& name : model.mesh.node_names) model.nodes.push_back(Node{name});
+  for (const auto& name : model.mesh.node_names) {
+    Node node;
+    node.name = name;
+    model.nodes.push_back(node);
+  }
   resolve_faces(model, std::vector<NodeSides>(model.nodes.size()), path.string());
   return model;
 }
@@ -347,7 +351,11 @@ ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& option
   model.mesh = read_mesh(model.mesh_path, options);
   model.mesh.V *= model.unit_scale;
   ensure_nodes(model.mesh);
-  for (const auto& name : model.mesh.node_names) model.nodes.push_back(Node{name});
+  for (const auto& name : model.mesh.node_names) {
+    Node node;
+    node.name = name;
+    model.nodes.push_back(node);
+  }
   std::vector<NodeSides> sides(model.nodes.size());
 
   if (j.contains("nodes")) {
