@@ -11,6 +11,7 @@
 #include "thermodec/mesh/face_geometry.h"
 #include "thermodec/mesh/io.h"
 #include "thermodec/nodes/automatic_nodes.h"
+#include "thermodec/nodes/load_model.h"
 
 namespace thermodec::cli {
 namespace {
@@ -24,10 +25,15 @@ struct NodesArgs {
 void run_nodes(const NodesArgs& args) {
   const std::filesystem::path model_path(args.model);
   std::vector<std::filesystem::path> inputs{model_path};
-  // TODO(td-io): model files (.json) through load_model once it lands.
-  if (model_path.extension() == ".json")
-    throw InvalidInput(args.model + ": model files are not supported by 'nodes' yet, pass the mesh");
-  Mesh mesh = read_mesh(model_path);
+  Mesh mesh;
+  if (model_path.extension() == ".json") {
+    // A model file: its mesh in metres (unit_scale applied), with coatings and sidedness.
+    ThermalModel model = load_model(model_path);
+    inputs.push_back(model.mesh_path);
+    mesh = std::move(model.mesh);
+  } else {
+    mesh = read_mesh(model_path);
+  }
   const bool had_groups = !mesh.node_names.empty();
 
   const auto start = std::chrono::steady_clock::now();

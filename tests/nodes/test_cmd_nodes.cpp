@@ -94,3 +94,16 @@ TEST(CmdNodes, zero_angle_is_rejected) {
   EXPECT_EQ(run_cli("nodes \"" + kSatellite.string() + "\" -o \"" + (dir / "out.obj").string() + "\" --max-angle 0", dir), 1);
   EXPECT_NE(slurp(dir / "stderr.txt").find("max_normal_deviation_deg"), std::string::npos);
 }
+
+TEST(CmdNodes, model_file_input_keeps_coatings_and_protects_its_mesh) {
+  const auto dir = scratch_dir();
+  const auto model = kSatellite.parent_path() / "model.json";
+  const auto out = dir / "auto.ply";
+  ASSERT_EQ(run_cli("nodes \"" + model.string() + "\" -o \"" + out.string() + "\"", dir), 0)
+      << slurp(dir / "stderr.txt");
+  const Mesh mesh = read_mesh(out);
+  EXPECT_EQ(mesh.num_faces(), 1018);
+  EXPECT_GE(mesh.face_material.minCoeff(), 0);
+  EXPECT_GT(mesh.face_back_material.maxCoeff(), -1);  // wings, yokes and dish stay two-sided
+  EXPECT_EQ(run_cli("nodes \"" + model.string() + "\" -o \"" + kSatellite.string() + "\"", dir), 1);
+}

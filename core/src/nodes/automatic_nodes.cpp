@@ -1,7 +1,6 @@
 #include "thermodec/nodes/automatic_nodes.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -248,11 +247,15 @@ void assign_automatic_nodes(Mesh& mesh, const AutomaticNodeOptions& options) {
                            std::to_string(mesh.F(f, k)) + " outside [0, " +
                            std::to_string(mesh.num_vertices()) + ")");
 
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (!mesh.V.row(v).allFinite())
+      throw InvalidInput("automatic nodes: vertex " + std::to_string(v) + " has a non-finite coordinate");
+
   const FaceGeometry geom{face_normals(mesh.V, mesh.F), face_areas(mesh.V, mesh.F)};
   const std::vector<EdgeFaces> edges = sorted_edge_faces(mesh);
   const FaceAdjacency adj = face_adjacency(mesh, edges);
 
-  // The cosine threshold is nudged by a few ulps so that exactly coplanar triangles, whose
+  // The cosine threshold is nudged by 1e-12 so that exactly coplanar triangles, whose
   // normals differ only by rounding, never split at 0 degrees.
   constexpr double kPi = 3.14159265358979323846;
   const double cos_max = std::cos(options.max_normal_deviation_deg * kPi / 180.0) - 1e-12;

@@ -25,8 +25,9 @@ struct AutomaticNodeOptions {
 //! 3. Nodes are numbered in order of their lowest face index.
 //! Fast: ~15 ms for the 20k faces of a NASA model (Release, one core).
 //! \pre V is #V x 3, F is #F x 3.
-//! \throw InvalidInput on an empty mesh, a vertex index out of range, max_nodes < 1,
-//! max_normal_deviation_deg outside (0, 180] or min_node_area_fraction outside [0, 1).
+//! \throw InvalidInput on an empty mesh, a vertex index out of range, a NaN/inf coordinate,
+//! max_nodes < 1, max_normal_deviation_deg outside (0, 180] or min_node_area_fraction outside
+//! [0, 1).
 void assign_automatic_nodes(Mesh& mesh, const AutomaticNodeOptions& options = {});
 
 }  // namespace thermodec
