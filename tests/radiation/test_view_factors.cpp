@@ -53,6 +53,9 @@ void expect_matches(const NodeCouplings& c, int i, int j, double exact, double b
   EXPECT_GT(se, 0.0);
   EXPECT_NEAR(F, exact, 5 * se + bias) << "F" << i << j << " se " << se;
   if (exact >= 0.05) EXPECT_LE(std::abs(F - exact) / exact, 0.01) << "F" << i << j;
+  ::testing::Test::RecordProperty("F" + std::to_string(i) + std::to_string(j),
+                                  "F " + std::to_string(F) + " exact " + std::to_string(exact) + " rel.err " +
+                                      std::to_string((F - exact) / exact) + " se " + std::to_string(se));
 }
 
 }  // namespace

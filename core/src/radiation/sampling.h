@@ -143,8 +143,10 @@ inline void emit(const Emitter& e, const std::array<std::uint32_t, 4>& sobol, bo
     ct = 1.0 - u3;
     st = std::sqrt(std::max(0.0, 1.0 - ct * ct));
   }
-  const double phi = 2.0 * M_PI * u4;
-  const Eigen::Vector3d d = e.t * (st * std::cos(phi)) + e.b * (st * std::sin(phi)) + e.n * ct;
+  // note: float sincos is plenty (the direction is stored in float) and ~3x cheaper than double.
+  float sp, cp;
+  ::sincosf(float(2.0 * M_PI) * float(u4), &sp, &cp);
+  const Eigen::Vector3d d = e.t * (st * cp) + e.b * (st * sp) + e.n * ct;
   for (int k = 0; k < 3; ++k) {
     org[k] = float(p[k]);
     dir[k] = float(d[k]);

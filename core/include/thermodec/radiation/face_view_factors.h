@@ -22,6 +22,7 @@ struct FaceViewFactors {
   int rays_per_side = 0;
   std::int64_t rays_traced = 0;
   std::int64_t back_hits_on_one_sided = 0;  //!< rays that hit the back of a one-sided face
+  Eigen::VectorXi back_hits_per_side;        //!< #S the same, per emitting side
 };
 
 //! Traces all sides of `sides` (which must be the sides of scene.mesh()) in parallel (TBB).
