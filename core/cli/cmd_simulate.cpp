@@ -26,6 +26,10 @@ struct SimulateOptions {
 void run_simulate(const SimulateOptions& o) {
   const ThermalModel model = load_model(o.model);
   const std::vector<std::filesystem::path> inputs{o.model, model.mesh_path};
+  // Refuse before the work, not after it.
+  for (const auto& in : inputs)
+    for (const auto& out : {o.json_out, o.plot_out})
+      if (!out.empty() && same_file(in, out)) throw InvalidInput("output " + out + " would overwrite the input " + in.string());
   ModelSimulationSettings settings;
   settings.loads = o.loads;
   if (!o.quiet) settings.progress = [](const std::string& m) { std::cerr << "simulate: " << m << "\n"; };
@@ -64,11 +68,7 @@ void run_simulate(const SimulateOptions& o) {
                    {"solar_reflections", o.loads.solar_reflections}};
   for (auto& [k, v] : extra.items()) j[k] = v;
   if (!o.json_out.empty()) write_text_atomically(o.json_out, j.dump(1) + "\n", inputs);
-  if (!o.plot_out.empty()) {
-    for (const auto& in : inputs)
-      if (same_file(in, o.plot_out)) throw InvalidInput("--plot would overwrite the input " + in.string());
-    plot_png("temperatures", j, o.plot_out);
-  }
+  if (!o.plot_out.empty()) plot_png("temperatures", j, o.plot_out);
 }
 
 }  // namespace

@@ -88,12 +88,17 @@ RayQuery make_ray(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_f
 }
 
 // Unblocked fraction of each side's sample points towards the direction `toward` (unit),
-// for sides facing it; 0 for the others.
+// for sides facing it; 0 for the others. A pilot of the first P Sobol points (P a power of 2:
+// one per 1/P-area stratum of the Owen-scrambled net) decides fully lit or fully shadowed
+// sides; only sides where the pilot disagrees trace all `rays`. note: a shadow that slips
+// between all P pilot points is missed; it then covers well under 1/P of the face (measured on
+// the sample: P = 16 left 0.6 W seed-to-seed differences on single nodes, P = 64 < 0.2 W).
 Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
-                                const Eigen::Vector3d& toward, int rays, std::uint64_t seed) {
+                                const Eigen::Vector3d& toward, int rays, int pilot_rays, std::uint64_t seed) {
   const int ns = sides.size();
   Eigen::VectorXd frac = Eigen::VectorXd::Zero(ns);
   const auto sobol = sampling::sobol_4d(rays);
+  const int pilot = std::max(1, std::min(rays, pilot_rays));
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
     std::vector<RayQuery> batch;
     std::vector<std::uint8_t> blocked;
@@ -101,15 +106,23 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
       const Side& g = geo[s];
       if (g.area <= 0.0 || g.normal.dot(toward) <= 0.0) continue;
       const auto sd = side_seeds(seed, sides.key[s], 1);
-      batch.clear();
-      for (const auto& q : sobol) {
-        const Eigen::Vector2d uv(scrambled(q[0], sd[0]), scrambled(q[1], sd[1]));
-        batch.push_back(make_ray(on_triangle(uv, g.a, g.b, g.c) + g.offset * g.normal, toward, 1e30));
+      auto trace = [&](int from, int to) {
+        batch.clear();
+        for (int k = from; k < to; ++k) {
+          const Eigen::Vector2d uv(scrambled(sobol[k][0], sd[0]), scrambled(sobol[k][1], sd[1]));
+          batch.push_back(make_ray(on_triangle(uv, g.a, g.b, g.c) + g.offset * g.normal, toward, 1e30));
+        }
+        scene.occluded(batch, blocked);
+        int open = 0;
+        for (auto b : blocked) open += !b;
+        return open;
+      };
+      const int open_pilot = trace(0, pilot);
+      if (open_pilot == 0 || open_pilot == pilot || pilot == rays) {
+        frac[s] = double(open_pilot) / pilot;
+      } else {
+        frac[s] = double(open_pilot + trace(pilot, rays)) / rays;
       }
-      scene.occluded(batch, blocked);
-      int open = 0;
-      for (auto b : blocked) open += !b;
-      frac[s] = double(open) / rays;
     }
   });
   return frac;
@@ -124,6 +137,25 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
 struct EarthHits {
   std::vector<std::vector<std::pair<float, Eigen::Vector3f>>> rays;  // per side: (weight, normal)
   Eigen::VectorXd view_factor;                                        // per side: sum of weights
+  // The same, flattened for the per-step albedo sums: columns (nx, ny, nz) and weights, side s
+  // owning [begin[s], begin[s + 1]).
+  Eigen::Matrix<float, Eigen::Dynamic, 3> normals;
+  Eigen::VectorXf weights;
+  std::vector<int> begin;
+
+  void flatten() {
+    begin.assign(rays.size() + 1, 0);
+    for (size_t s = 0; s < rays.size(); ++s) begin[s + 1] = begin[s] + static_cast<int>(rays[s].size());
+    normals.resize(begin.back(), 3);
+    weights.resize(begin.back());
+    for (size_t s = 0; s < rays.size(); ++s)
+      for (size_t k = 0; k < rays[s].size(); ++k) {
+        weights[begin[s] + k] = rays[s][k].first;
+        normals.row(begin[s] + k) = rays[s][k].second.transpose();
+      }
+    rays.clear();
+  }
+  bool empty() const { return begin.empty(); }
 };
 
 EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
@@ -180,6 +212,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       out.view_factor[s] = f;
     }
   });
+  out.flatten();
   return out;
 }
 
@@ -202,6 +235,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
                      const std::function<void(const std::string&)>& progress) {
   const Environment& env = model.environment;
   if (settings.sun_rays_per_face < 1) throw InvalidInput("sun_rays_per_face must be >= 1");
+  if (settings.sun_pilot_rays < 1) throw InvalidInput("sun_pilot_rays must be >= 1");
   if (settings.earth_rays_per_face < 1) throw InvalidInput("earth_rays_per_face must be >= 1");
   const int num_nodes = static_cast<int>(model.nodes.size());
   const int ns = sides.size();
@@ -248,7 +282,8 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     loads.in_shadow[k] = st.in_shadow;
     if (st.in_shadow || flux == 0.0) continue;
     if (lit.size() == 0 || !same_direction(st.sun_direction_body, last_dir)) {
-      lit = sunlit_fraction(scene, geo, sides, st.sun_direction_body, settings.sun_rays_per_face, settings.seed);
+      lit = sunlit_fraction(scene, geo, sides, st.sun_direction_body, settings.sun_rays_per_face,
+                            settings.sun_pilot_rays, settings.seed);
       last_dir = st.sun_direction_body;
     }
     for (int s = 0; s < ns; ++s)
@@ -263,21 +298,20 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     Eigen::Vector3d last_earth = Eigen::Vector3d::Zero();
     for (int k = 0; k < steps; ++k) {
       const OrbitState& st = states[k];
-      if (hits.rays.empty() || !same_direction(st.earth_direction_body, last_earth)) {
+      if (hits.empty() || !same_direction(st.earth_direction_body, last_earth)) {
         hits = earth_hits(scene, geo, sides, st.earth_direction_body, distance, settings.earth_rays_per_face,
                           settings.seed);
         last_earth = st.earth_direction_body;
       }
       const Eigen::Vector3f sun = st.sun_direction_body.cast<float>();
+      const Eigen::VectorXf lit = (hits.normals * sun).cwiseMax(0.0f).cwiseProduct(hits.weights);
       for (int s = 0; s < ns; ++s) {
-        const auto& rays = hits.rays[s];
-        if (rays.empty()) continue;
-        const int node = sides.node[s];
-        const double f_earth = hits.view_factor[s];
-        double lit_sum = 0.0;
-        for (const auto& [w, n] : rays) lit_sum += w * std::max(0.0f, n.dot(sun));
+        const int count = hits.begin[s + 1] - hits.begin[s];
+        if (count == 0) continue;
+        const double lit_sum = lit.segment(hits.begin[s], count).sum();
         incident_albedo(s, k) = env.albedo * flux * geo[s].area * lit_sum;
-        if (node >= 0) loads.earth_ir_W(node, k) += eps[s] * env.earth_ir_flux_W_per_m2 * geo[s].area * f_earth;
+        const int node = sides.node[s];
+        if (node >= 0) loads.earth_ir_W(node, k) += eps[s] * env.earth_ir_flux_W_per_m2 * geo[s].area * hits.view_factor[s];
       }
     }
   }

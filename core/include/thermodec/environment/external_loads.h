@@ -33,7 +33,10 @@
 namespace thermodec {
 
 struct ExternalLoadSettings {
-  int sun_rays_per_face = 64;     //!< shadow sample points per face side (stratified)
+  int sun_rays_per_face = 256;    //!< shadow sample points per face side
+  //! The first sun_pilot_rays points decide fully lit / fully shadowed sides; only the others
+  //! trace all sun_rays_per_face (>= sun_rays_per_face disables the shortcut).
+  int sun_pilot_rays = 64;
   int earth_rays_per_face = 1024; //!< cosine-weighted rays per face side for Earth view factors
   int steps_per_orbit = 0;        //!< orbit samples; 0 = model.analysis.steps_per_orbit
   std::uint64_t seed = 1;         //!< sampling seed (combined with each side's identity)
