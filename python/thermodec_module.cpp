@@ -22,6 +22,8 @@
 #include "thermodec/nodes/automatic_nodes.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/nodes/thermal_model.h"
+#include "thermodec/reduction/reduce_model.h"
+#include "thermodec/report/reduction_report.h"
 #include "thermodec/thermal/result_json.h"
 #include "thermodec/thermal/simulate_model.h"
 
@@ -272,6 +274,47 @@ void bind_results(py::module_& m) {
       .def_readonly("collapses", &DecimationResult::collapses);
 }
 
+void bind_reduction(py::module_& m) {
+  py::enum_<ReductionStrategy>(m, "ReductionStrategy")
+      .value("informed", ReductionStrategy::informed)
+      .value("uniform", ReductionStrategy::uniform);
+  py::class_<ReduceSettings>(m, "ReduceSettings",
+                             "Main settings of reduce_model; the nested ones keep their defaults.")
+      .def(py::init<>())
+      .def_readwrite("tolerance_K", &ReduceSettings::tolerance_K)
+      .def_readwrite("strategy", &ReduceSettings::strategy)
+      .def_readwrite("noise_runs", &ReduceSettings::noise_runs)
+      .def_readwrite("sensitivity_cap_factor", &ReduceSettings::sensitivity_cap_factor)
+      .def_readwrite("prediction_targets", &ReduceSettings::prediction_targets)
+      .def_readwrite("progress", &ReduceSettings::progress,
+                     "progress(line): may be called from worker threads");
+  py::class_<NodeReduction>(m, "NodeReduction")
+      .def_readonly("name", &NodeReduction::name)
+      .def_readonly("faces_before", &NodeReduction::faces_before)
+      .def_readonly("faces_after", &NodeReduction::faces_after)
+      .def_readonly("requested_ratio", &NodeReduction::requested_ratio)
+      .def_readonly("ratio", &NodeReduction::ratio)
+      .def_readonly("predicted_ratio", &NodeReduction::predicted_ratio)
+      .def_readonly("max_abs_dT_K", &NodeReduction::max_abs_dT_K)
+      .def_readonly("area_before_m2", &NodeReduction::area_before_m2)
+      .def_readonly("area_after_m2", &NodeReduction::area_after_m2);
+  py::class_<ReductionRun>(m, "ReductionRun", "Outcome of reduce_model (verified by a full recompute).")
+      .def_readonly("strategy", &ReductionRun::strategy)
+      .def_readonly("tolerance_K", &ReductionRun::tolerance_K)
+      .def_readonly("noise_floor_K", &ReductionRun::noise_floor_K)
+      .def_readonly("faces_before", &ReductionRun::faces_before)
+      .def_readonly("faces_after", &ReductionRun::faces_after)
+      .def_readonly("max_temperature_difference_K", &ReductionRun::max_temperature_difference_K)
+      .def_readonly("max_difference_node", &ReductionRun::max_difference_node)
+      .def_readonly("max_difference_time_s", &ReductionRun::max_difference_time_s)
+      .def_readonly("nodes", &ReductionRun::nodes)
+      .def_readonly("trials", &ReductionRun::trials)
+      .def_readonly("seconds_total", &ReductionRun::seconds_total)
+      .def_property_readonly("reduced_model", [](const ReductionRun& r) { return r.reduced.model; })
+      .def_property_readonly("reduced_result", [](const ReductionRun& r) { return r.reduced.result; })
+      .def_readonly("reference", &ReductionRun::reference);
+}
+
 void bind_functions(py::module_& m) {
   using release = py::call_guard<py::gil_scoped_release>;
 
@@ -338,6 +381,17 @@ void bind_functions(py::module_& m) {
         py::arg("options") = DecimationOptions{}, py::arg("max_rounds") = 3, release{},
         "Decimation to a global ratio of removed faces with the paper's per-node rule.");
 
+  // reduction/reduce_model.h, report/reduction_report.h
+  m.def("reduce_model", &reduce_model, py::arg("model"), py::arg("settings") = ReduceSettings{}, release{},
+        "Simulation-driven reduction (`thermodec reduce`): as few faces as the temperature tolerance allows.");
+  m.def("reduction_report", [](const ReductionRun& run) {
+        return py::module_::import("json").attr("loads")(reduction_report_json(run).dump());
+      }, py::arg("run"), "report.json content as Python objects");
+  m.def("write_reduction_outputs", &write_reduction_outputs, py::arg("run"), py::arg("out_dir"),
+        py::arg("protected_inputs") = std::vector<std::filesystem::path>{}, py::arg("plots") = true, release{},
+        "Writes model.json + reduced.obj, report.json and plots into out_dir; returns plot warnings.");
+  m.def("reduction_summary", &reduction_summary, py::arg("run"));
+
   // nodes/automatic_nodes.h
   m.def("assign_automatic_nodes", &assign_automatic_nodes, py::arg("mesh"),
         py::arg("options") = AutomaticNodeOptions{}, release{},
@@ -352,5 +406,6 @@ PYBIND11_MODULE(thermodec, m) {
   bind_mesh(m);
   bind_model(m);
   bind_results(m);
+  bind_reduction(m);
   bind_functions(m);
 }

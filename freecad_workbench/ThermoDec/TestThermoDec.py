@@ -370,3 +370,24 @@ class CoreRuns(_DocTest):
         diff = thermodec.compare_results(thermodec.simulate_model(dense), thermodec.simulate_model(reduced))
         FreeCAD.Console.PrintMessage("ThermoDec test: dense %d -> reduced %d faces, max |dT| %.2f K at %s\n"
                                      % (summary["faces_before"], summary["faces"], diff.max_abs_K, diff.node))
+
+    def test_reduction_meets_its_tolerance_and_writes_the_core_outputs(self):
+        # Fixed sun and few rays keep this fast (the orbit case takes ~1 min: see docs/freecad.md).
+        objects.members(self.analysis, objects.Environment)[0].EnvironmentType = "fixed_sun"
+        self.analysis.RaysPerFace = 100
+        self.analysis.MaxEdgeLength = "500 mm"
+        with self.assertRaisesRegex(thermodec.InvalidInput, "below twice the measured noise floor"):
+            results.reduce(self.analysis, tolerance_K=0.01, plots=False)
+        feature, summary = results.reduce(self.analysis, tolerance_K=5.0, plots=False)
+        self.assertLessEqual(summary["max_temperature_difference_K"], 5.0)
+        self.assertLess(summary["faces"], 0.5 * summary["faces_before"])
+        folder = os.path.join(self.analysis.OutputDirectory, "reduced")
+        reduced = thermodec.load_model(os.path.join(folder, "model.json"))
+        self.assertEqual(reduced.mesh.num_faces, summary["faces"])
+        self.assertEqual(sorted(reduced.mesh.node_names), sorted(self.analysis.ThermalMesh.NodeNames))
+        with open(summary["report"]) as f:
+            self.assertEqual(json.load(f)["faces_after"], summary["faces"])
+        self.assertEqual(len(feature.FaceTemperature), summary["faces"])
+        FreeCAD.Console.PrintMessage("ThermoDec test: reduce %d -> %d faces, max |dT| %.3f K, noise %.3f K\n"
+                                     % (summary["faces_before"], summary["faces"],
+                                        summary["max_temperature_difference_K"], summary["noise_floor_K"]))

@@ -255,8 +255,8 @@ class Decimate(_CoreCommand):
 
 class Reduce(_CoreCommand):
     icon, menu, tip, function = "Reduce.svg", "Reduce", \
-        "Simulation-driven mesh reduction through the thermodec core (enabled once the core has it)", \
-        "reduce"
+        "Simulation-driven reduction to the analysis' temperature tolerance (thermodec core)", \
+        "reduce_model"
 
     def Activated(self):
         status("ThermoDec: reducing ...")

@@ -67,6 +67,11 @@ class ThermalAnalysis(_Proxy):
         _add(obj, "App::PropertyInteger", "RaysPerFace", g, "Monte Carlo rays per face", 4000)
         _add(obj, "App::PropertyInteger", "Seed", g, "Monte Carlo seed", 1)
         g = "Reduction"
+        _add(obj, "App::PropertyFloat", "ToleranceK", g,
+             "Reduce: max temperature difference allowed vs the dense model [K]", 0.5)
+        _add(obj, "App::PropertyEnumeration", "ReductionStrategy", g, "informed (the paper's) or uniform")
+        if not obj.getEnumerationsOfProperty("ReductionStrategy"):
+            obj.ReductionStrategy = ["informed", "uniform"]
         _add(obj, "App::PropertyFloat", "GlobalRatio", g,
              "Decimate: fraction of the dense mesh's faces to remove (0.9 keeps 10 %)", 0.8)
         g = "Output"

@@ -4,6 +4,7 @@ once this build of the core has them."""
 
 import json
 import os
+import threading
 
 import numpy as np
 
@@ -157,7 +158,45 @@ def decimate(analysis, global_ratio=None, json_path=None):
     return feature, summary
 
 
-def reduce(analysis):
-    """Simulation-driven reduction through the core (when the core has it)."""
-    core.require("reduce")
-    raise ThermoDecError("reduce is not wired into the workbench yet")
+def reduce(analysis, tolerance_K=None, json_path=None, plots=True):
+    """Simulation-driven reduction through the core (thermodec.reduce_model, what
+    `thermodec reduce` runs): exports the analysis, reduces its mesh as far as the temperature
+    tolerance [K] allows (verified by a full recompute), writes the core's outputs (model.json +
+    reduced.obj, report.json, plots) into reduced/ beside the export and imports the reduced
+    mesh coloured by its own simulated node temperatures. Returns (feature, summary)."""
+    td = core.module()
+    core.require("reduce_model")
+    json_path, mesh_path = export.write_model(analysis, json_path or export.default_paths(analysis)[0])
+    settings = td.ReduceSettings()
+    settings.tolerance_K = analysis.ToleranceK if tolerance_K is None else float(tolerance_K)
+    settings.strategy = getattr(td.ReductionStrategy, analysis.ReductionStrategy)
+    main = threading.main_thread()
+
+    def progress(line):  # the core may call from worker threads: only the main thread talks
+        if threading.current_thread() is main:
+            _progress(line)
+
+    settings.progress = progress
+    _progress("reducing %s (tolerance %.3g K, %s)" % (json_path, settings.tolerance_K,
+                                                      analysis.ReductionStrategy))
+    model = td.load_model(json_path)
+    run = td.reduce_model(model, settings)
+    folder = os.path.join(os.path.dirname(json_path), "reduced")
+    for warning in td.write_reduction_outputs(run, folder, [json_path, mesh_path], plots):
+        FreeCAD.Console.PrintWarning("ThermoDec: %s\n" % warning)
+    result = run.reduced_result
+    temperatures = {name: float(np.mean(row)) for name, row in zip(result.nodes, np.asarray(result.temperature_K))}
+    old = analysis.Document.getObject("ReducedMesh")
+    if old is not None:
+        analysis.Document.removeObject(old.Name)
+    feature, summary = import_results(analysis, os.path.join(folder, "reduced.obj"), temperatures,
+                                      name="ReducedMesh")
+    summary.update(faces_before=run.faces_before, tolerance_K=run.tolerance_K,
+                   noise_floor_K=run.noise_floor_K,
+                   max_temperature_difference_K=run.max_temperature_difference_K,
+                   max_difference_node=run.max_difference_node, trials=run.trials,
+                   seconds=run.seconds_total, report=os.path.join(folder, "report.json"))
+    FreeCAD.Console.PrintMessage(td.reduction_summary(run) + "\n")
+    _progress("reduced %d -> %d faces, max |dT| %.3g K (tolerance %.3g K)" % (
+        run.faces_before, run.faces_after, run.max_temperature_difference_K, run.tolerance_K))
+    return feature, summary
