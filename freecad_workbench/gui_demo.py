@@ -4,7 +4,7 @@
       xvfb-run -a -s '-screen 0 1600x1000x24' freecad freecad_workbench/gui_demo.py \
       -M freecad_workbench/ThermoDec
 
-Environment: THERMODEC_DEMO_OUTPUT (folder for screenshots and the model; default
+Environment: THERMODEC_DEMO_REDUCE=1 (Reduce instead of Decimate), THERMODEC_DEMO_OUTPUT (folder for screenshots and the model; default
 ./thermodec_gui_demo), THERMODEC_PYTHON_DIR = the folder of the thermodec module (build/python;
 FreeCAD's GUI ignores PYTHONPATH). `freecad script.py` always
 exits 0, so the script writes DONE (or FAILED and the traceback) to status.txt there and
@@ -19,6 +19,10 @@ import FreeCAD as App
 import FreeCADGui as Gui
 
 OUT = os.path.abspath(os.environ.get("THERMODEC_DEMO_OUTPUT", "thermodec_gui_demo"))
+#: THERMODEC_DEMO_REDUCE=1: run Reduce (simulation-driven, minutes) instead of Decimate
+#: (seconds), on a coarser dense mesh with fewer rays so that it stays a few minutes.
+REDUCE = os.environ.get("THERMODEC_DEMO_REDUCE") == "1"
+MAX_EDGE_MM = 250.0 if REDUCE else 120.0
 
 
 def process_events():
@@ -87,11 +91,13 @@ def main():
     analysis.DefaultMaterial = [m for m in objects.members(analysis, objects.ThermalMaterial)
                                 if m.Coating == "white_paint"][0]  # ...and makes it the default
     Gui.runCommand("ThermoDec_Environment")
+    if REDUCE:
+        analysis.RaysPerFace = 400
 
     # Tessellate through its task panel, then export.
     panel = taskpanels.TessellatePanel(analysis)
     Gui.Control.showDialog(panel)
-    panel.length.setValue(120.0)
+    panel.length.setValue(MAX_EDGE_MM)
     assert panel.accept(), "tessellate"
     for obj in shapes.values():
         obj.ViewObject.Visibility = False
@@ -113,11 +119,17 @@ def main():
     if not analysis.ResultFile:
         raise RuntimeError("simulation did not run (is the thermodec module on THERMODEC_PYTHON_DIR?)")
     screenshot("simulated_dense")
-    assert commands.run("Decimate", ["analysis = App.ActiveDocument.%s" % analysis.Name,
-                                     "analysis.GlobalRatio = 0.9",
-                                     "import thermodec_freecad.results as tdresults",
-                                     "tdresults.decimate(analysis)"]), "decimate"
+    if REDUCE:  # the simulation-driven reduction (Reduce command, no dialog)
+        analysis.ToleranceK = 1.0
+        Gui.runCommand("ThermoDec_Reduce")
+    else:  # quick: decimation to a fixed ratio
+        assert commands.run("Decimate", ["analysis = App.ActiveDocument.%s" % analysis.Name,
+                                         "analysis.GlobalRatio = 0.9",
+                                         "import thermodec_freecad.results as tdresults",
+                                         "tdresults.decimate(analysis)"]), "decimate"
     reduced = doc.getObject("ReducedMesh")
+    if reduced is None:
+        raise RuntimeError("no reduced mesh: the Reduce/Decimate step failed (see the report view)")
     analysis.ThermalMesh.ViewObject.Visibility = False
     reduced.ViewObject.DisplayMode = "Flat Lines"
     Gui.SendMsgToActiveView("ViewFit")
@@ -130,8 +142,17 @@ def main():
         f.write("dense: %d triangles, %d vertices, %d nodes, longest edge %.1f mm\n" % (
             tm.Mesh.CountFacets, tm.Mesh.CountPoints, len(tm.NodeNames), tm.LongestEdge))
         f.write("node mean temperatures %.1f K .. %.1f K\n" % (min(t), max(t)))
-        f.write("reduced: %d triangles\nmodel %s\nresult %s\n" % (
+        f.write("reduced (%s): %d triangles\nmodel %s\nresult %s\n" % (
+            "Reduce, tolerance %g K" % analysis.ToleranceK if REDUCE else "Decimate 0.9",
             reduced.Mesh.CountFacets, json_path, analysis.ResultFile))
+        report = os.path.join(OUT, "model", "reduced", "report.json")
+        if REDUCE and os.path.exists(report):
+            import json
+            with open(report) as r:
+                data = json.load(r)
+            f.write("report: %s\n" % json.dumps({k: data[k] for k in (
+                "faces_before", "faces_after", "max_temperature_difference_K", "noise_floor_K",
+                "tolerance_K") if k in data}))
 
 
 def run():

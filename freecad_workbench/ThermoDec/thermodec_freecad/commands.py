@@ -237,7 +237,7 @@ class Simulate(_CoreCommand):
 
 
 class Decimate(_CoreCommand):
-    icon, menu, tip, function = "Reduce.svg", "Decimate", \
+    icon, menu, tip, function = "Decimate.svg", "Decimate", \
         "Node-preserving decimation of the dense mesh to a global ratio (thermodec core)", \
         "decimate_to_global_ratio"
 
