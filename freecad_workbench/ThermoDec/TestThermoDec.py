@@ -307,18 +307,42 @@ class Robustness(_DocTest):
         self.assertEqual(len(objects.automatic_nodes(analysis, [obj], per="face")), 12)
 
 
+class TwoSidedSheets(_DocTest):
+    def test_sheet_node_with_back_material_is_two_sided_in_the_core(self):
+        import Part
+        sheet = self.doc.addObject("Part::Feature", "Sheet")
+        sheet.Shape = Part.makePlane(1000, 500)  # an open face, not a solid
+        analysis = objects.makeAnalysis(self.doc)
+        analysis.MaxEdgeLength = "250 mm"
+        cells = objects.makeMaterial(analysis, "solar_cell")
+        node = objects.makeNode(analysis, [(sheet, "")], name="panel", material=cells)
+        node.BackMaterial = objects.makeMaterial(analysis, "black_paint")
+        json_path, _ = export.write_model(analysis, os.path.join(_output_dir("sheet"), "model.json"))
+        model = thermodec.load_model(json_path)
+        back = np.asarray(model.mesh.face_back_material)
+        self.assertTrue(np.all(back >= 0))
+        self.assertEqual({model.materials[i].name for i in back}, {"black_paint"})
+        self.assertAlmostEqual(float(np.sum(thermodec.face_areas(model.mesh.V, model.mesh.F))), 0.5, places=9)
+
+    def test_unreadable_step_is_named(self):
+        path = os.path.join(_output_dir("badstep"), "broken.step")
+        with open(path, "w") as f:
+            f.write("ISO-10303-21;\nthis is not STEP\n")
+        with self.assertRaisesRegex(ThermoDecError, "broken.step"):
+            objects.import_step(self.doc, path)
+
+
 class StepRoundTrip(_DocTest):
     def test_step_export_read_and_tessellate_match_the_original(self):
         import Part
         shapes = sample.build_shapes(self.doc)
         path = os.path.join(_output_dir("step"), "satellite.step")
         Part.export(list(shapes.values()), path)
-        shape = Part.read(path)  # Import.insert segfaults on some STEP files; Part.read does not
+        imported = objects.import_step(self.doc, path)  # Part.read inside
+        shape = imported.Shape
         self.assertEqual(len(shape.Solids), 5)
         original_area = sum(o.Shape.Area for o in shapes.values())
         self.assertAlmostEqual(shape.Area / original_area, 1.0, places=6)
-        imported = self.doc.addObject("Part::Feature", "Imported")
-        imported.Shape = shape
         analysis = objects.makeAnalysis(self.doc)
         analysis.DefaultMaterial = objects.makeMaterial(analysis, "white_paint")
         analysis.MaxEdgeLength = "150 mm"

@@ -10,7 +10,7 @@ import FreeCADGui
 
 from . import objects, viewproviders
 
-SETUP = ["ThermoDec_Analysis", "ThermoDec_NodeFromSelection", "ThermoDec_MaterialToSelection",
+SETUP = ["ThermoDec_ImportStep", "ThermoDec_Analysis", "ThermoDec_NodeFromSelection", "ThermoDec_MaterialToSelection",
          "ThermoDec_AutoNodesPerFace", "ThermoDec_AutoNodesPerSolid", "ThermoDec_Conductance",
          "ThermoDec_Environment"]
 RUN = ["ThermoDec_Tessellate", "ThermoDec_Export", "ThermoDec_Simulate", "ThermoDec_Decimate",
@@ -105,6 +105,24 @@ class _Command:
 
     def IsActive(self):
         return FreeCAD.ActiveDocument is not None and active_analysis() is not None
+
+
+class ImportStep(_Command):
+    icon, menu, tip = "ImportStep.svg", "Import STEP", "Load a STEP file as one shape (Part.read)"
+
+    def IsActive(self):
+        return True
+
+    def Activated(self):
+        from PySide import QtGui
+        path, _ = QtGui.QFileDialog.getOpenFileName(FreeCADGui.getMainWindow(), "STEP file", "",
+                                                    "STEP (*.step *.stp *.STEP *.STP)")
+        if not path:
+            return
+        if FreeCAD.ActiveDocument is None:
+            FreeCAD.newDocument()
+        if run("Import STEP", ["tdo.import_step(App.ActiveDocument, %r)" % path]):
+            FreeCADGui.SendMsgToActiveView("ViewFit")
 
 
 class Analysis(_Command):
@@ -281,7 +299,7 @@ class ImportResults(_Command):
 
 
 def register():
-    for name, cls in (("ThermoDec_Analysis", Analysis), ("ThermoDec_NodeFromSelection", NodeFromSelection),
+    for name, cls in (("ThermoDec_ImportStep", ImportStep), ("ThermoDec_Analysis", Analysis), ("ThermoDec_NodeFromSelection", NodeFromSelection),
                       ("ThermoDec_MaterialToSelection", MaterialToSelection),
                       ("ThermoDec_AutoNodesPerFace", AutoNodesPerFace),
                       ("ThermoDec_AutoNodesPerSolid", AutoNodesPerSolid),

@@ -219,6 +219,24 @@ def members(analysis, proxy_class):
     return [o for o in analysis.Group if is_type(o, proxy_class)]
 
 
+def import_step(doc, path, name=None):
+    """Loads a STEP file into one Part::Feature with Part.read (on FreeCAD 0.20, Import.insert
+    crashes on some STEP files). Raises ThermoDecError when the file gives no face."""
+    import os
+    import Part
+    try:
+        shape = Part.read(path)
+    except Exception as e:  # OCC reports unreadable files as a generic exception
+        raise ThermoDecError("cannot read STEP file %s: %s" % (path, e)) from None
+    if shape.isNull() or not shape.Faces:
+        raise ThermoDecError("STEP file %s has no faces" % path)
+    label = name or os.path.splitext(os.path.basename(path))[0]
+    obj = doc.addObject("Part::Feature", re.sub(r"\W", "_", label) or "Step")
+    obj.Label = label
+    obj.Shape = shape
+    return obj
+
+
 def makeAnalysis(doc, name="ThermalAnalysis"):
     obj = doc.addObject("App::DocumentObjectGroupPython", name)
     ThermalAnalysis(obj)
