@@ -34,8 +34,3 @@ def points_m(points_mm):
 def points_mm(points_m):
     """#V x 3 numpy array of positions in m -> mm (results back into FreeCAD)."""
     return points_m / MM_TO_M
-
-
-def quantity_mm(text):
-    """Parses a user length such as '50 mm' or '0.05 m' into mm."""
-    return float(FreeCAD.Units.Quantity(text).getValueAs("mm"))
