@@ -4,7 +4,6 @@ FreeCAD stores lengths in mm and angles in degrees; thermodec works in m, K, W, 
 W/m^2. Thermal properties of the workbench objects are already SI floats (their tooltips
 say the unit), so only geometry, lengths and angles convert here."""
 
-import FreeCAD
 
 MM_TO_M = 1e-3
 
