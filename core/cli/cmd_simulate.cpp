@@ -20,11 +20,13 @@ struct SimulateOptions {
   bool noise_floor = false;
   int noise_runs = 3;
   bool quiet = false;
+  int rays_per_face = 0;  // 0 = the model's radiation.rays_per_face
   ExternalLoadSettings loads;
 };
 
 void run_simulate(const SimulateOptions& o) {
-  const ThermalModel model = load_model(o.model);
+  ThermalModel model = load_model(o.model);
+  if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
   const std::vector<std::filesystem::path> inputs{o.model, model.mesh_path};
   // Refuse before the work, not after it.
   for (const auto& in : inputs)
@@ -86,6 +88,8 @@ void add_simulate(CLI::App& app) {
   sub->add_flag("--noise-floor", opts->noise_floor,
                 "run with several seeds and report the max |dT| between runs and the run time");
   sub->add_option("--noise-runs", opts->noise_runs, "runs for --noise-floor")->check(CLI::Range(2, 100));
+  sub->add_option("--rays", opts->rays_per_face, "IR view-factor rays per face side (default: the model's)")
+      ->check(CLI::PositiveNumber);
   sub->add_option("--sun-rays", opts->loads.sun_rays_per_face, "shadow samples per face side")
       ->check(CLI::PositiveNumber)->capture_default_str();
   sub->add_option("--earth-rays", opts->loads.earth_rays_per_face, "Earth view rays per face side")

@@ -37,7 +37,11 @@ struct ExternalLoadSettings {
   //! The first sun_pilot_rays points decide fully lit / fully shadowed sides; only the others
   //! trace all sun_rays_per_face (>= sun_rays_per_face disables the shortcut).
   int sun_pilot_rays = 64;
-  int earth_rays_per_face = 1024; //!< cosine-weighted rays per face side for Earth view factors
+  //! Rays per face side towards the Earth for sides whose view of the Earth is partly blocked
+  //! by the spacecraft (decided by the first earth_pilot_rays rays; unobstructed sides keep
+  //! only those, the integrand being smooth there).
+  int earth_rays_per_face = 4096;
+  int earth_pilot_rays = 256;
   int steps_per_orbit = 0;        //!< orbit samples; 0 = model.analysis.steps_per_orbit
   std::uint64_t seed = 1;         //!< sampling seed (combined with each side's identity)
   bool solar_reflections = true;  //!< solar-band diffuse reflections between faces
