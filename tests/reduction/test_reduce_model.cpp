@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -164,7 +165,7 @@ TEST(ReduceModel, impossible_tolerances_are_refused) {
 }
 
 TEST(ReduceCli, writes_loadable_model_and_report_with_required_keys) {
-  const fs::path dir = fs::temp_directory_path() / "thermodec_test_reduce_cli";
+  const fs::path dir = fs::temp_directory_path() / ("thermodec_test_reduce_cli_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   ThermalModel model = small_model();
