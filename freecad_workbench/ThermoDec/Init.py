@@ -1,0 +1,10 @@
+# ThermoDec workbench, application part (run by FreeCAD and freecadcmd at start-up).
+# The document objects live in thermodec_freecad/. FreeCAD puts this folder on sys.path, and
+# an installed thermodec module sits in it. Run from a build tree, the module is in
+# build/python: FreeCAD's GUI empties PYTHONPATH, so THERMODEC_PYTHON_DIR names that folder.
+import os as _os
+import sys as _sys
+
+_dir = _os.environ.get("THERMODEC_PYTHON_DIR")
+if _dir and _dir not in _sys.path:
+    _sys.path.insert(0, _dir)

@@ -1,0 +1,312 @@
+"""GUI commands of the ThermoDec workbench.
+
+Each command runs its work as Python console lines (FreeCADGui.doCommand) inside a document
+transaction: every action is undoable and shows up as a replayable script line. Errors are
+shown in a dialog with the workbench's message.
+"""
+
+import FreeCAD
+import FreeCADGui
+
+from . import objects, viewproviders
+
+SETUP = ["ThermoDec_ImportStep", "ThermoDec_Analysis", "ThermoDec_NodeFromSelection", "ThermoDec_MaterialToSelection",
+         "ThermoDec_AutoNodesPerFace", "ThermoDec_AutoNodesPerSolid", "ThermoDec_Conductance",
+         "ThermoDec_Environment"]
+RUN = ["ThermoDec_Tessellate", "ThermoDec_Export", "ThermoDec_Simulate", "ThermoDec_Decimate",
+       "ThermoDec_Reduce", "ThermoDec_ImportResults"]
+
+
+def active_analysis(doc=None):
+    """The selected ThermalAnalysis (or the one holding a selected member), else the first."""
+    doc = doc or FreeCAD.ActiveDocument
+    if doc is None:
+        return None
+    for obj in FreeCADGui.Selection.getSelection(doc.Name):
+        if objects.is_type(obj, objects.ThermalAnalysis):
+            return obj
+        parent = objects.find_analysis(obj)
+        if parent is not None:
+            return parent
+    for obj in doc.Objects:
+        if objects.is_type(obj, objects.ThermalAnalysis):
+            return obj
+    return None
+
+
+def selected_faces():
+    """[(object, [sub names])] of the selection: faces as picked, whole objects as ''."""
+    refs = []
+    for sel in FreeCADGui.Selection.getSelectionEx():
+        obj = sel.Object
+        if not hasattr(obj, "Shape") or obj.TypeId.startswith("Mesh::") or \
+                getattr(getattr(obj, "Proxy", None), "Type", "").startswith("ThermoDec::"):
+            continue
+        subs = [s for s in sel.SubElementNames if s.startswith("Face")]
+        refs.append((obj, subs or [""]))
+    return refs
+
+
+def refs_code(refs):
+    return "[%s]" % ", ".join("(App.ActiveDocument.%s, %r)" % (obj.Name, list(subs)) for obj, subs in refs)
+
+
+#: False in scripted GUI sessions (gui_demo.py): errors are raised instead of shown in a
+#: modal dialog that nobody would close.
+SHOW_DIALOGS = True
+
+
+def error(message):
+    FreeCAD.Console.PrintError("ThermoDec: %s\n" % message)
+    if not SHOW_DIALOGS:
+        raise RuntimeError(str(message))
+    from PySide import QtGui
+    QtGui.QMessageBox.critical(FreeCADGui.getMainWindow(), "ThermoDec", str(message))
+
+
+def status(message):
+    FreeCADGui.getMainWindow().statusBar().showMessage(message)
+    from PySide import QtGui
+    QtGui.QApplication.processEvents()
+
+
+def run(title, lines):
+    """Runs script lines in one undoable transaction; on error aborts and shows the message.
+    Returns True on success."""
+    doc = FreeCAD.ActiveDocument
+    doc.openTransaction(title)
+    try:
+        FreeCADGui.doCommand("import thermodec_freecad.objects as tdo")
+        for line in lines:
+            FreeCADGui.doCommand(line)
+        doc.recompute()
+        doc.commitTransaction()
+        return True
+    except Exception as e:  # a dialog, never a traceback, for the user
+        doc.abortTransaction()
+        error(e)
+        return False
+
+
+def analysis_line():
+    analysis = active_analysis()
+    if analysis is None:
+        raise RuntimeError("create a thermal analysis first")
+    return "analysis = App.ActiveDocument.%s" % analysis.Name
+
+
+class _Command:
+    icon = "ThermoDec.svg"
+    menu = ""
+    tip = ""
+
+    def GetResources(self):
+        return {"Pixmap": viewproviders.icon(self.icon), "MenuText": self.menu, "ToolTip": self.tip}
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None and active_analysis() is not None
+
+
+class ImportStep(_Command):
+    icon, menu, tip = "ImportStep.svg", "Import STEP", "Load a STEP file as one shape (Part.read)"
+
+    def IsActive(self):
+        return True
+
+    def Activated(self):
+        from PySide import QtGui
+        path, _ = QtGui.QFileDialog.getOpenFileName(FreeCADGui.getMainWindow(), "STEP file", "",
+                                                    "STEP (*.step *.stp *.STEP *.STP)")
+        if not path:
+            return
+        if FreeCAD.ActiveDocument is None:
+            FreeCAD.newDocument()
+        if run("Import STEP", ["tdo.import_step(App.ActiveDocument, %r)" % path]):
+            FreeCADGui.SendMsgToActiveView("ViewFit")
+
+
+class Analysis(_Command):
+    icon, menu, tip = "Analysis.svg", "Thermal analysis", "Create a thermal analysis container"
+
+    def IsActive(self):
+        return FreeCAD.ActiveDocument is not None
+
+    def Activated(self):
+        run("Create thermal analysis", ["tdo.makeAnalysis(App.ActiveDocument)"])
+
+
+class NodeFromSelection(_Command):
+    icon, menu, tip = "Node.svg", "Node from selection", \
+        "Make a thermal node from the selected faces or shapes"
+
+    def Activated(self):
+        refs = selected_faces()
+        if not refs:
+            return error("select faces or shapes first")
+        from . import taskpanels
+        FreeCADGui.Control.showDialog(taskpanels.NodePanel(active_analysis(), refs))
+
+
+class MaterialToSelection(_Command):
+    icon, menu, tip = "Material.svg", "Material to selection", \
+        "Give the selected faces (or the selected nodes) a coating from the library"
+
+    def Activated(self):
+        from . import taskpanels
+        nodes = [o for o in FreeCADGui.Selection.getSelection() if objects.is_type(o, objects.ThermalNode)]
+        refs = selected_faces()
+        if not nodes and not refs:
+            return error("select faces, shapes or thermal nodes first")
+        FreeCADGui.Control.showDialog(taskpanels.MaterialPanel(active_analysis(), refs, nodes))
+
+
+class AutoNodes(_Command):
+    per = "face"
+
+    def Activated(self):
+        shapes = [o for o, _ in selected_faces()]
+        if not shapes:
+            return error("select one or more shapes first")
+        run("Automatic nodes per " + self.per, [
+            analysis_line(),
+            "tdo.automatic_nodes(analysis, [%s], per=%r)" % (
+                ", ".join("App.ActiveDocument.%s" % o.Name for o in shapes), self.per)])
+
+
+class AutoNodesPerFace(AutoNodes):
+    icon, menu, tip, per = "AutoNodes.svg", "Automatic nodes per face", \
+        "One thermal node per B-rep face of the selected shapes", "face"
+
+
+class AutoNodesPerSolid(AutoNodes):
+    icon, menu, tip, per = "AutoNodes.svg", "Automatic nodes per solid", \
+        "One thermal node per solid of the selected shapes", "solid"
+
+
+class ConductanceCommand(_Command):
+    icon, menu, tip = "Conductance.svg", "Conductance", "Conductive link between two selected nodes"
+
+    def Activated(self):
+        nodes = [o for o in FreeCADGui.Selection.getSelection() if objects.is_type(o, objects.ThermalNode)]
+        if len(nodes) != 2:
+            return error("select exactly two thermal nodes")
+        from PySide import QtGui
+        value, ok = QtGui.QInputDialog.getDouble(FreeCADGui.getMainWindow(), "Conductance",
+                                                 "GL [W/K]", 1.0, 0.0, 1e6, 4)
+        if ok:
+            run("Conductance", [analysis_line(), "tdo.makeConductance(analysis, App.ActiveDocument.%s, "
+                                "App.ActiveDocument.%s, %r)" % (nodes[0].Name, nodes[1].Name, value)])
+
+
+class EnvironmentCommand(_Command):
+    icon, menu, tip = "Environment.svg", "Environment", "Orbit or fixed-sun environment"
+
+    def Activated(self):
+        run("Environment", [analysis_line(), "tdo.makeEnvironment(analysis, 'orbit')"])
+
+
+class Tessellate(_Command):
+    icon, menu, tip = "Tessellate.svg", "Tessellate", \
+        "Dense mesh of the analysis' shapes with a max edge length; triangles keep node and material"
+
+    def Activated(self):
+        from . import taskpanels
+        FreeCADGui.Control.showDialog(taskpanels.TessellatePanel(active_analysis()))
+
+
+class Export(_Command):
+    icon, menu, tip = "Export.svg", "Export model", "Write thermodec model.json and its mesh"
+
+    def Activated(self):
+        from PySide import QtGui
+        from . import export
+        analysis = active_analysis()
+        default, _ = export.default_paths(analysis)
+        path, _ = QtGui.QFileDialog.getSaveFileName(FreeCADGui.getMainWindow(), "Export thermodec model",
+                                                    default, "thermodec model (*.json)")
+        if path:
+            status("ThermoDec: exporting %s ..." % path)
+            if run("Export thermodec model", [
+                    analysis_line(), "import thermodec_freecad.export as tdexport",
+                    "tdexport.write_model(analysis, %r)" % path]):
+                status("ThermoDec: model written to %s" % path)
+
+
+class _CoreCommand(_Command):
+    function = ""
+
+    def IsActive(self):
+        try:
+            import thermodec
+        except ImportError:
+            return False
+        return _Command.IsActive(self) and hasattr(thermodec, self.function)
+
+
+class Simulate(_CoreCommand):
+    icon, menu, tip, function = "Simulate.svg", "Simulate", \
+        "Export and run the reference thermal simulation through the thermodec core", "simulate_model"
+
+    def Activated(self):
+        status("ThermoDec: simulating ...")
+        if run("Simulate", [analysis_line(), "import thermodec_freecad.results as tdresults",
+                            "tdresults.simulate(analysis)"]):
+            status("ThermoDec: simulation done")
+
+
+class Decimate(_CoreCommand):
+    icon, menu, tip, function = "Decimate.svg", "Decimate", \
+        "Node-preserving decimation of the dense mesh to a global ratio (thermodec core)", \
+        "decimate_to_global_ratio"
+
+    def Activated(self):
+        from PySide import QtGui
+        analysis = active_analysis()
+        ratio, ok = QtGui.QInputDialog.getDouble(FreeCADGui.getMainWindow(), "Decimate",
+                                                 "Fraction of faces to remove", analysis.GlobalRatio,
+                                                 0.0, 0.999, 3)
+        if ok and run("Decimate", [analysis_line(), "analysis.GlobalRatio = %r" % ratio,
+                                   "import thermodec_freecad.results as tdresults",
+                                   "tdresults.decimate(analysis)"]):
+            status("ThermoDec: reduced mesh imported")
+
+
+class Reduce(_CoreCommand):
+    icon, menu, tip, function = "Reduce.svg", "Reduce", \
+        "Simulation-driven reduction to the analysis' temperature tolerance (thermodec core)", \
+        "reduce_model"
+
+    def Activated(self):
+        status("ThermoDec: reducing ...")
+        if run("Reduce", [analysis_line(), "import thermodec_freecad.results as tdresults",
+                          "tdresults.reduce(analysis)"]):
+            status("ThermoDec: reduction done")
+
+
+class ImportResults(_Command):
+    icon, menu, tip = "ImportResults.svg", "Import results", \
+        "Load a (reduced) mesh coloured by node, or by temperature with a results JSON"
+
+    def Activated(self):
+        from PySide import QtGui
+        window = FreeCADGui.getMainWindow()
+        mesh, _ = QtGui.QFileDialog.getOpenFileName(window, "Reduced mesh", "", "Meshes (*.obj *.ply *.stl)")
+        if not mesh:
+            return
+        temps, _ = QtGui.QFileDialog.getOpenFileName(window, "Temperatures (optional)", "", "JSON (*.json)")
+        run("Import results", [analysis_line(), "import thermodec_freecad.results as tdresults",
+                               "tdresults.import_results(analysis, %r, %r)" % (mesh, temps or None)])
+
+
+def register():
+    for name, cls in (("ThermoDec_ImportStep", ImportStep), ("ThermoDec_Analysis", Analysis), ("ThermoDec_NodeFromSelection", NodeFromSelection),
+                      ("ThermoDec_MaterialToSelection", MaterialToSelection),
+                      ("ThermoDec_AutoNodesPerFace", AutoNodesPerFace),
+                      ("ThermoDec_AutoNodesPerSolid", AutoNodesPerSolid),
+                      ("ThermoDec_Conductance", ConductanceCommand),
+                      ("ThermoDec_Environment", EnvironmentCommand),
+                      ("ThermoDec_Tessellate", Tessellate), ("ThermoDec_Export", Export),
+                      ("ThermoDec_Simulate", Simulate), ("ThermoDec_Decimate", Decimate),
+                      ("ThermoDec_Reduce", Reduce),
+                      ("ThermoDec_ImportResults", ImportResults)):
+        FreeCADGui.addCommand(name, cls())

@@ -1,0 +1,202 @@
+"""Results back into FreeCAD: a (reduced) mesh read by the core, as a Mesh feature coloured by
+node or by temperature, and a short report. simulate/reduce run the core through the binding
+once this build of the core has them."""
+
+import json
+import os
+import threading
+
+import numpy as np
+
+import FreeCAD
+
+from . import core, export, objects, tessellate, units
+from .errors import ThermoDecError
+
+
+def _node_temperatures(temperatures):
+    """{node name: K} from a dict or a JSON file holding one (optionally under 'temperatures_K')."""
+    if temperatures is None:
+        return None
+    if isinstance(temperatures, str):
+        try:
+            with open(temperatures, encoding="utf-8") as f:
+                temperatures = json.load(f)
+        except (OSError, ValueError) as e:
+            raise ThermoDecError("cannot read temperatures from %s: %s" % (temperatures, e)) from None
+    if "temperatures_K" in temperatures:
+        temperatures = temperatures["temperatures_K"]
+    try:
+        return {str(k): float(v) for k, v in temperatures.items()}
+    except (TypeError, ValueError, AttributeError):
+        raise ThermoDecError("temperatures must map node names to kelvin") from None
+
+
+def import_results(analysis, mesh_path, temperatures=None, name="Results"):
+    """Reads `mesh_path` with the core and adds it to the analysis as a Mesh feature with
+    per-triangle node (and temperature [K] when `temperatures` maps node names to K, or names
+    a JSON file that does). Returns (feature, summary dict)."""
+    import Mesh
+    td = core.module()
+    mesh = td.read_mesh(mesh_path)
+    face_node = np.asarray(mesh.face_node)
+    if np.any(face_node < 0):
+        raise ThermoDecError("%s: %d triangles have no node" % (mesh_path, int(np.sum(face_node < 0))))
+    node_names = list(mesh.node_names)
+    V = units.points_mm(np.asarray(mesh.V))
+    F = np.asarray(mesh.F)
+    feature = analysis.Document.addObject("Mesh::FeaturePython", name)
+    tessellate.ThermalMesh(feature)
+    if FreeCAD.GuiUp:
+        from . import viewproviders
+        viewproviders.ViewProviderThermalMesh(feature.ViewObject)
+    analysis.addObject(feature)
+    feature.Mesh = Mesh.Mesh(([FreeCAD.Vector(*p) for p in V], [tuple(int(j) for j in t) for t in F]))
+    feature.FaceNode = [int(n) for n in face_node]
+    feature.FaceMaterial = [int(m) for m in np.asarray(mesh.face_material)]
+    feature.NodeNames = node_names
+    feature.MaterialNames = list(mesh.material_names)
+    summary = {"mesh": mesh_path, "faces": int(len(F)), "vertices": int(len(V)), "nodes": len(node_names)}
+
+    node_t = _node_temperatures(temperatures)
+    if node_t is not None:
+        missing = [n for n in node_names if n not in node_t]
+        if missing:
+            raise ThermoDecError("no temperature for node(s) %s" % ", ".join(missing[:8]))
+        face_t = [node_t[node_names[n]] for n in face_node]
+        feature.FaceTemperature = face_t
+        summary.update(temperature_min_K=min(face_t), temperature_max_K=max(face_t))
+    if FreeCAD.GuiUp:
+        from . import viewproviders
+        if node_t is not None:
+            viewproviders.colour_by_temperature(feature, feature.FaceTemperature,
+                                                summary["temperature_min_K"], summary["temperature_max_K"])
+        else:
+            viewproviders.colour_by_node(feature)
+    FreeCAD.Console.PrintMessage("ThermoDec results: %s\n" % json.dumps(summary))
+    return feature, summary
+
+
+def _progress(message):
+    FreeCAD.Console.PrintMessage("ThermoDec: %s\n" % message)
+    if FreeCAD.GuiUp:
+        import FreeCADGui
+        from PySide import QtGui
+        FreeCADGui.getMainWindow().statusBar().showMessage("ThermoDec: %s" % message)
+        QtGui.QApplication.processEvents()
+
+
+def _write_json(path, data):
+    tmp = "%s.tmp%d" % (path, os.getpid())
+    with open(tmp, "w", encoding="utf-8") as f:
+        json.dump(data, f, indent=1)
+        f.write("\n")
+    os.replace(tmp, path)
+
+
+def simulate(analysis, json_path=None):
+    """Exports the analysis, runs the core's reference simulation (thermodec.simulate_model,
+    what `thermodec simulate` runs) and writes result.json beside the model. The ThermalMesh
+    gets each triangle's node mean temperature [K] (coloured in the GUI).
+    Returns (result path, {node: {"min_K", "mean_K", "max_K"}})."""
+    td = core.module()
+    core.require("simulate_model")
+    json_path, _ = export.write_model(analysis, json_path or export.default_paths(analysis)[0])
+    _progress("simulating %s" % json_path)
+    model = td.load_model(json_path)
+    result = td.simulate_model(model, _progress)
+    data = result.to_json()
+    result_path = os.path.join(os.path.dirname(json_path), "result.json")
+    _write_json(result_path, data)
+    analysis.ResultFile = result_path
+    summary = data["summary"]
+    tm = analysis.ThermalMesh
+    face_t = [summary[tm.NodeNames[n]]["mean_K"] for n in tm.FaceNode]
+    tm.FaceTemperature = face_t
+    if FreeCAD.GuiUp:
+        from . import viewproviders
+        viewproviders.colour_by_temperature(tm, face_t, min(face_t), max(face_t))
+    _progress("simulation done: %s (%.1f K .. %.1f K)" % (result_path, min(face_t), max(face_t)))
+    return result_path, summary
+
+
+def node_mean_temperatures(result_path):
+    """{node: mean temperature [K]} of a result.json written by simulate()."""
+    with open(result_path, encoding="utf-8") as f:
+        return {name: v["mean_K"] for name, v in json.load(f)["summary"].items()}
+
+
+def decimate(analysis, global_ratio=None, json_path=None):
+    """Exports the analysis and decimates its mesh with the core's node-preserving decimation
+    to a global ratio of removed faces (the paper's per-node rule). Writes reduced/model.json
+    and reduced/model.obj beside the export and imports the reduced mesh, coloured by the last
+    simulation's temperatures when there is one. Returns (feature, summary)."""
+    td = core.module()
+    ratio = analysis.GlobalRatio if global_ratio is None else float(global_ratio)
+    json_path, _ = export.write_model(analysis, json_path or export.default_paths(analysis)[0])
+    _progress("decimating %s (remove %.0f %% of the faces)" % (json_path, 100 * ratio))
+    model = td.load_model(json_path)
+    result = td.decimate_to_global_ratio(model.mesh, ratio)
+    folder = os.path.join(os.path.dirname(json_path), "reduced")
+    os.makedirs(folder, exist_ok=True)
+    mesh_path = os.path.join(folder, "model.obj")
+    td.write_mesh(mesh_path, result.mesh)
+    with open(json_path, encoding="utf-8") as f:
+        data = json.load(f)
+    data["mesh"] = "model.obj"
+    _write_json(os.path.join(folder, "model.json"), data)
+    temperatures = None
+    if analysis.ResultFile and os.path.exists(analysis.ResultFile):
+        temperatures = node_mean_temperatures(analysis.ResultFile)
+    old = analysis.Document.getObject("ReducedMesh")
+    if old is not None:
+        analysis.Document.removeObject(old.Name)
+    feature, summary = import_results(analysis, mesh_path, temperatures, name="ReducedMesh")
+    summary.update(faces_before=int(model.mesh.num_faces), global_ratio=ratio,
+                   nodes_reached=sum(1 for n in result.nodes if n.reached))
+    _progress("reduced to %d faces (from %d)" % (summary["faces"], summary["faces_before"]))
+    return feature, summary
+
+
+def reduce(analysis, tolerance_K=None, json_path=None, plots=True):
+    """Simulation-driven reduction through the core (thermodec.reduce_model, what
+    `thermodec reduce` runs): exports the analysis, reduces its mesh as far as the temperature
+    tolerance [K] allows (verified by a full recompute), writes the core's outputs (model.json +
+    reduced.obj, report.json, plots) into reduced/ beside the export and imports the reduced
+    mesh coloured by its own simulated node temperatures. Returns (feature, summary)."""
+    td = core.module()
+    core.require("reduce_model")
+    json_path, mesh_path = export.write_model(analysis, json_path or export.default_paths(analysis)[0])
+    settings = td.ReduceSettings()
+    settings.tolerance_K = analysis.ToleranceK if tolerance_K is None else float(tolerance_K)
+    settings.strategy = getattr(td.ReductionStrategy, analysis.ReductionStrategy)
+    main = threading.main_thread()
+
+    def progress(line):  # the core may call from worker threads: only the main thread talks
+        if threading.current_thread() is main:
+            _progress(line)
+
+    settings.progress = progress
+    _progress("reducing %s (tolerance %.3g K, %s)" % (json_path, settings.tolerance_K,
+                                                      analysis.ReductionStrategy))
+    model = td.load_model(json_path)
+    run = td.reduce_model(model, settings)
+    folder = os.path.join(os.path.dirname(json_path), "reduced")
+    for warning in td.write_reduction_outputs(run, folder, [json_path, mesh_path], plots):
+        FreeCAD.Console.PrintWarning("ThermoDec: %s\n" % warning)
+    result = run.reduced_result
+    temperatures = {name: float(np.mean(row)) for name, row in zip(result.nodes, np.asarray(result.temperature_K))}
+    old = analysis.Document.getObject("ReducedMesh")
+    if old is not None:
+        analysis.Document.removeObject(old.Name)
+    feature, summary = import_results(analysis, os.path.join(folder, "reduced.obj"), temperatures,
+                                      name="ReducedMesh")
+    summary.update(faces_before=run.faces_before, tolerance_K=run.tolerance_K,
+                   noise_floor_K=run.noise_floor_K,
+                   max_temperature_difference_K=run.max_temperature_difference_K,
+                   max_difference_node=run.max_difference_node, trials=run.trials,
+                   seconds=run.seconds_total, report=os.path.join(folder, "report.json"))
+    FreeCAD.Console.PrintMessage(td.reduction_summary(run) + "\n")
+    _progress("reduced %d -> %d faces, max |dT| %.3g K (tolerance %.3g K)" % (
+        run.faces_before, run.faces_after, run.max_temperature_difference_K, run.tolerance_K))
+    return feature, summary

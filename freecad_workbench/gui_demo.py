@@ -1,0 +1,175 @@
+"""GUI walk-through of the ThermoDec workbench on the sample satellite, with screenshots.
+
+  THERMODEC_PYTHON_DIR=build/python QTWEBENGINE_DISABLE_SANDBOX=1 \
+      xvfb-run -a -s '-screen 0 1600x1000x24' freecad freecad_workbench/gui_demo.py \
+      -M freecad_workbench/ThermoDec
+
+Environment: THERMODEC_DEMO_REDUCE=1 (Reduce instead of Decimate), THERMODEC_DEMO_OUTPUT (folder for screenshots and the model; default
+./thermodec_gui_demo), THERMODEC_PYTHON_DIR = the folder of the thermodec module (build/python;
+FreeCAD's GUI ignores PYTHONPATH). `freecad script.py` always
+exits 0, so the script writes DONE (or FAILED and the traceback) to status.txt there and
+exits with os._exit(0 or 1).
+"""
+
+import os
+import sys
+import traceback
+
+import FreeCAD as App
+import FreeCADGui as Gui
+
+OUT = os.path.abspath(os.environ.get("THERMODEC_DEMO_OUTPUT", "thermodec_gui_demo"))
+#: THERMODEC_DEMO_REDUCE=1: run Reduce (simulation-driven, minutes) instead of Decimate
+#: (seconds), on a coarser dense mesh with fewer rays so that it stays a few minutes.
+REDUCE = os.environ.get("THERMODEC_DEMO_REDUCE") == "1"
+MAX_EDGE_MM = 250.0 if REDUCE else 120.0
+
+
+def process_events():
+    from PySide import QtGui
+    for _ in range(5):
+        QtGui.QApplication.processEvents()
+
+
+def screenshot(name):
+    """Saves the 3D view, and the whole screen with `import -window root` (ImageMagick; a Qt
+    grab of the main window leaves the OpenGL view blank)."""
+    import shutil
+    import subprocess
+    view = Gui.ActiveDocument.ActiveView
+    view.saveImage(os.path.join(OUT, name + "_view.png"), 1200, 800, "White")
+    process_events()
+    if shutil.which("import"):
+        subprocess.run(["import", "-window", "root", os.path.join(OUT, name + "_window.png")], check=True)
+
+
+def main():
+    from thermodec_freecad import commands, export, objects, sample, taskpanels
+    from FreeCAD import Vector
+
+    commands.SHOW_DIALOGS = False
+    os.makedirs(OUT, exist_ok=True)
+    main_window = Gui.getMainWindow()
+    main_window.showMaximized()
+    Gui.activateWorkbench("ThermoDecWorkbench")
+    doc = App.newDocument("Satellite")
+    shapes = sample.build_shapes(doc)
+    Gui.SendMsgToActiveView("ViewFit")
+
+    # Create analysis (command), nodes per face of the body (command on the selection).
+    Gui.runCommand("ThermoDec_Analysis")
+    analysis = commands.active_analysis(doc)
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(shapes["Body"])
+    Gui.runCommand("ThermoDec_AutoNodesPerFace")
+
+    # Wings, boom and dish: one node each through the node task panel.
+    for name in ("WingPlusY", "WingMinusY", "Boom", "Dish"):
+        Gui.Selection.clearSelection()
+        Gui.Selection.addSelection(shapes[name])
+        panel = taskpanels.NodePanel(analysis, commands.selected_faces())
+        Gui.Control.showDialog(panel)
+        panel.name.setText(name.lower())
+        panel.capacitance.setValue(2000.0)
+        assert panel.accept(), name
+    process_events()
+
+    # Coatings through the material task panel: MLI on the body nodes, solar cells on the
+    # wing fronts, white paint as the analysis default.
+    def material_to(coating, refs=(), nodes=()):
+        panel = taskpanels.MaterialPanel(analysis, list(refs), list(nodes))
+        Gui.Control.showDialog(panel)
+        panel.choice.setCurrentIndex(sorted(objects.coatings.COATINGS).index(coating))
+        assert panel.accept(), coating
+
+    body_nodes = [n for n in objects.members(analysis, objects.ThermalNode) if n.Label.startswith("Body")]
+    material_to("mli_outer_layer", nodes=body_nodes)
+    for wing in ("WingPlusY", "WingMinusY"):
+        top = sample._face_towards(shapes[wing], Vector(0, 0, 1))
+        material_to("solar_cell", refs=[(shapes[wing], [top])])
+    material_to("white_paint", nodes=[])  # creates the material...
+    analysis.DefaultMaterial = [m for m in objects.members(analysis, objects.ThermalMaterial)
+                                if m.Coating == "white_paint"][0]  # ...and makes it the default
+    Gui.runCommand("ThermoDec_Environment")
+    if REDUCE:
+        analysis.RaysPerFace = 400
+
+    # Tessellate through its task panel, then export.
+    panel = taskpanels.TessellatePanel(analysis)
+    Gui.Control.showDialog(panel)
+    panel.length.setValue(MAX_EDGE_MM)
+    assert panel.accept(), "tessellate"
+    for obj in shapes.values():
+        obj.ViewObject.Visibility = False
+    analysis.ThermalMesh.ViewObject.DisplayMode = "Flat Lines"
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(analysis.ThermalMesh)  # expands the analysis in the tree
+    process_events()
+    Gui.Selection.clearSelection()  # selection would paint the mesh green
+    Gui.activeDocument().activeView().viewIsometric()
+    Gui.SendMsgToActiveView("ViewFit")
+    process_events()
+    screenshot("tessellated_by_node")
+
+    # Export, simulate (command: status-bar progress, temperature colours), decimate.
+    analysis.OutputDirectory = os.path.join(OUT, "model")
+    json_path, mesh_path = export.write_model(analysis, os.path.join(OUT, "model", "model.json"))
+    Gui.runCommand("ThermoDec_Simulate")
+    process_events()
+    if not analysis.ResultFile:
+        raise RuntimeError("simulation did not run (is the thermodec module on THERMODEC_PYTHON_DIR?)")
+    screenshot("simulated_dense")
+    if REDUCE:  # the simulation-driven reduction (Reduce command, no dialog)
+        analysis.ToleranceK = 1.0
+        Gui.runCommand("ThermoDec_Reduce")
+    else:  # quick: decimation to a fixed ratio
+        assert commands.run("Decimate", ["analysis = App.ActiveDocument.%s" % analysis.Name,
+                                         "analysis.GlobalRatio = 0.9",
+                                         "import thermodec_freecad.results as tdresults",
+                                         "tdresults.decimate(analysis)"]), "decimate"
+    reduced = doc.getObject("ReducedMesh")
+    if reduced is None:
+        raise RuntimeError("no reduced mesh: the Reduce/Decimate step failed (see the report view)")
+    analysis.ThermalMesh.ViewObject.Visibility = False
+    reduced.ViewObject.DisplayMode = "Flat Lines"
+    Gui.SendMsgToActiveView("ViewFit")
+    process_events()
+    screenshot("reduced")
+    doc.saveAs(os.path.join(OUT, "satellite.FCStd"))
+    tm = analysis.ThermalMesh
+    t = tm.FaceTemperature
+    with open(os.path.join(OUT, "summary.txt"), "w") as f:
+        f.write("dense: %d triangles, %d vertices, %d nodes, longest edge %.1f mm\n" % (
+            tm.Mesh.CountFacets, tm.Mesh.CountPoints, len(tm.NodeNames), tm.LongestEdge))
+        f.write("node mean temperatures %.1f K .. %.1f K\n" % (min(t), max(t)))
+        f.write("reduced (%s): %d triangles\nmodel %s\nresult %s\n" % (
+            "Reduce, tolerance %g K" % analysis.ToleranceK if REDUCE else "Decimate 0.9",
+            reduced.Mesh.CountFacets, json_path, analysis.ResultFile))
+        report = os.path.join(OUT, "model", "reduced", "report.json")
+        if REDUCE and os.path.exists(report):
+            import json
+            with open(report) as r:
+                data = json.load(r)
+            f.write("report: %s\n" % json.dumps({k: data[k] for k in (
+                "faces_before", "faces_after", "max_temperature_difference_K", "noise_floor_K",
+                "tolerance_K") if k in data}))
+
+
+def run():
+    status = os.path.join(OUT, "status.txt")
+    os.makedirs(OUT, exist_ok=True)
+    try:
+        main()
+        with open(status, "w") as f:
+            f.write("DONE\n")
+        code = 0
+    except Exception:
+        with open(status, "w") as f:
+            f.write("FAILED\n" + traceback.format_exc())
+        traceback.print_exc()
+        code = 1
+    sys.stdout.flush()
+    os._exit(code)
+
+
+run()

@@ -1,0 +1,104 @@
+"""Checks of the pybind11 module `thermodec` (run by CTest with Debian's python3)."""
+import os
+import tempfile
+import unittest
+
+import numpy as np
+
+import thermodec
+
+
+class MeshCrossesAsNumpy(unittest.TestCase):
+    def test_vertices_and_faces_round_trip(self):
+        V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], dtype=float)
+        F = np.array([[0, 1, 2]])  # int64 from numpy, int32 in the core
+        mesh = thermodec.Mesh(V, F)
+        self.assertEqual(mesh.num_faces, 1)
+        np.testing.assert_array_equal(mesh.V, V)
+        np.testing.assert_array_equal(mesh.F, F)
+        np.testing.assert_array_equal(mesh.face_node, [-1])
+
+    def test_model_lists_change_in_place(self):
+        model = thermodec.ThermalModel()
+        model.materials.append(thermodec.Material("white_paint", 0.2, 0.85))
+        model.nodes.append(thermodec.Node("body", material=0, capacitance_J_per_K=2000.0))
+        model.nodes[0].power_W = 5.0
+        self.assertEqual(len(model.materials), 1)
+        self.assertEqual(model.nodes[0].power_W, 5.0)
+        self.assertIsNone(model.nodes[0].fixed_temperature_K)
+
+    def test_errors_form_a_hierarchy(self):
+        self.assertTrue(issubclass(thermodec.InvalidInput, thermodec.Error))
+        self.assertTrue(issubclass(thermodec.IOError, thermodec.Error))
+        self.assertTrue(issubclass(thermodec.Error, RuntimeError))
+
+
+def unit_cube():
+    """Closed unit cube [m], 12 triangles, outward counter-clockwise."""
+    V = np.array([[x, y, z] for z in (0, 1) for y in (0, 1) for x in (0, 1)], dtype=float)
+    quads = [(0, 2, 3, 1), (4, 5, 7, 6), (0, 1, 5, 4), (2, 6, 7, 3), (0, 4, 6, 2), (1, 3, 7, 5)]
+    F = np.array([t for a, b, c, d in quads for t in ((a, b, c), (a, c, d))])
+    return V, F
+
+
+class CoreFunctions(unittest.TestCase):
+    def test_obj_round_trip_keeps_groups_and_materials(self):
+        V, F = unit_cube()
+        mesh = thermodec.Mesh(V, F)
+        mesh.node_names = ["bottom", "rest"]
+        mesh.material_names = ["osr", "white_paint"]
+        mesh.face_node = np.array([0, 0] + [1] * 10)
+        mesh.face_material = np.array([0, 0] + [1] * 10)
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "cube.obj")
+            thermodec.write_mesh(path, mesh)
+            back = thermodec.read_mesh(path)
+        self.assertEqual(back.num_faces, 12)
+        self.assertEqual(back.num_vertices, 8)
+        names = [back.node_names[i] for i in back.face_node]
+        self.assertEqual(names.count("bottom"), 2)
+        self.assertEqual(set(back.material_names), {"osr", "white_paint"})
+
+    def test_missing_file_raises_the_core_error_with_its_name(self):
+        with self.assertRaisesRegex(thermodec.IOError, "no_such_mesh.obj"):
+            thermodec.read_mesh("/nonexistent/no_such_mesh.obj")
+
+    def test_bad_input_raises_invalid_input(self):
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "bad.obj")
+            with open(path, "w") as f:
+                f.write("v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n")
+            with self.assertRaises(thermodec.InvalidInput) as caught:
+                thermodec.read_mesh(path)
+            self.assertIn("bad.obj", str(caught.exception))
+
+    def test_cube_statistics_and_automatic_nodes(self):
+        V, F = unit_cube()
+        mesh = thermodec.Mesh(V, F)
+        stats = thermodec.mesh_stats(mesh)
+        self.assertEqual((stats.faces, stats.components, stats.boundary_edges), (12, 1, 0))
+        self.assertAlmostEqual(stats.area_m2, 6.0, places=12)
+        thermodec.assign_automatic_nodes(mesh)
+        self.assertEqual(len(mesh.node_names), 6)  # one per side of the cube
+        self.assertTrue(np.all(mesh.face_node >= 0))
+        np.testing.assert_allclose(thermodec.node_areas_m2(mesh), [1.0] * 6, rtol=1e-12)
+
+
+class ModelErrors(unittest.TestCase):
+    def test_unknown_material_is_named_with_its_key(self):
+        V, F = unit_cube()
+        with tempfile.TemporaryDirectory() as folder:
+            mesh = thermodec.Mesh(V, F)
+            mesh.node_names = ["cube"]
+            mesh.face_node = np.zeros(12, dtype=int)
+            thermodec.write_mesh(os.path.join(folder, "cube.obj"), mesh)
+            path = os.path.join(folder, "model.json")
+            with open(path, "w") as f:
+                f.write('{"mesh": "cube.obj", "materials": {"osr": {"absorptivity": 0.08, "emissivity": 0.8}},'
+                        ' "nodes": {"cube": {"material": "gold"}}}')
+            with self.assertRaisesRegex(thermodec.InvalidInput, "nodes.cube.material"):
+                thermodec.load_model(path)
+
+
+if __name__ == "__main__":
+    unittest.main()
