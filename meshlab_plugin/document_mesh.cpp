@@ -1,0 +1,138 @@
+#include "document_mesh.h"
+
+#include <cmath>
+#include <map>
+#include <string>
+
+#include "thermodec/common/errors.h"
+
+namespace thermodec_meshlab {
+namespace {
+
+std::string label(const MeshModel& layer) { return layer.label().toStdString(); }
+
+// Appends the live part of `layer` to `dm`; returns the number of faces appended.
+int append_layer(DocumentMesh& dm, MeshModel& layer, int node) {
+  CMeshO& cm = layer.cm;
+  std::vector<int> vertex_index(cm.vert.size(), -1);
+  int live_faces = 0;
+  for (const auto& f : cm.face)
+    if (!f.IsD()) ++live_faces;
+  if (live_faces == 0)
+    throw thermodec::InvalidInput("layer '" + label(layer) + "' has no faces");
+
+  thermodec::Mesh& m = dm.mesh;
+  const int v0 = m.num_vertices();
+  const int f0 = m.num_faces();
+  int nv = v0;
+  for (size_t i = 0; i < cm.vert.size(); ++i)
+    if (!cm.vert[i].IsD()) vertex_index[i] = nv++;
+  m.V.conservativeResize(nv, 3);
+  m.F.conservativeResize(f0 + live_faces, 3);
+  m.face_node.conservativeResize(f0 + live_faces);
+  m.face_material.conservativeResize(f0 + live_faces);
+  m.face_back_material.conservativeResize(f0 + live_faces);
+  for (size_t i = 0; i < cm.vert.size(); ++i) {
+    if (vertex_index[i] < 0) continue;
+    // Per-layer transformation matrices are ignored on purpose, as MeshLab's own exporters
+    // do unless asked: the document's coordinates are the layer's vertex coordinates.
+    const auto& p = cm.vert[i].cP();
+    m.V.row(vertex_index[i]) << double(p[0]), double(p[1]), double(p[2]);
+  }
+  int row = f0;
+  for (size_t fi = 0; fi < cm.face.size(); ++fi) {
+    const auto& f = cm.face[fi];
+    if (f.IsD()) continue;
+    for (int k = 0; k < 3; ++k)
+      m.F(row, k) = vertex_index[vcg::tri::Index(cm, f.cV(k))];
+    m.face_node[row] = node;
+    m.face_material[row] = -1;
+    m.face_back_material[row] = -1;
+    dm.origin.push_back({&layer, static_cast<int>(fi)});
+    ++row;
+  }
+  return live_faces;
+}
+
+}  // namespace
+
+DocumentMesh mesh_from_layer(MeshModel& layer) {
+  DocumentMesh dm;
+  dm.mesh.V.resize(0, 3);
+  dm.mesh.F.resize(0, 3);
+  append_layer(dm, layer, -1);
+  return dm;
+}
+
+DocumentMesh mesh_with_nodes(MeshDocument& md) {
+  if (md.meshList.empty() || md.mm() == nullptr)
+    throw thermodec::InvalidInput("the document has no mesh layer");
+  DocumentMesh dm;
+  dm.mesh.V.resize(0, 3);
+  dm.mesh.F.resize(0, 3);
+  if (md.meshList.size() > 1) {
+    dm.source = NodeSource::Layers;
+    for (MeshModel* layer : md.meshList) {
+      const int node = static_cast<int>(dm.node_ids.size());
+      append_layer(dm, *layer, node);
+      dm.node_ids.push_back(layer->id());
+      dm.mesh.node_names.push_back(label(*layer));
+    }
+    return dm;
+  }
+
+  MeshModel& layer = *md.mm();
+  dm.source = NodeSource::FaceQuality;
+  if (!layer.hasDataMask(MeshModel::MM_FACEQUALITY))
+    throw thermodec::InvalidInput("no nodes: layer '" + label(layer) +
+                                  "' has no face quality holding node ids (run 'Thermal: "
+                                  "assign nodes' first, or open one layer per node)");
+  append_layer(dm, layer, -1);
+  // Node ids are whatever integers the quality holds; they are compacted to 0..n-1 in
+  // ascending id order so that node order, and thus every result, is independent of face order.
+  std::map<int, int> node_of_id;
+  std::vector<int> id_of_face(dm.origin.size());
+  for (size_t f = 0; f < dm.origin.size(); ++f) {
+    const double q = layer.cm.face[dm.origin[f].face].cQ();
+    if (!std::isfinite(q) || q < 0 || q != std::floor(q) || q > 1e9)
+      throw thermodec::InvalidInput("layer '" + label(layer) + "': face " +
+                                    std::to_string(dm.origin[f].face) + " has quality " +
+                                    std::to_string(q) + ", not a node id (integer >= 0)");
+    id_of_face[f] = static_cast<int>(q);
+    node_of_id.emplace(id_of_face[f], 0);
+  }
+  for (auto& entry : node_of_id) {
+    entry.second = static_cast<int>(dm.node_ids.size());
+    dm.node_ids.push_back(entry.first);
+    char name[32];
+    std::snprintf(name, sizeof name, "node_%03d", entry.first);
+    dm.mesh.node_names.push_back(name);
+  }
+  for (size_t f = 0; f < dm.origin.size(); ++f) dm.mesh.face_node[f] = node_of_id[id_of_face[f]];
+  return dm;
+}
+
+vcg::Color4b node_color(int node, int node_count) {
+  if (node < 0) return vcg::Color4b::Gray;
+  return vcg::Color4b::Scatter(std::max(node_count, 1), node, 0.6f, 0.9f);
+}
+
+void set_face_quality(const DocumentMesh& dm, const std::vector<double>& value) {
+  assert(value.size() == dm.origin.size());
+  for (size_t f = 0; f < dm.origin.size(); ++f) {
+    MeshModel& layer = *dm.origin[f].layer;
+    if (!layer.hasDataMask(MeshModel::MM_FACEQUALITY)) layer.updateDataMask(MeshModel::MM_FACEQUALITY);
+    layer.cm.face[dm.origin[f].face].Q() = static_cast<CMeshO::ScalarType>(value[f]);
+  }
+}
+
+void paint_nodes(const DocumentMesh& dm) {
+  const int n = static_cast<int>(dm.mesh.node_names.size());
+  for (size_t f = 0; f < dm.origin.size(); ++f) {
+    MeshModel& layer = *dm.origin[f].layer;
+    if (!layer.hasDataMask(MeshModel::MM_FACECOLOR)) layer.updateDataMask(MeshModel::MM_FACECOLOR);
+    layer.cm.face[dm.origin[f].face].C() = node_color(dm.mesh.face_node[f], n);
+  }
+}
+
+}  // namespace thermodec_meshlab
