@@ -142,13 +142,7 @@ bool ThermodecFilterPlugin::assign_nodes(MeshDocument& md, const RichParameterLi
   options.max_normal_deviation_deg = params.getFloat("max_normal_deviation_deg");
   options.min_node_area_fraction = params.getFloat("min_node_area_fraction");
   options.max_nodes = params.getInt("max_nodes");
-  if (!(options.max_normal_deviation_deg > 0 && options.max_normal_deviation_deg <= 180))
-    throw thermodec::InvalidInput("max_normal_deviation_deg must be in (0, 180], got " +
-                                  std::to_string(options.max_normal_deviation_deg));
-  if (!(options.min_node_area_fraction >= 0 && options.min_node_area_fraction < 1))
-    throw thermodec::InvalidInput("min_node_area_fraction must be in [0, 1), got " +
-                                  std::to_string(options.min_node_area_fraction));
-
+  // Option ranges are validated by the core (one place, one message).
   progress(cb, 0, "Thermal: gathering mesh");
   DocumentMesh dm = mesh_from_layer(*md.mm());
   progress(cb, 10, "Thermal: assigning nodes");
