@@ -60,10 +60,14 @@ int main(int argc, char** argv) {
   add_repair(app);
   add_decimate(app);
   add_reduce(app);
+  // Usage errors follow the same contract as bad input: one line on stderr, exit code 1.
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return "thermodec: usage error: " + std::string(e.what()) + " (see --help)\n";
+  });
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return app.exit(e) == 0 ? 0 : 1;  // --help and --version exit 0
   }
   return exit_code();
 }

@@ -4,6 +4,7 @@
 //! groups gets an automatic nodal breakdown.
 #include <filesystem>
 
+#include "thermodec/mesh/io.h"
 #include "thermodec/nodes/thermal_model.h"
 
 namespace thermodec {
@@ -11,6 +12,9 @@ namespace thermodec {
 //! \throw InvalidInput naming the offending key (unknown node or material, negative
 //! capacitance, absorptivity/emissivity outside (0,1], ...); IOError if unreadable.
 ThermalModel load_model(const std::filesystem::path& path);
+
+//! Same, with explicit mesh reading options (e.g. keep degenerate faces for `thermodec info`).
+ThermalModel load_model(const std::filesystem::path& path, const MeshReadOptions& mesh_options);
 
 //! Writes `model` as JSON at `json_path` and its mesh at `mesh_path` (relative path stored
 //! in the JSON), both atomically.

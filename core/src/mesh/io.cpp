@@ -1,0 +1,147 @@
+#include "thermodec/mesh/io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "mesh_formats.h"
+#include "thermodec/common/atomic_write.h"
+#include "thermodec/common/errors.h"
+#include "thermodec/mesh/face_geometry.h"
+#include "thermodec/mesh/weld.h"
+
+namespace thermodec {
+namespace {
+
+enum class MeshFormat { obj, ply, stl };
+
+MeshFormat format_of(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".obj") return MeshFormat::obj;
+  if (ext == ".ply") return MeshFormat::ply;
+  if (ext == ".stl") return MeshFormat::stl;
+  throw InvalidInput(path.string() + ": unknown mesh format '" + ext + "' (expected .obj, .ply or .stl)");
+}
+
+std::string read_bytes(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw IOError(path.string() + ": is a folder, not a mesh file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IOError(path.string() + ": cannot open for reading");
+  std::ostringstream s;
+  s << in.rdbuf();
+  if (in.bad()) throw IOError(path.string() + ": read failed");
+  return s.str();
+}
+
+void keep_faces(Mesh& mesh, const std::vector<int>& drop) {
+  std::vector<char> dropped(mesh.num_faces(), 0);
+  for (int f : drop) dropped[f] = 1;
+  const int kept = mesh.num_faces() - static_cast<int>(drop.size());
+  Mesh out;
+  out.V = mesh.V;
+  out.F.resize(kept, 3);
+  out.face_node.resize(kept);
+  out.face_material.resize(kept);
+  out.face_back_material.resize(kept);
+  for (int f = 0, g = 0; f < mesh.num_faces(); ++f) {
+    if (dropped[f]) continue;
+    out.F.row(g) = mesh.F.row(f);
+    out.face_node[g] = mesh.face_node[f];
+    out.face_material[g] = mesh.face_material[f];
+    out.face_back_material[g] = mesh.face_back_material[f];
+    ++g;
+  }
+  out.node_names = std::move(mesh.node_names);
+  out.material_names = std::move(mesh.material_names);
+  mesh = std::move(out);
+}
+
+std::string list_faces(const std::vector<int>& faces) {
+  std::string s;
+  const std::size_t shown = std::min<std::size_t>(faces.size(), 10);
+  for (std::size_t i = 0; i < shown; ++i) s += (i ? ", " : "") + std::to_string(faces[i]);
+  if (faces.size() > shown) s += ", ... (" + std::to_string(faces.size()) + " in all)";
+  return s;
+}
+
+void check_writable(const Mesh& mesh) {
+  const int nf = mesh.num_faces(), nv = mesh.num_vertices();
+  if (mesh.F.cols() != 3 && nf > 0) throw InvalidInput("cannot write mesh: F must have 3 columns");
+  if (mesh.V.cols() != 3 && nv > 0) throw InvalidInput("cannot write mesh: V must have 3 columns");
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k)
+      if (mesh.F(f, k) < 0 || mesh.F(f, k) >= nv)
+        throw InvalidInput("cannot write mesh: face " + std::to_string(f) + " has vertex index " +
+                           std::to_string(mesh.F(f, k)) + " out of range (" + std::to_string(nv) + " vertices)");
+  for (Eigen::Index i = 0; i < mesh.V.size(); ++i)
+    if (!std::isfinite(mesh.V.data()[i])) throw InvalidInput("cannot write mesh: non-finite vertex coordinate");
+  auto check = [&](const Eigen::VectorXi& a, const std::vector<std::string>& names, const char* what) {
+    if (a.size() != 0 && a.size() != nf)
+      throw InvalidInput(std::string("cannot write mesh: ") + what + " has " + std::to_string(a.size()) +
+                         " entries for " + std::to_string(nf) + " faces");
+    for (int f = 0; f < a.size(); ++f)
+      if (a[f] < -1 || a[f] >= static_cast<int>(names.size()))
+        throw InvalidInput(std::string("cannot write mesh: face ") + std::to_string(f) + " has " + what + " " +
+                           std::to_string(a[f]) + " outside its name list");
+  };
+  check(mesh.face_node, mesh.node_names, "face_node");
+  check(mesh.face_material, mesh.material_names, "face_material");
+  check(mesh.face_back_material, mesh.material_names, "face_back_material");
+  for (const auto& n : mesh.node_names) mesh_formats::check_name_writable(n, "node");
+  for (const auto& n : mesh.material_names) mesh_formats::check_name_writable(n, "material");
+}
+
+}  // namespace
+
+Mesh read_mesh(const std::filesystem::path& path, const MeshReadOptions& options, MeshReadReport& report) {
+  const MeshFormat format = format_of(path);
+  const std::string data = read_bytes(path);
+  const std::string file = path.string();
+  if (data.empty()) throw InvalidInput(file + ": empty file");
+  Mesh mesh;
+  switch (format) {
+    case MeshFormat::obj: mesh = mesh_formats::parse_obj(data, file); break;
+    case MeshFormat::ply: mesh = mesh_formats::parse_ply(data, file); break;
+    case MeshFormat::stl: mesh = mesh_formats::parse_stl(data, file); break;
+  }
+  report = MeshReadReport{};
+  double tolerance = options.weld_tolerance;
+  if (std::isnan(tolerance)) throw InvalidInput("weld tolerance is NaN");
+  if (format == MeshFormat::stl) tolerance = std::max(tolerance, 0.0);
+  if (tolerance >= 0.0) report.welded_vertices = weld_mesh_vertices(mesh.V, mesh.F, tolerance);
+  report.degenerate_faces = degenerate_faces(mesh.V, mesh.F);
+  if (options.drop_degenerate_faces && !report.degenerate_faces.empty()) {
+    if (report.degenerate_faces.size() == static_cast<std::size_t>(mesh.num_faces()))
+      throw InvalidInput(file + ": all " + std::to_string(mesh.num_faces()) + " faces are degenerate (zero area)");
+    keep_faces(mesh, report.degenerate_faces);
+    report.degenerate_faces_dropped = true;
+  }
+  return mesh;
+}
+
+Mesh read_mesh(const std::filesystem::path& path, const MeshReadOptions& options) {
+  MeshReadReport report;
+  Mesh mesh = read_mesh(path, options, report);
+  if (report.degenerate_faces_dropped)
+    std::cerr << "thermodec: warning: " << path.string() << ": dropped " << report.degenerate_faces.size()
+              << " degenerate (zero-area) face(s), triangle indices " << list_faces(report.degenerate_faces) << "\n";
+  return mesh;
+}
+
+void write_mesh(const std::filesystem::path& path, const Mesh& mesh, const MeshWriteOptions& options) {
+  const MeshFormat format = format_of(path);
+  check_writable(mesh);
+  write_file_atomically(path, [&](std::ostream& out) {
+    switch (format) {
+      case MeshFormat::obj: mesh_formats::write_obj(out, mesh); break;
+      case MeshFormat::ply: mesh_formats::write_ply(out, mesh, options.binary); break;
+      case MeshFormat::stl: mesh_formats::write_stl(out, mesh, options.binary); break;
+    }
+  }, options.protected_inputs);
+}
+
+}  // namespace thermodec
