@@ -12,6 +12,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/mesh/io.h"
 #include "thermodec/nodes/automatic_nodes.h"
+#include "thermodec/nodes/load_model.h"
 
 using namespace thermodec;
 
@@ -238,6 +239,9 @@ TEST(AutomaticNodes, bad_options_and_empty_mesh_are_rejected) {
   options = {};
   options.min_node_area_fraction = 1.0;
   EXPECT_THROW(assign_automatic_nodes(mesh, options), InvalidInput);
+  Mesh with_nan = mesh;
+  with_nan.V(2, 1) = std::nan("");
+  EXPECT_THROW(assign_automatic_nodes(with_nan), InvalidInput);
   mesh.F(3, 1) = 999;
   EXPECT_THROW(assign_automatic_nodes(mesh), InvalidInput);
 }
@@ -313,4 +317,30 @@ TEST(SampleSatellite, automatic_breakdown_finds_each_body_side) {
     body_nodes.insert(nodes.begin(), nodes.end());
   }
   EXPECT_EQ(body_nodes.size(), 6u);
+}
+
+TEST(SampleSatellite, model_files_load_with_thermal_data_for_every_node) {
+  const std::filesystem::path dir = std::filesystem::path(THERMODEC_SOURCE_DIR) / "sample_models" / "satellite";
+  for (const char* name : {"model.json", "model_dense.json"}) {
+    SCOPED_TRACE(name);
+    const ThermalModel model = load_model(dir / name);
+    ASSERT_EQ(model.nodes.size(), 13u);
+    EXPECT_EQ(model.materials.size(), 5u);
+    EXPECT_EQ(model.conductances.size(), 19u);  // 12 body edges + 7 appendage links
+    double power_W = 0.0;
+    for (const Node& node : model.nodes) {
+      EXPECT_GT(node.capacitance_J_per_K, 0.0) << node.name;
+      power_W += node.power_W;
+    }
+    EXPECT_DOUBLE_EQ(power_W, 210.0);
+    EXPECT_EQ(model.environment.type, EnvironmentType::orbit);
+    EXPECT_EQ(model.analysis.type, AnalysisType::transient_orbit);
+    // Thin sheets (wings, yokes, dish) are two-sided, the closed body is not.
+    const Mesh& mesh = model.mesh;
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      const std::string& node = mesh.node_names[mesh.face_node[f]];
+      const bool sheet = node.rfind("wing", 0) == 0 || node.rfind("yoke", 0) == 0 || node == "dish";
+      ASSERT_EQ(mesh.is_two_sided(f), sheet) << "face " << f << " of " << node;
+    }
+  }
 }

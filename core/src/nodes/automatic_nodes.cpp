@@ -1,8 +1,6 @@
 #include "thermodec/nodes/automatic_nodes.h"
 
-#include <Eigen/Geometry>
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -15,6 +13,7 @@
 #include <vector>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/mesh/face_geometry.h"
 
 // Why this shape: a thermal node should be a piece of surface that sees roughly one
 // environment (one orientation) and conducts internally, so regions are grown over shared
@@ -27,26 +26,9 @@ namespace thermodec {
 namespace {
 
 struct FaceGeometry {
-  std::vector<Eigen::Vector3d> unit_normal;  // zero for degenerate faces
-  std::vector<double> area_m2;
+  Eigen::MatrixXd unit_normal;  // #F x 3, zero rows for degenerate faces
+  Eigen::VectorXd area_m2;      // #F
 };
-
-FaceGeometry face_geometry(const Mesh& mesh) {
-  const int nf = mesh.num_faces();
-  FaceGeometry g;
-  g.unit_normal.resize(nf);
-  g.area_m2.resize(nf);
-  for (int f = 0; f < nf; ++f) {
-    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)).transpose();
-    const Eigen::Vector3d b = mesh.V.row(mesh.F(f, 1)).transpose();
-    const Eigen::Vector3d c = mesh.V.row(mesh.F(f, 2)).transpose();
-    const Eigen::Vector3d n = (b - a).cross(c - a);
-    const double len = n.norm();
-    g.area_m2[f] = 0.5 * len;
-    g.unit_normal[f] = len > 0.0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
-  }
-  return g;
-}
 
 // Undirected edges with the faces using them, sorted by vertex pair. Non-manifold edges
 // (more than two faces) connect every pair of their faces.
@@ -141,7 +123,7 @@ std::vector<int> grow_planar_regions(const FaceGeometry& geom, const FaceAdjacen
   for (const int seed : order) {
     if (region[seed] >= 0) continue;
     const int r = num_regions++;
-    const Eigen::Vector3d& seed_normal = geom.unit_normal[seed];
+    const Eigen::Vector3d seed_normal = geom.unit_normal.row(seed).transpose();
     const bool seed_degenerate = seed_normal.squaredNorm() == 0.0;
     queue.clear();
     queue.push_back(seed);
@@ -151,7 +133,7 @@ std::vector<int> grow_planar_regions(const FaceGeometry& geom, const FaceAdjacen
       for (int k = adj.offset[f]; k < adj.offset[f + 1]; ++k) {
         const int g = adj.neighbour[k];
         if (region[g] >= 0) continue;
-        const Eigen::Vector3d& n = geom.unit_normal[g];
+        const Eigen::Vector3d n = geom.unit_normal.row(g).transpose();
         const bool g_degenerate = n.squaredNorm() == 0.0;
         // A degenerate seed (only when every bigger face is taken) collects degenerate
         // neighbours only, so it cannot swallow an oriented region.
@@ -265,11 +247,15 @@ void assign_automatic_nodes(Mesh& mesh, const AutomaticNodeOptions& options) {
                            std::to_string(mesh.F(f, k)) + " outside [0, " +
                            std::to_string(mesh.num_vertices()) + ")");
 
-  const FaceGeometry geom = face_geometry(mesh);
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (!mesh.V.row(v).allFinite())
+      throw InvalidInput("automatic nodes: vertex " + std::to_string(v) + " has a non-finite coordinate");
+
+  const FaceGeometry geom{face_normals(mesh.V, mesh.F), face_areas(mesh.V, mesh.F)};
   const std::vector<EdgeFaces> edges = sorted_edge_faces(mesh);
   const FaceAdjacency adj = face_adjacency(mesh, edges);
 
-  // The cosine threshold is nudged by a few ulps so that exactly coplanar triangles, whose
+  // The cosine threshold is nudged by 1e-12 so that exactly coplanar triangles, whose
   // normals differ only by rounding, never split at 0 degrees.
   constexpr double kPi = 3.14159265358979323846;
   const double cos_max = std::cos(options.max_normal_deviation_deg * kPi / 180.0) - 1e-12;
