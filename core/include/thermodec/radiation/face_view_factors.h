@@ -1,0 +1,36 @@
+#pragma once
+//! Face-level (surface-side-level) view factors by Monte Carlo ray tracing with Embree.
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <cstdint>
+
+#include "thermodec/nodes/thermal_model.h"
+#include "thermodec/radiation/ray_scene.h"
+#include "thermodec/radiation/surface_sides.h"
+
+namespace thermodec {
+
+//! Sparse side-to-side view factors. Every side emits `rays_per_side` rays: origins uniform on
+//! the triangle, directions cosine-weighted over its hemisphere, from a per-side
+//! Owen-scrambled 4-D Sobol sequence seeded by the side's identity and RadiationSettings::seed.
+struct FaceViewFactors {
+  SurfaceSides sides;
+  //! #S x #S: F(s, t) = fraction of the rays of side s whose first hit is side t [-]. A ray
+  //! hitting the back of a one-sided face is attributed to that face's front (see docs).
+  Eigen::SparseMatrix<double, Eigen::RowMajor> F;
+  Eigen::VectorXd to_space;  //!< #S fraction of rays escaping to infinity [-]
+  int rays_per_side = 0;
+  std::int64_t rays_traced = 0;
+  std::int64_t back_hits_on_one_sided = 0;  //!< rays that hit the back of a one-sided face
+  Eigen::VectorXi back_hits_per_side;        //!< #S the same, per emitting side
+};
+
+//! Traces all sides of `sides` (which must be the sides of scene.mesh()) in parallel (TBB).
+//! The result is bit-identical for any thread count.
+//! \throw InvalidInput if settings.rays_per_face < 1.
+FaceViewFactors face_view_factors(const RayScene& scene, const SurfaceSides& sides, const RadiationSettings& settings);
+
+//! Same with the sides of scene.mesh() (materials as stored in the mesh).
+FaceViewFactors face_view_factors(const RayScene& scene, const RadiationSettings& settings);
+
+}  // namespace thermodec

@@ -1,0 +1,74 @@
+#pragma once
+//! Incremental radiative couplings for the reduction driver, which compares one reference
+//! model with hundreds of candidates that differ from it in one or a few nodes.
+//!
+//! prepare_radiation() traces the reference once and keeps everything (Embree scene, integer
+//! hit counts per face, Gebhart solution). radiative_couplings_incremental() then finds which
+//! faces of a candidate changed (by their stable identity: vertex coordinates + side, so no
+//! list of changed nodes is needed), traces all rays of the changed faces, and for unchanged
+//! faces re-traces only the rays that can meet the changed region (the bounding box of the
+//! removed and the added faces), in the reference scene (to subtract them) and in the
+//! candidate scene (to add them). Every other ray would hit the same face in both models, so
+//! its reference count is reused as is. The view factors are therefore *identical* to a full
+//! recompute of the candidate with the same settings (same rays, same hits), and the Gebhart
+//! solve is warm-started from the reference solution.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+#include "thermodec/nodes/thermal_model.h"
+#include "thermodec/radiation/face_view_factors.h"
+#include "thermodec/radiation/gebhart_factors.h"
+#include "thermodec/radiation/radiative_couplings.h"
+
+namespace thermodec {
+
+//! Expensive, reusable state of a reference model (non-copyable, movable).
+class RadiationReference {
+ public:
+  RadiationReference(RadiationReference&&) noexcept;
+  RadiationReference& operator=(RadiationReference&&) noexcept;
+  ~RadiationReference();
+
+  const ThermalModel& model() const;
+  const RadiationSettings& settings() const;
+  const FaceViewFactors& face_view_factors() const;
+  const GebhartFactors& gebhart() const;  //!< IR, groups = node_groups(sides, #nodes)
+  const NodeCouplings& couplings() const;
+
+  struct Impl;
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  explicit RadiationReference(std::unique_ptr<Impl> impl);
+  friend RadiationReference prepare_radiation(const ThermalModel&, const RadiationSettings&, std::size_t);
+  std::unique_ptr<Impl> impl_;
+};
+
+//! Traces `reference` fully (as radiative_couplings) and keeps the state for reuse. Each
+//! ray's first hit (8 bytes) is kept too when all fit in `max_record_bytes`: candidates then
+//! re-trace only rays that reach the changed region before their reference hit, and only in
+//! the candidate scene; without records, every ray meeting the region's box is traced in both.
+//! \throw InvalidInput as radiative_couplings.
+RadiationReference prepare_radiation(const ThermalModel& reference, const RadiationSettings& settings,
+                                     std::size_t max_record_bytes = std::size_t(1) << 30);
+
+//! What an incremental evaluation reused and re-traced.
+struct IncrementalStats {
+  int changed_sides = 0;            //!< candidate sides without a twin in the reference (traced fully)
+  int removed_sides = 0;            //!< reference sides without a twin in the candidate
+  int reused_sides = 0;             //!< unchanged sides (reference counts reused)
+  std::int64_t rays_retraced = 0;   //!< rays traced (both scenes counted)
+  std::int64_t rays_total = 0;      //!< rays a full recompute would trace
+  Eigen::AlignedBox3d changed_box;  //!< region whose geometry changed [m]
+};
+
+//! Couplings of `candidate` with the reference's settings, reusing the reference's rays.
+//! Equal to radiative_couplings(candidate, reference.settings()) up to the Gebhart solver
+//! tolerance (view factors bit-identical). `face_vf`, if non-null, receives the candidate's
+//! face-level view factors.
+//! \throw InvalidInput as radiative_couplings.
+NodeCouplings radiative_couplings_incremental(const RadiationReference& reference, const ThermalModel& candidate,
+                                              IncrementalStats* stats = nullptr, FaceViewFactors* face_vf = nullptr);
+
+}  // namespace thermodec

@@ -1,0 +1,41 @@
+#pragma once
+//! The radiating surface sides of a mesh: the front of every traceable face, plus the back of
+//! every two-sided face (Mesh::face_back_material >= 0) as a separate side with its own
+//! material. Each side has a stable identity (a hash of its vertex coordinates and side), the
+//! seed of its rays: an unchanged face keeps the same rays in a modified model.
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "thermodec/nodes/thermal_model.h"
+
+namespace thermodec {
+
+struct SurfaceSides {
+  Eigen::VectorXi face;      //!< #S mesh face of each side
+  Eigen::VectorXi is_back;   //!< #S 1 = back side of a two-sided face, 0 = front
+  Eigen::VectorXi node;      //!< #S thermal node (Mesh::face_node), may be -1
+  Eigen::VectorXi material;  //!< #S material index (-1 if unresolved, e.g. a bare Mesh)
+  Eigen::VectorXd area_m2;   //!< #S area [m^2]
+  //! #S identity: hash of the face's vertex coordinates (in F order), side, sidedness, and
+  //! its occurrence number among identical faces. Independent of the face index.
+  std::vector<std::uint64_t> key;
+  Eigen::VectorXi front_side;  //!< #F side index of each face's front, -1 if untraceable
+  Eigen::VectorXi back_side;   //!< #F side index of each face's back, -1 if one-sided
+
+  int size() const { return static_cast<int>(face.size()); }
+};
+
+//! Sides of a bare mesh (materials are the mesh's face_material / face_back_material).
+SurfaceSides surface_sides(const Mesh& mesh);
+
+//! Sides of a model, with materials resolved (face -> node default -> model default).
+//! \throw InvalidInput if a face names a node or material the model does not have.
+SurfaceSides surface_sides(const ThermalModel& model);
+
+//! Per-side emissivity (IR) or absorptivity (solar) of `model`'s materials.
+//! \throw InvalidInput if a side has no material.
+Eigen::VectorXd side_emissivity(const ThermalModel& model, const SurfaceSides& sides);
+Eigen::VectorXd side_absorptivity(const ThermalModel& model, const SurfaceSides& sides);
+
+}  // namespace thermodec

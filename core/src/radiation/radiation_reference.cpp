@@ -1,0 +1,203 @@
+#include "thermodec/radiation/radiation_reference.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <limits>
+#include <string>
+#include <unordered_map>
+
+#include "thermodec/common/errors.h"
+#include "thermodec/radiation/ray_scene.h"
+#include "tracing.h"
+#include "view_factor_rows.h"
+
+namespace thermodec {
+
+struct RadiationReference::Impl {
+  ThermalModel model;
+  RadiationSettings settings;
+  RayScene scene;
+  FaceViewFactors vf;
+  GebhartFactors gebhart;
+  NodeCouplings couplings;
+  std::unordered_map<std::uint64_t, int> side_of_key;
+  std::vector<tracing::RayRecord> records;  // #S x R reference hits, empty if over budget
+  Impl(const ThermalModel& m, const RadiationSettings& s) : model(m), settings(s), scene(m.mesh) {}
+};
+
+RadiationReference::RadiationReference(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+RadiationReference::RadiationReference(RadiationReference&&) noexcept = default;
+RadiationReference& RadiationReference::operator=(RadiationReference&&) noexcept = default;
+RadiationReference::~RadiationReference() = default;
+const ThermalModel& RadiationReference::model() const { return impl_->model; }
+const RadiationSettings& RadiationReference::settings() const { return impl_->settings; }
+const FaceViewFactors& RadiationReference::face_view_factors() const { return impl_->vf; }
+const GebhartFactors& RadiationReference::gebhart() const { return impl_->gebhart; }
+const NodeCouplings& RadiationReference::couplings() const { return impl_->couplings; }
+
+RadiationReference prepare_radiation(const ThermalModel& reference, const RadiationSettings& settings,
+                                     std::size_t max_record_bytes) {
+  auto impl = std::make_unique<RadiationReference::Impl>(reference, settings);
+  const int N = static_cast<int>(reference.nodes.size());
+  const SurfaceSides sides = surface_sides(impl->model);
+  const bool keep = double(sides.size()) * std::max(settings.rays_per_face, 0) * sizeof(tracing::RayRecord) <=
+                    double(max_record_bytes);
+  impl->vf = detail::trace_all(impl->scene, sides, settings, keep ? &impl->records : nullptr);
+  const Eigen::VectorXd eps = side_emissivity(impl->model, sides);
+  impl->gebhart = gebhart_factors(impl->vf, eps, node_groups(sides, N), N + 1);
+  impl->couplings = aggregate_couplings(impl->vf, eps, impl->gebhart, N);
+  impl->couplings.diagnostics.untraceable_faces = impl->scene.num_skipped_faces();
+  for (int s = 0; s < sides.size(); ++s) impl->side_of_key.emplace(sides.key[s], s);
+  return RadiationReference(std::move(impl));
+}
+
+namespace {
+void extend_by_face(Eigen::AlignedBox3d& box, const Mesh& mesh, int f) {
+  for (int k = 0; k < 3; ++k) box.extend(Eigen::Vector3d(mesh.V.row(mesh.F(f, k))));
+}
+}  // namespace
+
+NodeCouplings radiative_couplings_incremental(const RadiationReference& reference, const ThermalModel& candidate,
+                                              IncrementalStats* stats, FaceViewFactors* face_vf) {
+  const RadiationReference::Impl& ref = reference.impl();
+  const RadiationSettings& settings = ref.settings;
+  const int N = static_cast<int>(candidate.nodes.size());
+  const SurfaceSides sides = surface_sides(candidate);
+  const int S = sides.size(), Sr = ref.vf.sides.size(), R = settings.rays_per_face;
+
+  // Twins by identity: same vertex coordinates, side and sidedness => same rays.
+  std::vector<int> twin(S, -1), cand_of_ref(Sr, -1);
+  for (int c = 0; c < S; ++c) {
+    const auto it = ref.side_of_key.find(sides.key[c]);
+    if (it != ref.side_of_key.end() && cand_of_ref[it->second] < 0) {
+      twin[c] = it->second;
+      cand_of_ref[it->second] = c;
+    }
+  }
+  IncrementalStats st;
+  for (int c = 0; c < S; ++c) {
+    if (twin[c] < 0) {
+      ++st.changed_sides;
+      extend_by_face(st.changed_box, candidate.mesh, sides.face[c]);
+    } else {
+      ++st.reused_sides;
+    }
+  }
+  for (int r = 0; r < Sr; ++r)
+    if (cand_of_ref[r] < 0) {
+      ++st.removed_sides;
+      extend_by_face(st.changed_box, ref.model.mesh, ref.vf.sides.face[r]);
+    }
+  st.rays_total = std::int64_t(S) * R;
+  // The filter box in float, padded by far more than the rounding of float coordinates, so a
+  // ray that reaches a changed face can never be judged to miss the box.
+  Eigen::AlignedBox3f box;
+  if (!st.changed_box.isEmpty()) {
+    const double pad = 1e-4 * (st.changed_box.sizes().norm() + st.changed_box.min().cwiseAbs().maxCoeff() +
+                               st.changed_box.max().cwiseAbs().maxCoeff());
+    box = Eigen::AlignedBox3f((st.changed_box.min().array() - pad).cast<float>().matrix(),
+                              (st.changed_box.max().array() + pad).cast<float>().matrix());
+  }
+
+  const RayScene scene(candidate.mesh);
+  const tracing::SobolTable sobol = sampling::sobol_4d(R);
+  const bool records = !ref.records.empty();
+  detail::SideRows rows(S);
+  std::atomic<std::int64_t> retraced{0};
+  std::atomic<int> bookkeeping_failures{0};
+  tbb::enumerable_thread_specific<tracing::Counter> counters([S] { return tracing::Counter(S); });
+  tbb::parallel_for(tbb::blocked_range<int>(0, S, 8), [&](const tbb::blocked_range<int>& range) {
+    tracing::Counter& cnt = counters.local();
+    std::int64_t traced = 0;
+    for (int c = range.begin(); c != range.end(); ++c) {
+      const sampling::Emitter e = tracing::side_emitter(candidate.mesh, sides, c, settings.seed);
+      std::int64_t back = 0;
+      const int r = twin[c];
+      if (r < 0) {  // new or changed face: all its rays
+        tracing::trace_emitter(scene.impl(), sides, e, sobol, R, tracing::AllRays{}, [&](int, int hit, bool b, float) {
+          cnt.add(hit, 1);
+          back += b;
+        });
+        traced += R;
+        if (rows.take(c, cnt, back) != 0) bookkeeping_failures.fetch_add(1);
+        continue;
+      }
+      // Unchanged face: the reference counts, corrected for the rays that can meet the changed
+      // region: minus their reference hit, plus their candidate hit.
+      auto to_cand = [&](int ref_side) {
+        return ref_side < 0 ? -1 : (cand_of_ref[ref_side] < 0 ? cnt.gone() : cand_of_ref[ref_side]);
+      };
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(ref.vf.F, r); it; ++it)
+        cnt.add(to_cand(static_cast<int>(it.col())), static_cast<int>(std::lround(it.value() * R)));
+      cnt.add(-1, static_cast<int>(std::lround(ref.vf.to_space[r] * R)));
+      back = ref.vf.back_hits_per_side[r];
+      // Every point a ray of this side reaches lies strictly in front of its plane: if the
+      // whole box is behind it, no ray can meet it.
+      bool box_in_front = false;
+      if (!box.isEmpty())
+        for (int k = 0; k < 8 && !box_in_front; ++k)
+          box_in_front = (box.corner(Eigen::AlignedBox3f::CornerType(k)).cast<double>() - e.a).dot(e.n) > 0.0;
+      if (box_in_front && records) {
+        // A ray whose reference hit comes before it enters the box hits the same face in the
+        // candidate (the faces in front of the box did not change, the new ones are inside).
+        const tracing::RayRecord* rec = ref.records.data() + std::size_t(r) * R;
+        tracing::trace_emitter(
+            scene.impl(), sides, e, sobol, R,
+            [&](int i, const float* o, const float* d) {
+              const float entry = tracing::ray_box_entry(o, d, box);
+              return entry < std::numeric_limits<float>::infinity() && entry <= rec[i].t;
+            },
+            [&](int i, int hit, bool b, float) {
+              cnt.add(to_cand(rec[i].side()), -1);
+              back -= rec[i].back();
+              cnt.add(hit, 1);
+              back += b;
+              ++traced;
+            });
+      } else if (box_in_front) {
+        auto meets = [&](int, const float* o, const float* d) {
+          return tracing::ray_box_entry(o, d, box) < std::numeric_limits<float>::infinity();
+        };
+        tracing::trace_emitter(ref.scene.impl(), ref.vf.sides, e, sobol, R, meets, [&](int, int hit, bool b, float) {
+          cnt.add(to_cand(hit), -1);
+          back -= b;
+          ++traced;
+        });
+        tracing::trace_emitter(scene.impl(), sides, e, sobol, R, meets, [&](int, int hit, bool b, float) {
+          cnt.add(hit, 1);
+          back += b;
+          ++traced;
+        });
+      }
+      if (rows.take(c, cnt, back) != 0) bookkeeping_failures.fetch_add(1);
+    }
+    retraced.fetch_add(traced);
+  });
+  if (bookkeeping_failures.load() != 0)
+    throw Error("radiative_couplings_incremental: " + std::to_string(bookkeeping_failures.load()) +
+                " sides kept hits on removed faces (changed-region filter failed); this is a bug");
+  FaceViewFactors vf = detail::assemble(sides, rows, R);
+  st.rays_retraced = retraced.load();
+  vf.rays_traced = st.rays_retraced;
+
+  const Eigen::VectorXd eps = side_emissivity(candidate, sides);
+  // Warm start: unchanged sides start from their reference Gebhart row (same node columns).
+  RowMatrixXd guess;
+  const bool warm = static_cast<int>(ref.model.nodes.size()) == N;
+  if (warm) {
+    guess = RowMatrixXd::Zero(S, N + 2);
+    for (int c = 0; c < S; ++c)
+      if (twin[c] >= 0) guess.row(c) = ref.gebhart.B.row(twin[c]);
+  }
+  const GebhartFactors gb = gebhart_factors(vf, eps, node_groups(sides, N), N + 1, {}, warm ? &guess : nullptr);
+  NodeCouplings nc = aggregate_couplings(vf, eps, gb, N);
+  nc.diagnostics.untraceable_faces = scene.num_skipped_faces();
+  if (stats) *stats = st;
+  if (face_vf) *face_vf = std::move(vf);
+  return nc;
+}
+
+}  // namespace thermodec

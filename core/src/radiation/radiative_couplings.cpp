@@ -1,0 +1,188 @@
+#include "thermodec/radiation/radiative_couplings.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "thermodec/common/errors.h"
+#include "thermodec/radiation/ray_scene.h"
+
+namespace thermodec {
+namespace {
+
+// Combines two estimates of the same quantity (A_i F_ij and A_j F_ji, or GR_ij and GR_ji) by
+// inverse-variance weighting: the better-sampled direction dominates. Returns the combined
+// variance; `asym_sigma` gets |x1 - x2| / sqrt(v1 + v2).
+double combine(double x1, double v1, double x2, double v2, double& x, double& asym_sigma) {
+  const double vs = v1 + v2;
+  if (vs <= 0.0) {
+    x = 0.5 * (x1 + x2);
+    asym_sigma = 0.0;
+    return 0.0;
+  }
+  x = (x1 * v2 + x2 * v1) / vs;
+  asym_sigma = std::abs(x1 - x2) / std::sqrt(vs);
+  return v1 * v2 / vs;
+}
+
+}  // namespace
+
+NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::VectorXd& emissivity,
+                                  const GebhartFactors& gebhart, int num_nodes) {
+  const int S = vf.sides.size(), N = num_nodes;
+  const int U = N, SP = N + 1, C = N + 2;  // columns: nodes, unassigned, space
+  if (emissivity.size() != S) throw InvalidInput("aggregate_couplings: emissivity must have one value per side");
+  if (gebhart.B.rows() != S || gebhart.B.cols() != C)
+    throw InvalidInput("aggregate_couplings: Gebhart factors must be solved with node_groups(sides, " +
+                       std::to_string(N) + ") and " + std::to_string(N + 1) + " groups");
+  const double R = vf.rays_per_side;
+  const SurfaceSides& sd = vf.sides;
+  const Eigen::VectorXi group = node_groups(sd, N);
+  const Eigen::VectorXd& A = sd.area_m2;
+  const Eigen::VectorXd rho = (1.0 - emissivity.array()).matrix();
+
+  NodeCouplings nc;
+  CouplingDiagnostics& dg = nc.diagnostics;
+  dg.rays_traced = vf.rays_traced;
+  dg.back_hits_on_one_sided = vf.back_hits_on_one_sided;
+  dg.surface_sides = S;
+  dg.gebhart_iterations = gebhart.iterations;
+  dg.gebhart_closure_error = gebhart.max_closure_error;
+
+  // ---- view factors: X_ij = sum_{s in i} A_s F_s->j, binomial variance per side ----------
+  Eigen::MatrixXd X = Eigen::MatrixXd::Zero(N, C), VX = Eigen::MatrixXd::Zero(N, C);
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(N), floor_vf = Eigen::VectorXd::Zero(N);
+  Eigen::VectorXd row(C);
+  for (int s = 0; s < S; ++s) {  // sequential: fixed summation order
+    const int i = group[s];
+    if (i == U) {
+      dg.unassigned_area_m2 += A[s];
+      continue;
+    }
+    area[i] += A[s];
+    floor_vf[i] += A[s] * A[s] / (R * R);  // "one ray" resolution: no estimate is exact
+    row.setZero();
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(vf.F, s); it; ++it) row[group[it.col()]] += it.value();
+    row[SP] = vf.to_space[s];
+    for (int j = 0; j < C; ++j)
+      if (row[j] != 0.0) {
+        X(i, j) += A[s] * row[j];
+        VX(i, j) += A[s] * A[s] * row[j] * (1.0 - row[j]) / R;
+      }
+  }
+  nc.area_m2 = area;
+  nc.view_factors.setZero(N, N);
+  nc.view_factors_standard_error.setZero(N, N);
+  nc.to_space.setZero(N);
+  nc.to_space_standard_error.setZero(N);
+  for (int i = 0; i < N; ++i) {
+    if (area[i] <= 0.0) continue;
+    for (int j = i; j < N; ++j) {
+      if (area[j] <= 0.0) continue;
+      double x, v, sig = 0.0;
+      if (i == j) {
+        x = X(i, i);
+        v = VX(i, i);
+      } else {
+        v = combine(X(i, j), VX(i, j) + floor_vf[i], X(j, i), VX(j, i) + floor_vf[j], x, sig);
+        dg.view_factor_asymmetry_sigma = std::max(dg.view_factor_asymmetry_sigma, sig);
+      }
+      nc.view_factors(i, j) = x / area[i];
+      nc.view_factors(j, i) = x / area[j];
+      nc.view_factors_standard_error(i, j) = std::sqrt(v) / area[i];
+      nc.view_factors_standard_error(j, i) = std::sqrt(v) / area[j];
+    }
+    nc.to_space[i] = X(i, SP) / area[i];
+    nc.to_space_standard_error[i] = std::sqrt(VX(i, SP)) / area[i];
+    const double closure = nc.view_factors.row(i).sum() + nc.to_space[i] + X(i, U) / area[i] - 1.0;
+    dg.view_factor_closure_error = std::max(dg.view_factor_closure_error, std::abs(closure));
+  }
+
+  // ---- Gebhart couplings -----------------------------------------------------------------
+  // Y(t, j) = eps_t [t in j] + rho_t B(t, j): the value a ray scores for group j when it lands
+  // on side t (space scores 1 for the space column). The per-ray variance of side s for j is
+  // sum_t F_st Y(t, j)^2 + [j = space] F_s,space - B(s, j)^2, and a perturbation of side s's
+  // rays moves GR_ij by A_s Y(s, i) times it (the adjoint of the Gebhart system, which by
+  // reciprocity is Y itself): Var(GR_ij) = sum_s A_s^2 Y(s, i)^2 V(s, j) / R (delta method).
+  const RowMatrixXd& B = gebhart.B;
+  RowMatrixXd Y = rho.asDiagonal() * B;
+  for (int t = 0; t < S; ++t) Y(t, group[t]) += emissivity[t];
+  RowMatrixXd V(S, C);
+  tbb::parallel_for(tbb::blocked_range<int>(0, S, 64), [&](const tbb::blocked_range<int>& r) {
+    for (int s = r.begin(); s != r.end(); ++s) {
+      auto v = V.row(s);
+      v.setZero();
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(vf.F, s); it; ++it)
+        v.noalias() += it.value() * Y.row(it.col()).cwiseAbs2();
+      v[SP] += vf.to_space[s];
+      v = (v - B.row(s).cwiseAbs2()).cwiseMax(0.0);
+    }
+  });
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(S, N);  // W(s, i) = A_s^2 Y(s, i)^2
+  for (int s = 0; s < S; ++s)
+    for (int i = 0; i < N; ++i) W(s, i) = A[s] * A[s] * Y(s, i) * Y(s, i);
+  const Eigen::MatrixXd VG = (W.transpose() * V) / R;  // N x C
+  Eigen::MatrixXd GR = Eigen::MatrixXd::Zero(N, C);
+  Eigen::VectorXd emit = Eigen::VectorXd::Zero(N), floor_gr = Eigen::VectorXd::Zero(N);
+  for (int s = 0; s < S; ++s) {
+    const int i = group[s];
+    if (i == U) continue;
+    GR.row(i) += (A[s] * emissivity[s]) * B.row(s);
+    emit[i] += A[s] * emissivity[s];
+    floor_gr[i] += (A[s] * emissivity[s]) * (A[s] * emissivity[s]) / (R * R);
+  }
+  const Eigen::VectorXd ymax = Y.colwise().maxCoeff().transpose();
+  nc.radiative_couplings_m2.setZero(N, N);
+  nc.radiative_couplings_standard_error.setZero(N, N);
+  nc.to_space_couplings_m2.setZero(N);
+  nc.to_space_couplings_standard_error.setZero(N);
+  const double gr_max = N ? GR.leftCols(N).maxCoeff() : 0.0;
+  for (int i = 0; i < N; ++i) {
+    for (int j = i; j < N; ++j) {
+      double x, v, sig = 0.0;
+      if (i == j) {
+        x = GR(i, i);
+        v = VG(i, i);
+      } else {
+        v = combine(GR(i, j), VG(i, j) + floor_gr[i] * ymax[j] * ymax[j], GR(j, i),
+                    VG(j, i) + floor_gr[j] * ymax[i] * ymax[i], x, sig);
+        dg.coupling_asymmetry_sigma = std::max(dg.coupling_asymmetry_sigma, sig);
+        const double big = std::max(GR(i, j), GR(j, i));
+        if (big > 1e-3 * gr_max && big > 0.0)
+          dg.coupling_asymmetry_relative = std::max(dg.coupling_asymmetry_relative, std::abs(GR(i, j) - GR(j, i)) / big);
+      }
+      nc.radiative_couplings_m2(i, j) = nc.radiative_couplings_m2(j, i) = x;
+      nc.radiative_couplings_standard_error(i, j) = nc.radiative_couplings_standard_error(j, i) = std::sqrt(v);
+    }
+    nc.to_space_couplings_m2[i] = GR(i, SP);
+    nc.to_space_couplings_standard_error[i] = std::sqrt(VG(i, SP));
+  }
+  // Symmetrising moved each row sum by its noise. The self-coupling GR_ii carries no heat
+  // (T_i^4 - T_i^4 = 0), so it absorbs the difference and every node again absorbs exactly
+  // what it emits: A_i eps_i = sum_j GR_ij + GR_i,space (+ unassigned faces). The size of
+  // that correction is what `coupling_closure_error` reports.
+  for (int i = 0; i < N; ++i)
+    if (emit[i] > 0.0) {
+      const double missing = emit[i] - (nc.radiative_couplings_m2.row(i).sum() + GR(i, SP) + GR(i, U));
+      dg.coupling_closure_error = std::max(dg.coupling_closure_error, std::abs(missing) / emit[i]);
+      nc.radiative_couplings_m2(i, i) = std::max(0.0, nc.radiative_couplings_m2(i, i) + missing);
+    }
+  return nc;
+}
+
+NodeCouplings radiative_couplings(const ThermalModel& model, const RadiationSettings& settings) {
+  const int N = static_cast<int>(model.nodes.size());
+  RayScene scene(model.mesh);
+  const SurfaceSides sides = surface_sides(model);
+  const FaceViewFactors vf = face_view_factors(scene, sides, settings);
+  const Eigen::VectorXd eps = side_emissivity(model, sides);
+  const GebhartFactors gb = gebhart_factors(vf, eps, node_groups(sides, N), N + 1);
+  NodeCouplings nc = aggregate_couplings(vf, eps, gb, N);
+  nc.diagnostics.untraceable_faces = scene.num_skipped_faces();
+  return nc;
+}
+
+}  // namespace thermodec

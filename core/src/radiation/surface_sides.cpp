@@ -1,0 +1,96 @@
+#include "thermodec/radiation/surface_sides.h"
+
+#include <string>
+#include <unordered_map>
+
+#include "sampling.h"
+#include "thermodec/common/errors.h"
+#include "thermodec/radiation/ray_scene.h"
+
+namespace thermodec {
+
+SurfaceSides surface_sides(const Mesh& mesh) {
+  const int nf = mesh.num_faces();
+  SurfaceSides s;
+  s.front_side = Eigen::VectorXi::Constant(nf, -1);
+  s.back_side = Eigen::VectorXi::Constant(nf, -1);
+  std::vector<int> face, back, node, mat;
+  std::vector<double> area;
+  std::unordered_map<std::uint64_t, int> occurrences;
+  for (int f = 0; f < nf; ++f) {
+    if (mesh.F(f, 0) < 0 || mesh.F(f, 0) >= mesh.num_vertices() || mesh.F(f, 1) < 0 ||
+        mesh.F(f, 1) >= mesh.num_vertices() || mesh.F(f, 2) < 0 || mesh.F(f, 2) >= mesh.num_vertices())
+      throw InvalidInput("face " + std::to_string(f) + " has a vertex index out of range");
+    if (!is_traceable_face(mesh, f)) continue;
+    const bool two_sided = mesh.is_two_sided(f);
+    std::uint64_t h = 0x7468657264656331ull;  // "thermdec1"
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c) h = sampling::hash_double(h, mesh.V(mesh.F(f, k), c));
+    h = sampling::hash_combine(h, two_sided ? 2 : 1);
+    h = sampling::hash_combine(h, std::uint64_t(occurrences[h]++));
+    const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+    const double A = 0.5 * (b - a).cross(c - a).norm();
+    for (int side = 0; side < (two_sided ? 2 : 1); ++side) {
+      (side ? s.back_side : s.front_side)[f] = static_cast<int>(face.size());
+      face.push_back(f);
+      back.push_back(side);
+      node.push_back(mesh.face_node.size() > f ? mesh.face_node[f] : -1);
+      const Eigen::VectorXi& fm = side ? mesh.face_back_material : mesh.face_material;
+      mat.push_back(fm.size() > f ? fm[f] : -1);
+      area.push_back(A);
+      s.key.push_back(sampling::hash_combine(h, std::uint64_t(side)));
+    }
+  }
+  const int n = static_cast<int>(face.size());
+  s.face = Eigen::Map<Eigen::VectorXi>(face.data(), n);
+  s.is_back = Eigen::Map<Eigen::VectorXi>(back.data(), n);
+  s.node = Eigen::Map<Eigen::VectorXi>(node.data(), n);
+  s.material = Eigen::Map<Eigen::VectorXi>(mat.data(), n);
+  s.area_m2 = Eigen::Map<Eigen::VectorXd>(area.data(), n);
+  return s;
+}
+
+SurfaceSides surface_sides(const ThermalModel& model) {
+  SurfaceSides s = surface_sides(model.mesh);
+  const int nn = static_cast<int>(model.nodes.size()), nm = static_cast<int>(model.materials.size());
+  for (int i = 0; i < s.size(); ++i) {
+    const int f = s.face[i];
+    if (s.node[i] < -1 || s.node[i] >= nn)
+      throw InvalidInput("face " + std::to_string(f) + " names node " + std::to_string(s.node[i]) + " but the model has " +
+                         std::to_string(nn) + " nodes");
+    int m = s.material[i];
+    if (m < 0 && s.node[i] >= 0) m = model.nodes[s.node[i]].material;
+    if (m < 0) m = model.default_material;
+    if (m < 0 || m >= nm)
+      throw InvalidInput("face " + std::to_string(f) + (s.is_back[i] ? " (back)" : "") + " has material " +
+                         std::to_string(m) + " but the model has " + std::to_string(nm) + " materials");
+    s.material[i] = m;
+  }
+  return s;
+}
+
+namespace {
+Eigen::VectorXd side_property(const ThermalModel& model, const SurfaceSides& sides, bool emissivity) {
+  Eigen::VectorXd out(sides.size());
+  for (int i = 0; i < sides.size(); ++i) {
+    const int m = sides.material[i];
+    if (m < 0 || m >= static_cast<int>(model.materials.size()))
+      throw InvalidInput("face " + std::to_string(sides.face[i]) + " has no material");
+    const double v = emissivity ? model.materials[m].emissivity : model.materials[m].absorptivity;
+    if (!(v > 0.0 && v <= 1.0))
+      throw InvalidInput("material '" + model.materials[m].name + "': " + (emissivity ? "emissivity" : "absorptivity") +
+                         " " + std::to_string(v) + " is outside (0, 1]");
+    out[i] = v;
+  }
+  return out;
+}
+}  // namespace
+
+Eigen::VectorXd side_emissivity(const ThermalModel& model, const SurfaceSides& sides) {
+  return side_property(model, sides, true);
+}
+Eigen::VectorXd side_absorptivity(const ThermalModel& model, const SurfaceSides& sides) {
+  return side_property(model, sides, false);
+}
+
+}  // namespace thermodec

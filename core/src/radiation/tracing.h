@@ -1,0 +1,128 @@
+#pragma once
+// Private to core/src/radiation: the hot loop shared by the full and the incremental view
+// factor computations. Rays are generated, traced through Embree's stream API and classified
+// (which surface side was hit) without touching RayQuery.
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <cstdint>
+#include <vector>
+
+#include "ray_scene_impl.h"
+#include "sampling.h"
+#include "thermodec/radiation/surface_sides.h"
+
+namespace thermodec::tracing {
+
+using SobolTable = std::vector<std::array<std::uint32_t, 4>>;
+
+//! Emitter of side `s` of `sides` (geometry from `mesh`), seeded by its identity and `seed`.
+inline sampling::Emitter side_emitter(const Mesh& mesh, const SurfaceSides& sides, int s, std::uint64_t seed) {
+  const int f = sides.face[s];
+  return sampling::make_emitter(mesh.V.row(mesh.F(f, 0)), mesh.V.row(mesh.F(f, 1)), mesh.V.row(mesh.F(f, 2)),
+                                sides.is_back[s] != 0, sampling::hash_combine(sides.key[s], seed));
+}
+
+//! Parameter t >= 0 where the ray origin + t dir enters `box`, or +inf if it misses it
+//! (slab test; conservative at the edges).
+inline float ray_box_entry(const float* o, const float* d, const Eigen::AlignedBox3f& box) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  float t0 = 0.0f, t1 = kInf;
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0.0f) {
+      if (o[k] < box.min()[k] || o[k] > box.max()[k]) return kInf;
+      continue;
+    }
+    const float inv = 1.0f / d[k];
+    float ta = (box.min()[k] - o[k]) * inv, tb = (box.max()[k] - o[k]) * inv;
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return kInf;
+  }
+  return t0;
+}
+
+//! Accept-all ray filter.
+struct AllRays {
+  bool operator()(int, const float*, const float*) const { return true; }
+};
+
+//! Traces the rays i in [0, rays) of emitter `e` accepted by keep(i, origin, direction) in
+//! `scene`, calling on_hit(i, side, back_hit_on_one_sided, t) in ray order, with side = hit
+//! side of `sides` (the sides of scene's mesh) or -1 for space (t = +inf).
+template <class Keep, class OnHit>
+void trace_emitter(const RayScene::Impl& scene, const SurfaceSides& sides, const sampling::Emitter& e,
+                   const SobolTable& sobol, int rays, Keep&& keep, OnHit&& on_hit) {
+  constexpr int kChunk = 64;
+  alignas(16) RTCRayHit buf[kChunk];
+  int index[kChunk];
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  int i = 0;
+  while (i < rays) {
+    int n = 0;
+    for (; i < rays && n < kChunk; ++i) {
+      float org[3], dir[3];
+      sampling::emit(e, sobol[i], true, org, dir);
+      if (!keep(i, org, dir)) continue;
+      index[n] = i;
+      RTCRayHit& rh = buf[n++];
+      rh.ray.org_x = org[0]; rh.ray.org_y = org[1]; rh.ray.org_z = org[2];
+      rh.ray.dir_x = dir[0]; rh.ray.dir_y = dir[1]; rh.ray.dir_z = dir[2];
+      rh.ray.tnear = 0.0f;
+      rh.ray.tfar = std::numeric_limits<float>::infinity();
+      rh.ray.time = 0.0f; rh.ray.mask = 0xFFFFFFFFu; rh.ray.id = 0; rh.ray.flags = 0;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    }
+    if (n == 0) continue;
+    rtcIntersect1M(scene.scene, &ctx, buf, static_cast<unsigned>(n), sizeof(RTCRayHit));
+    for (int k = 0; k < n; ++k) {
+      const RTCRayHit& rh = buf[k];
+      if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+        on_hit(index[k], -1, false, std::numeric_limits<float>::infinity());
+        continue;
+      }
+      const unsigned p = rh.hit.primID;
+      const int f = scene.face_of_prim[p];
+      const float* nf = &scene.prim_normal[3 * p];
+      const bool from_back = rh.ray.dir_x * nf[0] + rh.ray.dir_y * nf[1] + rh.ray.dir_z * nf[2] > 0.0f;
+      if (from_back && sides.back_side[f] >= 0) {
+        on_hit(index[k], sides.back_side[f], false, rh.ray.tfar);
+      } else {
+        on_hit(index[k], sides.front_side[f], from_back, rh.ray.tfar);
+      }
+    }
+  }
+}
+
+//! What one reference ray hit: code = 0 for space, else 2 (side + 1) + back_hit_on_one_sided;
+//! t = hit distance [m] (+inf for space).
+struct RayRecord {
+  std::int32_t code;
+  float t;
+  int side() const { return code == 0 ? -1 : code / 2 - 1; }
+  bool back() const { return code != 0 && (code & 1); }
+  static RayRecord of(int side, bool back, float t) { return {side < 0 ? 0 : 2 * (side + 1) + (back ? 1 : 0), t}; }
+};
+
+//! Dense per-thread counter over sides + space (+ a "gone" bucket used by the incremental
+//! path for hits on reference faces that no longer exist), cleared in O(touched).
+struct Counter {
+  std::vector<std::int32_t> count;  // [0, n) sides, n = space, n + 1 = gone
+  std::vector<int> touched;
+  int num_sides;
+  explicit Counter(int n) : count(n + 2, 0), num_sides(n) {}
+  int space() const { return num_sides; }
+  int gone() const { return num_sides + 1; }
+  void add(int side, int w) {
+    const int idx = side < 0 ? space() : side;
+    if (count[idx] == 0) touched.push_back(idx);  // may repeat if a count returns to 0
+    count[idx] += w;
+  }
+};
+
+}  // namespace thermodec::tracing

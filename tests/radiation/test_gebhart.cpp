@@ -1,0 +1,130 @@
+// Gebhart factors and node couplings against two-surface closed forms (Howell, Menguc &
+// Siegel, "Thermal Radiation Heat Transfer", 6th ed., sec. 6.3: net exchange in a two-surface
+// enclosure, q = sigma (T1^4 - T2^4) A1 / (1/eps1 + A1/A2 (1/eps2 - 1))).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "test_meshes.h"
+#include "thermodec/common/errors.h"
+#include "thermodec/radiation/gebhart_factors.h"
+#include "thermodec/radiation/radiative_couplings.h"
+
+using namespace thermodec;
+using namespace thermodec::test;
+
+namespace {
+
+// Two sides, one per node, seeing each other with factor f (the rest goes to space).
+FaceViewFactors two_sides(double f, double area) {
+  FaceViewFactors vf;
+  vf.sides.face = Eigen::Vector2i(0, 1);
+  vf.sides.is_back = Eigen::Vector2i(0, 0);
+  vf.sides.node = Eigen::Vector2i(0, 1);
+  vf.sides.material = Eigen::Vector2i(0, 0);
+  vf.sides.area_m2 = Eigen::Vector2d(area, area);
+  vf.sides.key = {1, 2};
+  vf.F.resize(2, 2);
+  vf.F.insert(0, 1) = f;
+  vf.F.insert(1, 0) = f;
+  vf.F.makeCompressed();
+  vf.to_space = Eigen::Vector2d(1 - f, 1 - f);
+  vf.rays_per_side = 1000000;
+  return vf;
+}
+
+}  // namespace
+
+TEST(Gebhart, infinite_grey_parallel_plates_match_closed_form) {
+  const double e1 = 0.3, e2 = 0.8, A = 2.0;
+  const FaceViewFactors vf = two_sides(1.0, A);
+  const Eigen::Vector2d eps(e1, e2);
+  const GebhartFactors gb = gebhart_factors(vf, eps, node_groups(vf.sides, 2), 3);
+  EXPECT_NEAR(gb.B(0, 1), e2 / (1 - (1 - e1) * (1 - e2)), 1e-10);  // sum of the reflection series
+  EXPECT_LT(gb.max_closure_error, 1e-10);
+  const NodeCouplings c = aggregate_couplings(vf, eps, gb, 2);
+  EXPECT_NEAR(c.radiative_couplings_m2(0, 1), A / (1 / e1 + 1 / e2 - 1), 1e-9);
+  EXPECT_NEAR(c.radiative_couplings_m2(1, 0), A / (1 / e1 + 1 / e2 - 1), 1e-9);
+  EXPECT_NEAR(c.to_space_couplings_m2[0], 0.0, 1e-12);
+}
+
+TEST(Gebhart, finite_plates_with_uniform_radiosity_match_closed_form) {
+  // Two facing sides with view factor f, the rest to space: summing the reflection series,
+  // B12 = f eps2 / (1 - rho1 rho2 f^2) and B11 = f rho2 f eps1 / (1 - rho1 rho2 f^2).
+  const double f = 0.2, e1 = 0.5, e2 = 0.7;
+  const FaceViewFactors vf = two_sides(f, 1.0);
+  const GebhartFactors gb = gebhart_factors(vf, Eigen::Vector2d(e1, e2), node_groups(vf.sides, 2), 3);
+  EXPECT_NEAR(gb.B(0, 1), f * e2 / (1 - (1 - e1) * (1 - e2) * f * f), 1e-10);
+  EXPECT_NEAR(gb.B(0, 0), f * (1 - e2) * f * e1 / (1 - (1 - e1) * (1 - e2) * f * f), 1e-10);
+  EXPECT_NEAR(gb.B.row(0).sum(), 1.0, 1e-10);
+}
+
+TEST(Gebhart, concentric_grey_spheres_match_two_surface_enclosure) {
+  Mesh mesh;
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F;
+  sphere(0.5, false, 10, 20, V, F);
+  append_part(mesh, V, F, "inner");
+  sphere(1.0, true, 14, 28, V, F);
+  append_part(mesh, V, F, "outer");
+  ThermalModel m = model_of(mesh, 0.6);
+  m.materials.push_back(Material{"outer", 0.5, 0.3});
+  for (int f = 0; f < mesh.num_faces(); ++f)
+    if (mesh.face_node[f] == 1) m.mesh.face_material[f] = 1;
+  const NodeCouplings c = radiative_couplings(m, m.radiation);
+  const double A1 = c.area_m2[0], A2 = c.area_m2[1];
+  const double exact = A1 / (1 / 0.6 + A1 / A2 * (1 / 0.3 - 1));
+  const double se = c.radiative_couplings_standard_error(0, 1);
+  EXPECT_NEAR(c.radiative_couplings_m2(0, 1), exact, 5 * se) << "se " << se;
+  EXPECT_LT(std::abs(c.radiative_couplings_m2(0, 1) / exact - 1), 0.01);
+  EXPECT_EQ(c.to_space_couplings_m2[0], 0.0);
+  // Closure: everything node 0 emits (A1 eps1) is absorbed by node 0 or node 1.
+  EXPECT_NEAR(c.radiative_couplings_m2.row(0).sum(), A1 * 0.6, 1e-6 * A1);
+  EXPECT_LT(c.diagnostics.gebhart_closure_error, 1e-8);
+  EXPECT_LT(c.diagnostics.coupling_closure_error * A1 * 0.6, 5 * se) << "symmetrising moved rows by noise only";
+}
+
+TEST(Gebhart, highly_reflective_closed_box_converges_and_closes) {
+  Mesh mesh;
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F;
+  box({0, 0, 0}, {1, 2, 0.5}, true, 3, V, F);
+  append_part(mesh, V, F, "box");
+  mesh.node_names = {"a", "b", "c"};
+  for (int f = 0; f < mesh.num_faces(); ++f) mesh.face_node[f] = (f / 18) % 3;
+  const ThermalModel m = model_of(mesh, 0.05, 1.0, 400);
+  const NodeCouplings c = radiative_couplings(m, m.radiation);
+  EXPECT_LT(c.diagnostics.gebhart_closure_error, 1e-8);
+  EXPECT_LT(c.diagnostics.coupling_closure_error, 1e-2);
+  EXPECT_GT(c.diagnostics.gebhart_iterations, 50);
+  EXPECT_TRUE(c.radiative_couplings_m2.isApprox(c.radiative_couplings_m2.transpose()));
+}
+
+TEST(Gebhart, coupling_standard_errors_are_not_optimistic) {
+  // Spread of GR_12 over 8 seeds vs the mean reported standard error (parallel plates, grey).
+  Mesh mesh;
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F;
+  grid({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 3, 3, V, F);
+  append_part(mesh, V, F, "bottom");
+  grid({0, 0, 0.5}, {0, 1, 0}, {1, 0, 0}, 3, 3, V, F);
+  append_part(mesh, V, F, "top");
+  std::vector<double> gr;
+  double se = 0;
+  for (int seed = 1; seed <= 8; ++seed) {
+    const ThermalModel m = model_of(mesh, 0.6, 1.0, 256, seed);
+    const NodeCouplings c = radiative_couplings(m, m.radiation);
+    gr.push_back(c.radiative_couplings_m2(0, 1));
+    se += c.radiative_couplings_standard_error(0, 1) / 8;
+  }
+  double mean = 0, var = 0;
+  for (double g : gr) mean += g / gr.size();
+  for (double g : gr) var += (g - mean) * (g - mean) / (gr.size() - 1);
+  EXPECT_LT(std::sqrt(var), 2.0 * se) << "spread " << std::sqrt(var) << " reported " << se;
+}
+
+TEST(Gebhart, rejects_absorptivity_outside_unit_interval) {
+  const FaceViewFactors vf = two_sides(0.5, 1.0);
+  EXPECT_THROW(gebhart_factors(vf, Eigen::Vector2d(0.0, 0.5), node_groups(vf.sides, 2), 3), InvalidInput);
+  EXPECT_THROW(gebhart_factors(vf, Eigen::Vector2d(0.5, 0.5), Eigen::Vector2i(0, 7), 3), InvalidInput);
+}
