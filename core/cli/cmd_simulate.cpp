@@ -1,11 +1,102 @@
+// `thermodec simulate MODEL --json OUT [--plot OUT.png] [--noise-floor]`
+#include <cstdio>
+#include <iostream>
+
 #include "commands.h"
+#include "thermodec/common/atomic_write.h"
+#include "thermodec/common/errors.h"
+#include "thermodec/nodes/load_model.h"
+#include "thermodec/report/plot.h"
+#include "thermodec/thermal/result_json.h"
+#include "thermodec/thermal/simulate_model.h"
 
 namespace thermodec::cli {
+namespace {
+
+struct SimulateOptions {
+  std::string model;
+  std::string json_out;
+  std::string plot_out;
+  bool noise_floor = false;
+  int noise_runs = 3;
+  bool quiet = false;
+  int rays_per_face = 0;  // 0 = the model's radiation.rays_per_face
+  ExternalLoadSettings loads;
+};
+
+void run_simulate(const SimulateOptions& o) {
+  ThermalModel model = load_model(o.model);
+  if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
+  const std::vector<std::filesystem::path> inputs{o.model, model.mesh_path};
+  // Refuse before the work, not after it.
+  for (const auto& in : inputs)
+    for (const auto& out : {o.json_out, o.plot_out})
+      if (!out.empty() && same_file(in, out)) throw InvalidInput("output " + out + " would overwrite the input " + in.string());
+  ModelSimulationSettings settings;
+  settings.loads = o.loads;
+  if (!o.quiet) settings.progress = [](const std::string& m) { std::cerr << "simulate: " << m << "\n"; };
+
+  SimulationResult result;
+  nlohmann::json extra;
+  if (o.noise_floor) {
+    const NoiseFloor nf = noise_floor(model, o.noise_runs, settings);
+    result = nf.first;
+    std::printf("noise floor over %d seeds (%llu..%llu): max |dT| = %.4g K at node %s, t = %.1f s\n",
+                o.noise_runs, (unsigned long long)nf.seeds.front(), (unsigned long long)nf.seeds.back(),
+                nf.worst.max_abs_K, nf.worst.node.c_str(), nf.worst.time_s);
+    double total = 0.0;
+    for (double t : nf.run_time_s) total += t;
+    std::printf("run time: %.2f s per simulation (mean of %d)\n", total / nf.run_time_s.size(),
+                int(nf.run_time_s.size()));
+    extra["noise_floor"] = {{"seeds", nf.seeds},
+                            {"max_abs_dT_K", nf.worst.max_abs_K},
+                            {"node", nf.worst.node},
+                            {"time_s", nf.worst.time_s},
+                            {"run_time_s", nf.run_time_s}};
+  } else {
+    result = simulate_model(model, settings);
+  }
+  if (!o.quiet)
+    for (size_t i = 0; i < result.nodes.size(); ++i)
+      std::printf("%-16s min %8.2f K  mean %8.2f K  max %8.2f K\n", result.nodes[i].c_str(),
+                  result.temperature_K.row(i).minCoeff(), result.temperature_K.row(i).mean(),
+                  result.temperature_K.row(i).maxCoeff());
+  nlohmann::json j = result_to_json(result);
+  j["model"] = o.model;
+  j["settings"] = {{"rays_per_face", model.radiation.rays_per_face},
+                   {"seed", model.radiation.seed},
+                   {"sun_rays_per_face", o.loads.sun_rays_per_face},
+                   {"earth_rays_per_face", o.loads.earth_rays_per_face},
+                   {"solar_reflections", o.loads.solar_reflections}};
+  for (auto& [k, v] : extra.items()) j[k] = v;
+  if (!o.json_out.empty()) write_text_atomically(o.json_out, j.dump(1) + "\n", inputs);
+  if (!o.plot_out.empty()) plot_png("temperatures", j, o.plot_out);
+}
+
+}  // namespace
 
 void add_simulate(CLI::App& app) {
-  auto* sub = app.add_subcommand("simulate", "thermal simulation (not implemented yet)");
-  sub->allow_extras();
-  not_implemented(sub, "'simulate'");
+  auto opts = std::make_shared<SimulateOptions>();
+  auto* sub = app.add_subcommand(
+      "simulate",
+      "thermal simulation of MODEL in its environment (steady, or transient over one orbit until "
+      "orbit-periodic): radiative couplings, solar/albedo/Earth-IR loads with self-shadowing, "
+      "temperatures per node (docs/thermal.md)");
+  sub->add_option("MODEL", opts->model, "model.json or mesh")->required();
+  sub->add_option("--json", opts->json_out, "write the result JSON here");
+  sub->add_option("--plot", opts->plot_out, "write a PNG of every node's temperature over the orbit");
+  sub->add_flag("--noise-floor", opts->noise_floor,
+                "run with several seeds and report the max |dT| between runs and the run time");
+  sub->add_option("--noise-runs", opts->noise_runs, "runs for --noise-floor")->check(CLI::Range(2, 100));
+  sub->add_option("--rays", opts->rays_per_face, "IR view-factor rays per face side (default: the model's)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--sun-rays", opts->loads.sun_rays_per_face, "shadow samples per face side")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  sub->add_option("--earth-rays", opts->loads.earth_rays_per_face, "Earth view rays per face side")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  sub->add_flag("!--no-reflections", opts->loads.solar_reflections, "skip solar-band reflections between faces");
+  sub->add_flag("-q,--quiet", opts->quiet, "no progress or table");
+  sub->callback([opts] { run_guarded([opts] { run_simulate(*opts); }); });
 }
 
 }  // namespace thermodec::cli

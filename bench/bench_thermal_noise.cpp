@@ -1,0 +1,89 @@
+// Where the Monte Carlo noise of an orbit simulation comes from, and what it costs.
+// For seeds 1 and 2 it swaps one stage's seed at a time (IR view factors / couplings, sun
+// shadow samples, Earth rays) and prints the max |dT| each causes, with stage timings.
+// Usage: bench_thermal_noise [MODEL] [rays_per_face] [sun_rays] [earth_rays]
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+#include "thermodec/environment/external_loads.h"
+#include "thermodec/nodes/load_model.h"
+#include "thermodec/radiation/gebhart_factors.h"
+#include "thermodec/radiation/radiative_couplings.h"
+#include "thermodec/thermal/simulate.h"
+
+using namespace thermodec;
+using Clock = std::chrono::steady_clock;
+static double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+int main(int argc, char** argv) {
+  const std::string path = argc > 1 ? argv[1] : std::string(THERMODEC_SOURCE_DIR) + "/sample_models/satellite/model.json";
+  ThermalModel model = load_model(path);
+  if (argc > 2) model.radiation.rays_per_face = std::stoi(argv[2]);
+  ExternalLoadSettings ls;
+  if (argc > 3) ls.sun_rays_per_face = std::stoi(argv[3]);
+  if (argc > 4) ls.earth_rays_per_face = std::stoi(argv[4]);
+  const int N = static_cast<int>(model.nodes.size());
+  const RayScene scene(model.mesh);
+  const SurfaceSides sides = surface_sides(model);
+  const Eigen::VectorXd eps = side_emissivity(model, sides);
+
+  struct Stage { FaceViewFactors vf; NodeCouplings nc; };
+  auto couple = [&](std::uint64_t seed, double* t_vf, double* t_gb) {
+    RadiationSettings rs = model.radiation;
+    rs.seed = seed;
+    auto t0 = Clock::now();
+    Stage s;
+    s.vf = face_view_factors(scene, sides, rs);
+    *t_vf = since(t0);
+    t0 = Clock::now();
+    const GebhartFactors gb = gebhart_factors(s.vf, eps, node_groups(sides, N), N + 1);
+    s.nc = aggregate_couplings(s.vf, eps, gb, N);
+    *t_gb = since(t0);
+    return s;
+  };
+  double t_vf, t_gb;
+  const Stage a = couple(1, &t_vf, &t_gb), b = couple(2, &t_vf, &t_gb);
+  auto loads = [&](const FaceViewFactors& vf, std::uint64_t sun_seed, std::uint64_t earth_seed, double* t) {
+    ExternalLoadSettings s = ls;
+    // Different seeds for sun and Earth sampling: combine them into one (only for this bench).
+    s.seed = sun_seed * 1000003ull + earth_seed;
+    auto t0 = Clock::now();
+    Loads l = external_loads(model, scene, sides, &vf, s);
+    *t = since(t0);
+    return l;
+  };
+  double t_loads;
+  const Loads la = loads(a.vf, 1, 1, &t_loads);
+  const Loads lb = loads(a.vf, 2, 2, &t_loads);
+  const Loads lvf = loads(b.vf, 1, 1, &t_loads);
+  auto t0 = Clock::now();
+  const SimulationResult ra = simulate(model, a.nc, la);
+  const double t_solve = since(t0);
+  const auto d_couplings = compare_results(ra, simulate(model, b.nc, la));
+  const auto d_loads = compare_results(ra, simulate(model, a.nc, lb));
+  const auto d_reflect = compare_results(ra, simulate(model, a.nc, lvf));
+  const auto d_all = compare_results(ra, simulate(model, b.nc, lvf.period_s ? loads(b.vf, 2, 2, &t_loads) : lb));
+  std::printf("%s: %d faces, %d sides, %d nodes, rays/face %d, sun rays %d, earth rays %d\n", path.c_str(),
+              model.mesh.num_faces(), sides.size(), N, model.radiation.rays_per_face, ls.sun_rays_per_face,
+              ls.earth_rays_per_face);
+  std::printf("timing: view factors %.3f s, Gebhart+aggregate %.3f s, loads %.3f s, solve %.3f s\n", t_vf, t_gb,
+              t_loads, t_solve);
+  std::printf("max |dT| seed 1 vs 2: IR couplings only %.4f K (%s); sun+Earth sampling only %.4f K (%s); "
+              "solar-reflection view factors only %.4f K (%s); everything %.4f K (%s)\n",
+              d_couplings.max_abs_K, d_couplings.node.c_str(), d_loads.max_abs_K, d_loads.node.c_str(),
+              d_reflect.max_abs_K, d_reflect.node.c_str(), d_all.max_abs_K, d_all.node.c_str());
+  const Eigen::MatrixXd dl = (la.total_W() - lb.total_W()).cwiseAbs();
+  Eigen::Index i, k;
+  dl.maxCoeff(&i, &k);
+  std::printf("largest load difference (sampling): %.4f W at %s step %d (solar %.3f, albedo %.3f, IR %.3f)\n",
+              dl(i, k), model.nodes[i].name.c_str(), int(k), std::abs(la.solar_W(i, k) - lb.solar_W(i, k)),
+              std::abs(la.albedo_W(i, k) - lb.albedo_W(i, k)), std::abs(la.earth_ir_W(i, k) - lb.earth_ir_W(i, k)));
+  std::printf("orbit-mean load differences per node [W] (sampling seed 1 vs 2): solar / albedo / IR / reflected, of total\n");
+  for (int n = 0; n < N; ++n)
+    std::printf("  %-12s %8.4f %8.4f %8.4f %8.4f  of %8.2f\n", model.nodes[n].name.c_str(),
+                (la.solar_W - lb.solar_W).row(n).mean(), (la.albedo_W - lb.albedo_W).row(n).mean(),
+                (la.earth_ir_W - lb.earth_ir_W).row(n).mean(), (la.reflected_solar_W - lb.reflected_solar_W).row(n).mean(),
+                la.total_W().row(n).mean());
+  return 0;
+}

@@ -1,0 +1,27 @@
+#pragma once
+//! Absorbed external heat loads per thermal node and time step (plain data), the input of the
+//! thermal solvers. Computed by environment/external_loads.h; kept separate so that a caller
+//! (the reduction driver) can reuse or combine loads without the ray tracer.
+#include <Eigen/Core>
+#include <vector>
+
+namespace thermodec {
+
+struct Loads {
+  //! S sample times [s] (k P / S for an orbit; a single 0 for a fixed sun).
+  Eigen::VectorXd times_s;
+  //! Orbit period P [s]; 0 for a fixed sun (no orbit, loads constant).
+  double period_s = 0.0;
+  //! N x S absorbed powers [W], per component. solar: direct sunlight; albedo: sunlight
+  //! reflected by the Earth; earth_ir: Earth infrared; reflected_solar: solar-band power
+  //! (direct + albedo) reflected diffusely between the spacecraft's own faces.
+  Eigen::MatrixXd solar_W, albedo_W, earth_ir_W, reflected_solar_W;
+  //! S flags: spacecraft in the Earth's shadow.
+  std::vector<char> in_shadow;
+
+  //! Sum of the components, N x S [W].
+  Eigen::MatrixXd total_W() const { return solar_W + albedo_W + earth_ir_W + reflected_solar_W; }
+  int num_steps() const { return static_cast<int>(times_s.size()); }
+};
+
+}  // namespace thermodec

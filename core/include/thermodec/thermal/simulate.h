@@ -1,0 +1,60 @@
+#pragma once
+//! One thermal simulation of a model: network from the model and its radiative couplings,
+//! loads from its environment, steady or orbit-periodic transient temperatures.
+//!
+//! Split for reuse: radiative_couplings() (radiation stage) and external_loads()
+//! (environment stage) are computed by the caller and passed in, so a driver that changes
+//! one node can recompute only what that change affects and call simulate() again (the
+//! network solve itself takes milliseconds).
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "thermodec/environment/loads.h"
+#include "thermodec/nodes/thermal_model.h"
+#include "thermodec/radiation/radiative_couplings.h"
+#include "thermodec/thermal/network.h"
+#include "thermodec/thermal/steady_state.h"
+#include "thermodec/thermal/transient.h"
+
+namespace thermodec {
+
+struct SimulationSettings {
+  TransientSettings transient;  //!< max_orbits < 1 here means: use model.analysis.orbits
+  NewtonSettings newton;        //!< steady-state Newton settings
+  SimulationSettings() { transient.max_orbits = 0; }
+};
+
+//! Result of one simulation; N nodes (model order), S times.
+struct SimulationResult {
+  std::vector<std::string> nodes;
+  Eigen::VectorXd times_s;          //!< S
+  Eigen::MatrixXd temperature_K;    //!< N x S
+  Loads loads;                      //!< absorbed external loads used (N x S per component)
+  Eigen::VectorXd internal_power_W; //!< N
+  bool transient = false;
+  int orbits = 0;                       //!< transient: orbits simulated
+  double periodicity_residual_K = 0.0;  //!< transient: max |T(P) - T(0)|
+  OrbitEnergy energy;                   //!< transient: energy balance of the last orbit
+};
+
+//! Steady analysis (or a fixed sun): steady state of the time-averaged loads, one time 0.
+//! transient_orbit with an orbit: periodic transient over loads.times_s.
+//! \throw InvalidInput if sizes disagree; SolverError from the solvers.
+SimulationResult simulate(const ThermalModel& model, const NodeCouplings& couplings,
+                          const Loads& loads, const SimulationSettings& settings = {});
+
+//! Largest temperature difference between two results.
+struct TemperatureDifference {
+  double max_abs_K = 0.0;  //!< max over nodes and times of |T_a - T_b| [K]
+  std::string node;        //!< where it occurs
+  double time_s = 0.0;
+  int time_index = 0;
+};
+
+//! Compares results with the same node names (matched by name, any order) and the same
+//! times. \throw InvalidInput naming a node missing from one side, or if the times differ.
+TemperatureDifference compare_results(const SimulationResult& a, const SimulationResult& b);
+
+}  // namespace thermodec

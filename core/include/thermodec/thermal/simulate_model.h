@@ -1,0 +1,39 @@
+#pragma once
+//! The whole reference simulation of a model, as `thermodec simulate` runs it: radiative
+//! couplings (radiation stage), external loads (environment stage), then the thermal solve
+//! (thermal/simulate.h); plus the Monte Carlo noise floor of that chain.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "thermodec/environment/external_loads.h"
+#include "thermodec/thermal/simulate.h"
+
+namespace thermodec {
+
+struct ModelSimulationSettings {
+  ExternalLoadSettings loads;    //!< loads.seed is replaced by the model's radiation seed
+  SimulationSettings solver;
+  //! Optional progress messages (stage names with elapsed seconds).
+  std::function<void(const std::string&)> progress;
+};
+
+//! Runs the chain with model.radiation (rays, seed) for couplings and load sampling.
+//! \throw InvalidInput / SolverError from the stages.
+SimulationResult simulate_model(const ThermalModel& model, const ModelSimulationSettings& settings = {});
+
+//! Run-to-run Monte Carlo noise: the model simulated with `runs` seeds (seed, seed+1, ...),
+//! every run compared with the first.
+struct NoiseFloor {
+  std::vector<std::uint64_t> seeds;
+  std::vector<TemperatureDifference> differences;  //!< runs - 1 entries: run k vs run 0
+  TemperatureDifference worst;                     //!< the largest of them
+  std::vector<double> run_time_s;                  //!< wall time of each run [s]
+  SimulationResult first;                          //!< the first run's result
+};
+
+//! \throw InvalidInput if runs < 2.
+NoiseFloor noise_floor(const ThermalModel& model, int runs = 3, const ModelSimulationSettings& settings = {});
+
+}  // namespace thermodec

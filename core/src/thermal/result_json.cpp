@@ -1,0 +1,96 @@
+#include "thermodec/thermal/result_json.h"
+
+#include <fstream>
+
+#include "thermodec/common/errors.h"
+
+namespace thermodec {
+namespace {
+std::vector<double> row(const Eigen::MatrixXd& m, int i) {
+  std::vector<double> v(m.cols());
+  for (int k = 0; k < m.cols(); ++k) v[k] = m(i, k);
+  return v;
+}
+}  // namespace
+
+nlohmann::json result_to_json(const SimulationResult& r) {
+  using nlohmann::json;
+  json j;
+  j["nodes"] = r.nodes;
+  j["times_s"] = std::vector<double>(r.times_s.data(), r.times_s.data() + r.times_s.size());
+  j["analysis"] = r.transient ? "transient_orbit" : "steady";
+  j["period_s"] = r.transient ? r.loads.period_s : 0.0;
+  json temps = json::object(), loads = json::object(), summary = json::object();
+  const Eigen::MatrixXd total = r.loads.total_W();
+  for (size_t i = 0; i < r.nodes.size(); ++i) {
+    const int n = static_cast<int>(i);
+    temps[r.nodes[i]] = row(r.temperature_K, n);
+    json l;
+    l["solar"] = row(r.loads.solar_W, n);
+    l["albedo"] = row(r.loads.albedo_W, n);
+    l["earth_ir"] = row(r.loads.earth_ir_W, n);
+    l["reflected_solar"] = row(r.loads.reflected_solar_W, n);
+    l["internal"] = r.internal_power_W.size() > n ? r.internal_power_W[n] : 0.0;
+    l["total_external"] = row(total, n);
+    loads[r.nodes[i]] = l;
+    summary[r.nodes[i]] = {{"min_K", r.temperature_K.row(n).minCoeff()},
+                           {"mean_K", r.temperature_K.row(n).mean()},
+                           {"max_K", r.temperature_K.row(n).maxCoeff()}};
+  }
+  j["temperatures_K"] = temps;
+  j["loads_W"] = loads;
+  j["summary"] = summary;
+  j["in_shadow"] = std::vector<bool>(r.loads.in_shadow.begin(), r.loads.in_shadow.end());
+  if (r.transient)
+    j["solver"] = {{"orbits", r.orbits},
+                   {"periodicity_residual_K", r.periodicity_residual_K},
+                   {"energy_last_orbit_J",
+                    {{"absorbed", r.energy.absorbed_J},
+                     {"emitted_to_space", r.energy.emitted_J},
+                     {"to_fixed_nodes", r.energy.to_boundary_J},
+                     {"stored", r.energy.stored_J},
+                     {"relative_imbalance", r.energy.relative_imbalance()}}}};
+  return j;
+}
+
+SimulationResult result_from_json(const nlohmann::json& j) {
+  SimulationResult r;
+  try {
+    r.nodes = j.at("nodes").get<std::vector<std::string>>();
+    const auto times = j.at("times_s").get<std::vector<double>>();
+    r.times_s = Eigen::Map<const Eigen::VectorXd>(times.data(), times.size());
+    const auto& temps = j.at("temperatures_K");
+    r.temperature_K.resize(r.nodes.size(), times.size());
+    for (size_t i = 0; i < r.nodes.size(); ++i) {
+      if (!temps.contains(r.nodes[i]))
+        throw InvalidInput("temperatures_K has no entry for node '" + r.nodes[i] + "'");
+      const auto t = temps.at(r.nodes[i]).get<std::vector<double>>();
+      if (t.size() != times.size())
+        throw InvalidInput("temperatures_K['" + r.nodes[i] + "'] has " + std::to_string(t.size()) +
+                           " values for " + std::to_string(times.size()) + " times");
+      for (size_t k = 0; k < t.size(); ++k) r.temperature_K(i, k) = t[k];
+    }
+    r.transient = j.value("analysis", "steady") == std::string("transient_orbit");
+  } catch (const nlohmann::json::exception& e) {
+    throw InvalidInput(std::string("result JSON: ") + e.what());
+  }
+  return r;
+}
+
+SimulationResult read_result(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw IOError("cannot read " + path.string());
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception& e) {
+    throw InvalidInput(path.string() + ": not JSON: " + e.what());
+  }
+  try {
+    return result_from_json(j);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(path.string() + ": " + e.what());
+  }
+}
+
+}  // namespace thermodec

@@ -1,0 +1,84 @@
+#include "thermodec/thermal/simulate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "thermodec/common/errors.h"
+
+namespace thermodec {
+
+SimulationResult simulate(const ThermalModel& model, const NodeCouplings& couplings, const Loads& loads,
+                          const SimulationSettings& settings) {
+  const ThermalNetwork net = thermal_network(model, couplings);
+  const int n = net.num_nodes();
+  const Eigen::MatrixXd total = loads.total_W();
+  const int S = loads.num_steps();
+  if (S < 1 || total.rows() != n || total.cols() != S)
+    throw InvalidInput("simulate: loads are " + std::to_string(total.rows()) + " x " + std::to_string(total.cols()) +
+                       " for " + std::to_string(n) + " nodes and " + std::to_string(S) + " times");
+
+  SimulationResult r;
+  r.nodes = net.node_names;
+  r.loads = loads;
+  r.internal_power_W = net.power_W;
+  const bool orbit = loads.period_s > 0.0 && S >= 2;
+  if (model.analysis.type == AnalysisType::transient_orbit && orbit) {
+    TransientSettings ts = settings.transient;
+    if (ts.max_orbits < 1) ts.max_orbits = model.analysis.orbits;
+    const PeriodicTransient tr = periodic_transient(net, total, loads.period_s, ts);
+    r.transient = true;
+    r.times_s = tr.times_s;
+    r.temperature_K = tr.temperature_K;
+    r.orbits = tr.orbits;
+    r.periodicity_residual_K = tr.periodicity_residual_K;
+    r.energy = tr.energy;
+  } else {
+    // Steady: the time-averaged loads (a fixed sun has one time step, so this is exact there).
+    const SteadyState ss = steady_state(net, total.rowwise().mean(), settings.newton);
+    r.times_s = Eigen::VectorXd::Zero(1);
+    r.temperature_K = ss.temperature_K;
+    if (S > 1) {  // report the loads that were applied: their orbit average
+      auto avg = [](const Eigen::MatrixXd& m) { return Eigen::MatrixXd(m.rowwise().mean()); };
+      r.loads.solar_W = avg(loads.solar_W);
+      r.loads.albedo_W = avg(loads.albedo_W);
+      r.loads.earth_ir_W = avg(loads.earth_ir_W);
+      r.loads.reflected_solar_W = avg(loads.reflected_solar_W);
+      r.loads.times_s = r.times_s;
+      r.loads.in_shadow.assign(1, 0);
+    }
+  }
+  return r;
+}
+
+TemperatureDifference compare_results(const SimulationResult& a, const SimulationResult& b) {
+  std::map<std::string, int> index_b;
+  for (size_t i = 0; i < b.nodes.size(); ++i) index_b[b.nodes[i]] = static_cast<int>(i);
+  for (const auto& name : b.nodes)
+    if (std::find(a.nodes.begin(), a.nodes.end(), name) == a.nodes.end())
+      throw InvalidInput("compare: node '" + name + "' is only in the second result");
+  if (a.times_s.size() != b.times_s.size())
+    throw InvalidInput("compare: results have " + std::to_string(a.times_s.size()) + " and " +
+                       std::to_string(b.times_s.size()) + " times");
+  for (int k = 0; k < a.times_s.size(); ++k)
+    if (std::abs(a.times_s[k] - b.times_s[k]) > 1e-6 * std::max(1.0, std::abs(a.times_s[k])))
+      throw InvalidInput("compare: time " + std::to_string(k) + " differs (" + std::to_string(a.times_s[k]) +
+                         " s vs " + std::to_string(b.times_s[k]) + " s)");
+  TemperatureDifference d;
+  d.max_abs_K = -1.0;
+  for (size_t i = 0; i < a.nodes.size(); ++i) {
+    const auto it = index_b.find(a.nodes[i]);
+    if (it == index_b.end()) throw InvalidInput("compare: node '" + a.nodes[i] + "' is only in the first result");
+    for (int k = 0; k < a.times_s.size(); ++k) {
+      const double diff = std::abs(a.temperature_K(i, k) - b.temperature_K(it->second, k));
+      if (diff > d.max_abs_K || std::isnan(diff)) {
+        d = {diff, a.nodes[i], a.times_s[k], k};
+        if (std::isnan(diff)) return d;
+      }
+    }
+  }
+  if (d.max_abs_K < 0.0) d.max_abs_K = 0.0;
+  return d;
+}
+
+}  // namespace thermodec

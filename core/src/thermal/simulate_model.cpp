@@ -1,0 +1,80 @@
+#include "thermodec/thermal/simulate_model.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "thermodec/common/errors.h"
+#include "thermodec/radiation/face_view_factors.h"
+#include "thermodec/radiation/radiative_couplings.h"
+#include "thermodec/radiation/ray_scene.h"
+#include "thermodec/radiation/surface_sides.h"
+
+namespace thermodec {
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+}  // namespace
+
+SimulationResult simulate_model(const ThermalModel& model, const ModelSimulationSettings& settings) {
+  const auto t0 = Clock::now();
+  auto say = [&](const std::string& what) {
+    if (!settings.progress) return;
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "[%7.2f s] ", seconds_since(t0));
+    settings.progress(buf + what);
+  };
+  say("building ray scene (" + std::to_string(model.mesh.num_faces()) + " faces)");
+  const RayScene scene(model.mesh);
+  const SurfaceSides sides = surface_sides(model);
+  // One set of side-to-side view factors serves both bands: IR couplings and solar reflections.
+  say("view factors (" + std::to_string(model.radiation.rays_per_face) + " rays per face side)");
+  const FaceViewFactors view_factors = face_view_factors(scene, sides, model.radiation);
+  say("IR Gebhart factors and node couplings");
+  const int num_nodes = static_cast<int>(model.nodes.size());
+  const Eigen::VectorXd eps = side_emissivity(model, sides);
+  const GebhartFactors gebhart = gebhart_factors(view_factors, eps, node_groups(sides, num_nodes), num_nodes + 1);
+  NodeCouplings couplings = aggregate_couplings(view_factors, eps, gebhart, num_nodes);
+  couplings.diagnostics.untraceable_faces = scene.num_skipped_faces();
+  const bool reflections = settings.loads.solar_reflections;
+  ExternalLoadSettings load_settings = settings.loads;
+  load_settings.seed = model.radiation.seed;
+  say("external loads");
+  const Loads loads = external_loads(model, scene, sides, reflections ? &view_factors : nullptr, load_settings,
+                                     [&](const std::string& m) { say("  " + m); });
+  say("thermal solve");
+  SimulationSettings solver = settings.solver;
+  const auto user_hook = solver.transient.on_orbit;
+  solver.transient.on_orbit = [&](int orbit, double residual) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "  orbit %d: max |T(P) - T(0)| = %.3g K", orbit, residual);
+    say(buf);
+    if (user_hook) user_hook(orbit, residual);
+  };
+  SimulationResult r = simulate(model, couplings, loads, solver);
+  say("done");
+  return r;
+}
+
+NoiseFloor noise_floor(const ThermalModel& model, int runs, const ModelSimulationSettings& settings) {
+  if (runs < 2) throw InvalidInput("noise floor needs at least 2 runs");
+  NoiseFloor out;
+  ThermalModel m = model;
+  for (int k = 0; k < runs; ++k) {
+    m.radiation.seed = model.radiation.seed + static_cast<std::uint64_t>(k);
+    out.seeds.push_back(m.radiation.seed);
+    const auto t0 = Clock::now();
+    SimulationResult r = simulate_model(m, settings);
+    out.run_time_s.push_back(seconds_since(t0));
+    if (k == 0) {
+      out.first = std::move(r);
+    } else {
+      out.differences.push_back(compare_results(out.first, r));
+      if (out.differences.back().max_abs_K >= out.worst.max_abs_K) out.worst = out.differences.back();
+    }
+  }
+  return out;
+}
+
+}  // namespace thermodec

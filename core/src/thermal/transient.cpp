@@ -1,0 +1,170 @@
+// Orbit-periodic transient: theta-method time stepping and shooting-Newton on the initial
+// state (Aprille & Trick, "Steady-state analysis of nonlinear circuits with periodic inputs",
+// Proc. IEEE 1972). Plain repetition of orbits converges with the slowest node time constant
+// (hours for a heavy node, i.e. tens of orbits for 1e-3 K); shooting needs 2-3 orbits because
+// the orbit map is only weakly nonlinear.
+#include "thermodec/thermal/transient.h"
+
+#include <Eigen/LU>
+#include <cmath>
+#include <sstream>
+
+#include "heat_balance.h"
+#include "thermodec/common/errors.h"
+
+namespace thermodec {
+namespace detail {
+Eigen::VectorXd linearised_guess(const HeatBalance& hb, const Eigen::VectorXd& external_W);
+std::vector<std::string> free_names(const HeatBalance& hb);
+}  // namespace detail
+
+double OrbitEnergy::relative_imbalance() const {
+  const double scale = std::max(std::abs(absorbed_J), 1e-300);
+  return std::abs(absorbed_J - emitted_J - to_boundary_J - stored_J) / scale;
+}
+
+namespace {
+
+struct OrbitRun {
+  Eigen::MatrixXd x;             // free x (S + 1): states at t_0 .. t_S
+  Eigen::MatrixXd sensitivity;   // d x_S / d x_0
+  OrbitEnergy energy;
+};
+
+OrbitRun run_orbit(const detail::HeatBalance& hb, const Eigen::MatrixXd& loads, double dt,
+                   const Eigen::VectorXd& theta, const Eigen::VectorXd& x0, const NewtonSettings& newton,
+                   const std::vector<std::string>& names) {
+  const int m = static_cast<int>(x0.size());
+  const int S = static_cast<int>(loads.cols());
+  Eigen::VectorXd c_dt(m);
+  for (int a = 0; a < m; ++a) c_dt[a] = hb.net.capacitance_J_per_K[hb.free_nodes[a]] / dt;
+  const Eigen::VectorXd one_minus_theta = Eigen::VectorXd::Ones(m) - theta;
+
+  OrbitRun run;
+  run.x.resize(m, S + 1);
+  run.x.col(0) = x0;
+  run.sensitivity = Eigen::MatrixXd::Identity(m, m);
+  Eigen::VectorXd T_prev = hb.full(x0);
+  Eigen::VectorXd R_prev = hb.restrict(hb.residual(T_prev, loads.col(0)));
+  Eigen::MatrixXd J_prev = hb.restrict(hb.jacobian(T_prev));
+  auto free_sum = [&](const Eigen::VectorXd& v_full, const Eigen::VectorXd& w) {
+    return hb.restrict(v_full).dot(w);
+  };
+  Eigen::VectorXd ext_free_prev = hb.restrict(Eigen::VectorXd(hb.net.power_W + loads.col(0)));
+  Eigen::VectorXd space_prev = hb.to_space_W(T_prev), fixed_prev = hb.to_fixed_W(T_prev);
+
+  for (int k = 0; k < S; ++k) {
+    const Eigen::VectorXd E = loads.col((k + 1) % S);
+    const Eigen::VectorXd xk = run.x.col(k);
+    Eigen::VectorXd x = xk;
+    Eigen::MatrixXd J_new;
+    std::ostringstream what;
+    what << "transient step " << k + 1 << "/" << S;
+    detail::newton_solve(
+        x,
+        [&](const Eigen::VectorXd& xf, Eigen::VectorXd& G, Eigen::MatrixXd* J) {
+          const Eigen::VectorXd T = hb.full(xf);
+          const Eigen::VectorXd R = hb.restrict(hb.residual(T, E));
+          G = c_dt.cwiseProduct(xf - xk) - theta.cwiseProduct(R) - one_minus_theta.cwiseProduct(R_prev);
+          if (J) {
+            *J = -(theta.asDiagonal() * hb.restrict(hb.jacobian(T)));
+            J->diagonal() += c_dt;
+          }
+        },
+        newton, what.str(), names);
+    run.x.col(k + 1) = x;
+    const Eigen::VectorXd T = hb.full(x);
+    const Eigen::MatrixXd J_full = hb.restrict(hb.jacobian(T));
+    Eigen::MatrixXd A = -(theta.asDiagonal() * J_full);
+    A.diagonal() += c_dt;
+    Eigen::MatrixXd B = one_minus_theta.asDiagonal() * J_prev;
+    B.diagonal() += c_dt;
+    run.sensitivity = Eigen::PartialPivLU<Eigen::MatrixXd>(A).solve(B * run.sensitivity);
+
+    // Energy with the scheme's own quadrature, so the discrete balance closes exactly.
+    const Eigen::VectorXd ext_free = hb.restrict(Eigen::VectorXd(hb.net.power_W + E));
+    const Eigen::VectorXd space = hb.to_space_W(T), fixed = hb.to_fixed_W(T);
+    run.energy.absorbed_J += dt * (theta.dot(ext_free) + one_minus_theta.dot(ext_free_prev));
+    run.energy.emitted_J += dt * (free_sum(space, theta) + free_sum(space_prev, one_minus_theta));
+    run.energy.to_boundary_J += dt * (free_sum(fixed, theta) + free_sum(fixed_prev, one_minus_theta));
+
+    R_prev = hb.restrict(hb.residual(T, E));
+    J_prev = J_full;
+    ext_free_prev = ext_free;
+    space_prev = space;
+    fixed_prev = fixed;
+  }
+  for (int a = 0; a < m; ++a)
+    run.energy.stored_J += hb.net.capacitance_J_per_K[hb.free_nodes[a]] * (run.x(a, S) - run.x(a, 0));
+  return run;
+}
+
+}  // namespace
+
+PeriodicTransient periodic_transient(const ThermalNetwork& network, const Eigen::MatrixXd& loads,
+                                     double period_s, const TransientSettings& s) {
+  validate_network(network);
+  detail::validate_loads(network, loads, "transient");
+  if (loads.cols() < 2) throw InvalidInput("transient: need at least 2 time steps per orbit");
+  if (!(period_s > 0.0)) throw InvalidInput("transient: orbit period must be > 0 s");
+  if (!(s.theta >= 0.5 && s.theta <= 1.0)) throw InvalidInput("transient: theta must be in [0.5, 1]");
+  if (!(s.periodicity_tolerance_K > 0.0)) throw InvalidInput("transient: periodicity tolerance must be > 0 K");
+  if (s.max_orbits < 1) throw InvalidInput("transient: max_orbits must be >= 1");
+  detail::require_paths_to_sinks(network, "transient");
+
+  const detail::HeatBalance hb(network);
+  const int m = static_cast<int>(hb.free_nodes.size());
+  const int S = static_cast<int>(loads.cols());
+  const double dt = period_s / S;
+  const auto names = detail::free_names(hb);
+  Eigen::VectorXd theta(m);
+  for (int a = 0; a < m; ++a)
+    theta[a] = network.capacitance_J_per_K[hb.free_nodes[a]] > 0.0 ? s.theta : 1.0;
+
+  // Start from the steady state of the mean loads: exact for constant loads.
+  const Eigen::VectorXd mean_loads = loads.rowwise().mean();
+  Eigen::VectorXd x0;
+  {
+    Eigen::VectorXd guess = detail::linearised_guess(hb, mean_loads);
+    detail::newton_solve(
+        guess,
+        [&](const Eigen::VectorXd& xf, Eigen::VectorXd& G, Eigen::MatrixXd* J) {
+          const Eigen::VectorXd T = hb.full(xf);
+          G = hb.restrict(hb.residual(T, mean_loads));
+          if (J) *J = hb.restrict(hb.jacobian(T));
+        },
+        s.newton, "transient (orbit-mean steady state)", names);
+    x0 = guess;
+  }
+
+  PeriodicTransient out;
+  out.times_s = Eigen::VectorXd::LinSpaced(S, 0.0, dt * (S - 1));
+  for (int orbit = 1; orbit <= s.max_orbits; ++orbit) {
+    const OrbitRun run = run_orbit(hb, loads, dt, theta, x0, s.newton, names);
+    const Eigen::VectorXd gap = run.x.col(S) - x0;
+    const double residual = m ? gap.cwiseAbs().maxCoeff() : 0.0;
+    if (s.on_orbit) s.on_orbit(orbit, residual);
+    out.orbits = orbit;
+    out.periodicity_residual_K = residual;
+    if (residual <= s.periodicity_tolerance_K || orbit == s.max_orbits) {
+      out.temperature_K.resize(network.num_nodes(), S);
+      for (int k = 0; k < S; ++k) out.temperature_K.col(k) = hb.full(run.x.col(k));
+      out.energy = run.energy;
+      if (residual > s.periodicity_tolerance_K) {
+        std::ostringstream msg;
+        msg << "transient: not orbit-periodic within " << s.periodicity_tolerance_K << " K after " << orbit
+            << " orbits (max |T(P) - T(0)| = " << residual << " K); raise analysis.orbits";
+        throw SolverError(msg.str());
+      }
+      return out;
+    }
+    // Shooting-Newton update; fall back to plain repetition if it would leave T > 0.
+    const Eigen::MatrixXd I_minus_M = Eigen::MatrixXd::Identity(m, m) - run.sensitivity;
+    Eigen::VectorXd next = x0 + Eigen::PartialPivLU<Eigen::MatrixXd>(I_minus_M).solve(gap);
+    if (!next.allFinite() || (next.array() <= 0.0).any()) next = run.x.col(S);
+    x0 = next;
+  }
+  return out;  // unreachable
+}
+
+}  // namespace thermodec

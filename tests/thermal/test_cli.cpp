@@ -1,0 +1,92 @@
+// `thermodec simulate` / `thermodec compare` end to end on the sample satellite.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
+
+namespace {
+fs::path temp_dir(const char* name) {
+  fs::path d = fs::temp_directory_path() / ("thermodec_thermal_" + std::string(name));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+int run(const std::string& args, const fs::path& out) {
+  const std::string cmd = std::string(THERMODEC_CLI) + " " + args + " > " + out.string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+const fs::path kSatellite = fs::path(THERMODEC_SOURCE_DIR) / "sample_models/satellite/model.json";
+}  // namespace
+
+TEST(SimulateCli, sample_satellite_orbit_writes_result_json_plot_and_compares_to_itself) {
+  const fs::path d = temp_dir("cli");
+  ASSERT_EQ(run("simulate " + kSatellite.string() + " --json " + (d / "a.json").string() + " --plot " +
+                    (d / "a.png").string(),
+                d / "log.txt"),
+            0)
+      << slurp(d / "log.txt");
+  EXPECT_NE(slurp(d / "log.txt").find("orbit 1"), std::string::npos);  // progress on stderr
+  const nlohmann::json j = nlohmann::json::parse(slurp(d / "a.json"));
+  const auto nodes = j.at("nodes").get<std::vector<std::string>>();
+  ASSERT_EQ(nodes.size(), 13u);
+  const auto times = j.at("times_s").get<std::vector<double>>();
+  EXPECT_EQ(times.size(), 60u);
+  EXPECT_EQ(j.at("analysis"), "transient_orbit");
+  for (const auto& n : nodes) {
+    EXPECT_EQ(j.at("temperatures_K").at(n).size(), times.size()) << n;
+    const auto& s = j.at("summary").at(n);
+    EXPECT_LE(s.at("min_K").get<double>(), s.at("mean_K").get<double>());
+    EXPECT_LE(s.at("mean_K").get<double>(), s.at("max_K").get<double>());
+    EXPECT_GT(s.at("min_K").get<double>(), 150.0) << n;  // a sane spacecraft, not garbage
+    EXPECT_LT(s.at("max_K").get<double>(), 450.0) << n;
+    EXPECT_EQ(j.at("loads_W").at(n).at("solar").size(), times.size());
+  }
+  EXPECT_LE(j.at("solver").at("periodicity_residual_K").get<double>(), 1e-3);
+  EXPECT_LT(j.at("solver").at("energy_last_orbit_J").at("relative_imbalance").get<double>(), 1e-3);
+  EXPECT_GT(fs::file_size(d / "a.png"), 10000u);
+
+  // Same seed: bit-identical temperatures, compare says 0.
+  ASSERT_EQ(run("simulate -q " + kSatellite.string() + " --json " + (d / "b.json").string(), d / "log2.txt"), 0);
+  EXPECT_EQ(nlohmann::json::parse(slurp(d / "b.json")).at("temperatures_K"), j.at("temperatures_K"));
+  ASSERT_EQ(run("compare " + (d / "a.json").string() + " " + (d / "b.json").string(), d / "cmp.txt"), 0);
+  EXPECT_NE(slurp(d / "cmp.txt").find("max |dT| = 0 K"), std::string::npos) << slurp(d / "cmp.txt");
+}
+
+TEST(CompareCli, reports_node_and_time_of_the_largest_difference_and_rejects_mismatched_nodes) {
+  const fs::path d = temp_dir("cmp");
+  nlohmann::json a = {{"nodes", {"x", "y"}},
+                      {"times_s", {0.0, 60.0, 120.0}},
+                      {"temperatures_K", {{"x", {300.0, 301.0, 302.0}}, {"y", {250.0, 250.0, 250.0}}}}};
+  nlohmann::json b = a;
+  b["temperatures_K"]["y"] = {250.0, 249.75, 250.1};
+  std::ofstream(d / "a.json") << a.dump();
+  std::ofstream(d / "b.json") << b.dump();
+  ASSERT_EQ(run("compare --json " + (d / "a.json").string() + " " + (d / "b.json").string(), d / "out.txt"), 0);
+  const nlohmann::json r = nlohmann::json::parse(slurp(d / "out.txt"));
+  EXPECT_NEAR(r.at("max_abs_dT_K").get<double>(), 0.25, 1e-12);
+  EXPECT_EQ(r.at("node"), "y");
+  EXPECT_EQ(r.at("time_s").get<double>(), 60.0);
+  b["nodes"] = {"x", "z"};
+  b["temperatures_K"]["z"] = b["temperatures_K"]["y"];
+  std::ofstream(d / "c.json") << b.dump();
+  EXPECT_EQ(run("compare " + (d / "a.json").string() + " " + (d / "c.json").string(), d / "err.txt"), 1);
+  EXPECT_NE(slurp(d / "err.txt").find("'z'"), std::string::npos) << slurp(d / "err.txt");
+  EXPECT_EQ(run("compare " + (d / "a.json").string() + " " + (d / "missing.json").string(), d / "err2.txt"), 1);
+}
+
+TEST(SimulateCli, refuses_to_overwrite_its_input) {
+  const fs::path d = temp_dir("overwrite");
+  fs::copy_file(kSatellite, d / "model.json");
+  fs::copy_file(kSatellite.parent_path() / "satellite.obj", d / "satellite.obj");
+  EXPECT_EQ(run("simulate -q " + (d / "model.json").string() + " --json " + (d / "model.json").string(), d / "log.txt"), 1);
+  EXPECT_EQ(slurp(d / "model.json"), slurp(kSatellite));
+}

@@ -1,0 +1,74 @@
+// Validation of the whole chain (view factors -> loads -> network) against closed forms.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "environment/test_models.h"
+#include "thermodec/environment/orbit.h"
+#include "thermodec/thermal/simulate_model.h"
+
+using namespace thermodec;
+using namespace thermodec::testing;
+using V3 = Eigen::Vector3d;
+
+namespace {
+constexpr double kSigma = kStefanBoltzmann_W_per_m2_K4;
+}
+
+TEST(Validation, isothermal_cube_in_fixed_sun_matches_closed_form) {
+  // Convex cube, one node, sun along +X: absorbs alpha S (1 m^2 projected), emits from 6 m^2:
+  // T = (alpha S / (6 eps sigma))^(1/4). Every ray of a convex body escapes, the lit face is
+  // unshadowed: exact up to the 2.7 K sink (T^4 + 2.7^4) and round-off.
+  ThermalModel model = model_with({"cube"}, {{"paint", 0.6, 0.8}});
+  add_cube(model.mesh, 0.5);
+  model.environment.type = EnvironmentType::fixed_sun;
+  model.environment.sun_direction = V3::UnitX();
+  model.environment.solar_flux_W_per_m2 = 1361.0;
+  const SimulationResult r = simulate_model(model);
+  const double expected = std::pow(0.6 * 1361.0 / (6 * 0.8 * kSigma) + std::pow(2.7, 4), 0.25);
+  ASSERT_EQ(r.times_s.size(), 1);
+  EXPECT_NEAR(r.temperature_K(0, 0), expected, 1e-9 * expected);
+  EXPECT_NEAR(expected, 234.04, 0.01);  // (0.6 x 1361 / (4.8 sigma))^(1/4)
+}
+
+TEST(Validation, thin_two_sided_plate_facing_the_sun_matches_closed_form) {
+  // Two-sided sheet: absorbs alpha S A on its front, emits from both sides:
+  // T = (alpha S / (2 eps sigma))^(1/4).
+  ThermalModel model = model_with({"plate"}, {{"cells", 0.9, 0.85}});
+  add_quad(model.mesh, V3(-1, -1, 0), V3(2, 0, 0), V3(0, 2, 0), 0, 0, /*back material*/ 0, 3);
+  model.environment.type = EnvironmentType::fixed_sun;
+  model.environment.sun_direction = V3::UnitZ();
+  model.environment.solar_flux_W_per_m2 = 1361.0;
+  const SimulationResult r = simulate_model(model);
+  const double expected = std::pow(0.9 * 1361.0 / (2 * 0.85 * kSigma) + std::pow(2.7, 4), 0.25);
+  EXPECT_NEAR(r.temperature_K(0, 0), expected, 1e-9 * expected);
+}
+
+TEST(Validation, periodic_orbit_transient_balances_energy_within_0_1_percent) {
+  // Six-node box in a 500 km orbit with conduction, dissipation and an arithmetic node: over
+  // the converged orbit, absorbed = emitted + stored (+ to fixed nodes) within 0.1 %.
+  ThermalModel model = model_with({"px", "mx", "py", "my", "pz", "mz"}, {{"paint", 0.3, 0.8}, {"mli", 0.4, 0.05}});
+  add_cube(model.mesh, 0.5, {0, 1, 2, 3, 4, 5});
+  model.nodes[3].material = 1;
+  for (int f = 0; f < model.mesh.num_faces(); ++f)
+    if (model.mesh.face_node[f] == 3) model.mesh.face_material[f] = 1;
+  model.nodes[2].capacitance_J_per_K = 0.0;  // arithmetic
+  model.nodes[0].power_W = 30.0;
+  for (int i = 0; i < 6; ++i)
+    for (int j = i + 1; j < 6; ++j) model.conductances.push_back({i, j, 0.5});
+  model.environment.type = EnvironmentType::orbit;
+  model.environment.altitude_km = 500.0;
+  model.environment.inclination_deg = 51.6;
+  model.analysis.type = AnalysisType::transient_orbit;
+  model.analysis.steps_per_orbit = 48;
+  model.analysis.orbits = 5;
+  const SimulationResult r = simulate_model(model);
+  ASSERT_TRUE(r.transient);
+  EXPECT_LE(r.periodicity_residual_K, 1e-3);
+  EXPECT_LT(r.energy.relative_imbalance(), 1e-3);
+  // Over a periodic orbit nothing is stored; absorbed energy is what the loads say.
+  EXPECT_LT(std::abs(r.energy.stored_J), 1e-3 * r.energy.absorbed_J);
+  const double period = orbit_period_s(500.0);
+  const double absorbed = (r.loads.total_W().sum() / 48 + 30.0) * period;
+  EXPECT_NEAR(r.energy.absorbed_J, absorbed, 1e-9 * absorbed);
+}
