@@ -1,0 +1,98 @@
+#pragma once
+//! Node-preserving, volume-preserving decimation of the one shared mesh of a thermal model.
+//!
+//! Edge collapses on vcglib's local-optimisation framework, with a Lindstrom-Turk style cost
+//! and placement (volume preservation, volume optimisation, boundary preservation, triangle
+//! shape; P. Lindstrom, G. Turk, "Fast and memory efficient polygonal simplification", 1998).
+//! Constraints, so that the coarse mesh has the same nodes, the same interfaces and no holes:
+//!  - a face never changes node, material or sidedness: "regions" are the sets of faces with
+//!    the same (node, material, back material); an edge whose two faces belong to different
+//!    regions, an open-boundary edge and a non-manifold edge are *contour* edges;
+//!  - a contour is only coarsened along itself: a contour edge collapses only when both ends
+//!    lie on the same single contour, the removed vertex stays where the contour was (its
+//!    neighbours keep their positions) and it deviates from the new contour segment by at most
+//!    `max_contour_deviation` of that segment's length;
+//!  - vertices where >= 3 regions (or a region and an open boundary and another region) meet,
+//!    non-manifold vertices and the ends of non-manifold edges never move or disappear;
+//!  - the link condition (Dey-Edelsbrunner) keeps the topology, a normal-deviation test
+//!    forbids face flips, and every node's area and every closed component's enclosed volume
+//!    stay within the stated relative tolerances of their input values.
+#include <Eigen/Core>
+#include <vector>
+
+#include "thermodec/mesh/mesh.h"
+
+namespace thermodec {
+
+struct DecimationOptions {
+  //! Hard bound on |area_after - area_before| / area_before of every node.
+  double max_relative_area_change = 0.005;
+  //! Hard bound on |volume_after - volume_before| / |volume_before| of every closed connected
+  //! component (one without open-boundary edges).
+  double max_relative_volume_change = 0.005;
+  //! A contour vertex may be removed only if its distance to the contour segment that
+  //! replaces it is at most this fraction of that segment's length (0.02 ~ 2.3 degrees of kink).
+  double max_contour_deviation = 0.02;
+  //! A collapse is refused if any surviving face's normal turns by more than this [degrees].
+  double max_normal_deviation_deg = 60.0;
+  //! Weight of the triangle-shape term relative to the volume terms in the collapse cost.
+  double shape_weight = 1e-3;
+  //! Ratio (fraction of faces removed) for faces whose node is -1 (e.g. a bare STL).
+  double unassigned_ratio = 0.0;
+  //! Every node keeps at least this many faces.
+  int min_faces_per_node = 1;
+};
+
+//! What decimation did to one node (index = node index; the last entry is the unassigned
+//! group, face_node == -1, when the input has such faces).
+struct NodeDecimationStats {
+  int faces_before = 0;
+  int faces_after = 0;
+  int target_faces = 0;         //!< faces_before minus the requested removal (rounded)
+  double area_before_m2 = 0.0;
+  double area_after_m2 = 0.0;
+  bool reached = false;          //!< faces_after <= target_faces
+  double relative_area_change() const {
+    return area_before_m2 > 0 ? (area_after_m2 - area_before_m2) / area_before_m2 : 0.0;
+  }
+};
+
+struct DecimationResult {
+  //! The coarse mesh: surviving faces keep their node, material and back material; vertices
+  //! on interfaces and frozen corners keep their exact input coordinates.
+  Mesh mesh;
+  //! #F_coarse: the input face each coarse face is (collapses keep faces, moving corners).
+  Eigen::VectorXi fine_face_of_coarse;
+  //! #F_fine: the coarse face that absorbed each input face (same node whenever possible;
+  //! itself for surviving faces).
+  Eigen::VectorXi coarse_face_of_fine;
+  //! #V_coarse: the input vertex each coarse vertex is (interface vertices keep their input
+  //! coordinates exactly; free vertices may have moved).
+  Eigen::VectorXi fine_vertex_of_coarse;
+  //! One entry per node (+1 for the unassigned group when present).
+  std::vector<NodeDecimationStats> nodes;
+  //! Enclosed volume [m^3] of each closed connected component (open ones are left out),
+  //! before and after, in order of their smallest input face index.
+  std::vector<double> closed_volume_before_m3, closed_volume_after_m3;
+  int collapses = 0;
+};
+
+//! Decimates each node to its own ratio in one pass over the shared mesh.
+//! \param target_ratio_per_node #N fraction of each node's faces to REMOVE (0 = keep all,
+//!        0.9 = keep 10 %), N >= number of nodes referenced by face_node (node_names.size()
+//!        when larger). A node reaches its target unless the constraints forbid further
+//!        collapses; `reached` says which did.
+//! Deterministic: the same input gives bit-identical output. Thread-safe (no global state).
+//! \throw InvalidInput if a ratio is outside [0, 1], sizes mismatch, or an index is invalid.
+DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_ratio_per_node,
+                                const DecimationOptions& options = {});
+
+//! Decimates to a global ratio with the paper's rule (node_ratios_for_global_ratio): the
+//! ratios are computed from the face counts, and when constraints stop a node short of its
+//! ratio, its deficit is handed to the next larger nodes and the decimation rerun from the
+//! input (at most `max_rounds` rounds). Unassigned faces (node -1) form one more group.
+DecimationResult decimate_to_global_ratio(const Mesh& mesh, double global_ratio,
+                                          const DecimationOptions& options = {},
+                                          int max_rounds = 3);
+
+}  // namespace thermodec

@@ -1,0 +1,246 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "decimation/test_meshes.h"
+#include "thermodec/common/errors.h"
+#include "thermodec/decimation/decimate_nodes.h"
+
+using namespace thermodec;
+using thermodec::test::MeshBuilder;
+
+namespace {
+
+using EdgeKey = std::pair<int, int>;
+std::map<EdgeKey, std::vector<int>> edge_faces(const Mesh& m) {
+  std::map<EdgeKey, std::vector<int>> e;
+  for (int f = 0; f < m.num_faces(); ++f)
+    for (int j = 0; j < 3; ++j) {
+      const int a = m.F(f, j), b = m.F(f, (j + 1) % 3);
+      e[{std::min(a, b), std::max(a, b)}].push_back(f);
+    }
+  return e;
+}
+
+// Edges with exactly one face, as pairs of *input* vertex indices.
+std::set<EdgeKey> open_edges(const Mesh& m, const Eigen::VectorXi& to_input) {
+  std::set<EdgeKey> out;
+  for (const auto& [e, fs] : edge_faces(m))
+    if (fs.size() == 1) {
+      const int a = to_input.size() ? to_input[e.first] : e.first;
+      const int b = to_input.size() ? to_input[e.second] : e.second;
+      out.insert({std::min(a, b), std::max(a, b)});
+    }
+  return out;
+}
+
+std::set<int> open_vertices(const Mesh& m) {
+  std::set<int> v;
+  for (const auto& [e, fs] : edge_faces(m))
+    if (fs.size() == 1) v.insert({e.first, e.second});
+  return v;
+}
+
+int node_groups(const Mesh& m) {
+  int n = static_cast<int>(m.node_names.size());
+  for (int f = 0; f < m.num_faces(); ++f) n = std::max(n, m.face_node[f] + 1);
+  return n;
+}
+
+bool identical(const DecimationResult& a, const DecimationResult& b) {
+  return a.mesh.V == b.mesh.V && a.mesh.F == b.mesh.F && a.mesh.face_node == b.mesh.face_node &&
+         a.fine_face_of_coarse == b.fine_face_of_coarse && a.coarse_face_of_fine == b.coarse_face_of_fine;
+}
+
+// The properties every decimation must have, whatever the input.
+void expect_node_preserving(const Mesh& in, const DecimationResult& r, const DecimationOptions& o) {
+  const Mesh& out = r.mesh;
+  ASSERT_EQ(r.fine_face_of_coarse.size(), out.num_faces());
+  ASSERT_EQ(r.coarse_face_of_fine.size(), in.num_faces());
+  for (int i = 0; i < out.num_faces(); ++i) {
+    const int f = r.fine_face_of_coarse[i];
+    EXPECT_EQ(out.face_node[i], in.face_node[f]) << "coarse face " << i << " changed node";
+    EXPECT_EQ(out.face_material[i], in.face_material[f]);
+    EXPECT_EQ(out.face_back_material[i], in.face_back_material[f]);
+    EXPECT_EQ(r.coarse_face_of_fine[f], i);
+  }
+  for (int f = 0; f < in.num_faces(); ++f) {
+    ASSERT_GE(r.coarse_face_of_fine[f], 0);
+    ASSERT_LT(r.coarse_face_of_fine[f], out.num_faces());
+  }
+  for (const auto& s : r.nodes) {
+    if (s.faces_before == 0) continue;
+    EXPECT_GE(s.faces_after, 1);
+    EXPECT_LE(std::abs(s.relative_area_change()), o.max_relative_area_change + 1e-12);
+  }
+  // No cracks or holes: every open edge of the output runs along the input's open boundary
+  // (both ends were input boundary vertices), and no new non-manifold edge appears.
+  const std::set<int> in_open = open_vertices(in);
+  for (const auto& [a, b] : open_edges(out, r.fine_vertex_of_coarse)) {
+    EXPECT_TRUE(in_open.count(a) && in_open.count(b)) << "new open edge " << a << "-" << b;
+  }
+  int nm_in = 0, nm_out = 0;
+  for (const auto& [e, fs] : edge_faces(in)) nm_in += fs.size() > 2;
+  for (const auto& [e, fs] : edge_faces(out)) nm_out += fs.size() > 2;
+  EXPECT_LE(nm_out, nm_in);
+  // No degenerate faces.
+  for (int i = 0; i < out.num_faces(); ++i) {
+    EXPECT_NE(out.F(i, 0), out.F(i, 1));
+    EXPECT_NE(out.F(i, 1), out.F(i, 2));
+    EXPECT_NE(out.F(i, 0), out.F(i, 2));
+  }
+}
+
+}  // namespace
+
+TEST(DecimateNodes, zero_ratio_returns_the_input_unchanged) {
+  const Mesh box = test::subdivided_box(4, true);
+  const DecimationResult r = decimate_nodes(box, Eigen::VectorXd::Zero(6));
+  EXPECT_EQ(r.mesh.F, box.F);
+  EXPECT_EQ(r.mesh.V, box.V);
+  EXPECT_EQ(r.collapses, 0);
+  for (int i = 0; i < r.mesh.num_faces(); ++i) EXPECT_EQ(r.fine_face_of_coarse[i], i);
+}
+
+TEST(DecimateNodes, six_node_box_reaches_each_ratio_with_exact_areas_and_volume) {
+  const Mesh box = test::subdivided_box(8, true);  // 6 x 128 faces
+  Eigen::VectorXd ratio(6);
+  ratio << 0.5, 0.9, 0.6, 0.75, 0.5, 0.25;
+  const DecimationOptions o;
+  const DecimationResult r = decimate_nodes(box, ratio, o);
+  expect_node_preserving(box, r, o);
+  for (int n = 0; n < 6; ++n) {
+    EXPECT_EQ(r.nodes[n].faces_before, 128);
+    EXPECT_EQ(r.nodes[n].reached, r.nodes[n].faces_after <= r.nodes[n].target_faces);
+    // Node 1 (the top) needs its four interfaces coarsened, which also removes faces of the
+    // sides; a side that has spent its own budget keeps them, so the top may stop short.
+    if (n != 1) EXPECT_TRUE(r.nodes[n].reached) << "node " << n << " kept " << r.nodes[n].faces_after;
+    // Planar sides with straight interfaces: the area is kept to rounding.
+    EXPECT_NEAR(r.nodes[n].area_after_m2, 1.0, 1e-12);
+  }
+  ASSERT_EQ(r.closed_volume_before_m3.size(), 1u);
+  EXPECT_NEAR(r.closed_volume_after_m3[0], 1.0, 1e-12);
+  EXPECT_TRUE(open_edges(r.mesh, r.fine_vertex_of_coarse).empty());
+}
+
+TEST(DecimateNodes, equal_high_ratios_are_reached_on_every_side_of_a_box) {
+  const Mesh box = test::subdivided_box(8, true);
+  const DecimationResult r = decimate_nodes(box, Eigen::VectorXd::Constant(6, 0.9));
+  for (int n = 0; n < 6; ++n) {
+    EXPECT_TRUE(r.nodes[n].reached) << "node " << n << " kept " << r.nodes[n].faces_after;
+    EXPECT_NEAR(r.nodes[n].area_after_m2, 1.0, 1e-12);
+  }
+}
+
+TEST(DecimateNodes, box_corners_and_interface_vertices_never_move) {
+  const Mesh box = test::subdivided_box(6, true);
+  const DecimationResult r = decimate_nodes(box, Eigen::VectorXd::Constant(6, 0.8));
+  // Every output vertex on a box edge (two coordinates in {0,1}) is an input vertex unmoved.
+  int corners = 0;
+  for (int v = 0; v < r.mesh.num_vertices(); ++v) {
+    const Eigen::RowVector3d p = r.mesh.V.row(v);
+    int on = 0;
+    for (int k = 0; k < 3; ++k) on += (p[k] == 0.0 || p[k] == 1.0);
+    if (on >= 2) EXPECT_EQ(p, box.V.row(r.fine_vertex_of_coarse[v])) << "vertex " << v;
+    corners += on == 3;
+  }
+  EXPECT_EQ(corners, 8);
+}
+
+TEST(DecimateNodes, global_half_reduction_of_satellite_keeps_areas_volumes_and_interfaces) {
+  const Mesh sat = test::satellite(10, 16);
+  const DecimationOptions o;  // 0.5 % node area, 0.5 % closed volume
+  const DecimationResult r = decimate_to_global_ratio(sat, 0.5, o);
+  expect_node_preserving(sat, r, o);
+  for (size_t n = 0; n < r.nodes.size(); ++n)
+    EXPECT_LE(std::abs(r.nodes[n].relative_area_change()), 0.005) << "node " << n;
+  ASSERT_EQ(r.closed_volume_before_m3.size(), 2u);  // body and tank; the panel is open
+  for (size_t k = 0; k < 2; ++k)
+    EXPECT_NEAR(r.closed_volume_after_m3[k], r.closed_volume_before_m3[k],
+                0.01 * std::abs(r.closed_volume_before_m3[k]));
+  // The global ratio is met to within one collapse per node (a collapse removes 1-2 faces).
+  EXPECT_NEAR(r.mesh.num_faces(), 0.5 * sat.num_faces(), 2.0 * static_cast<double>(r.nodes.size()));
+  // Interfaces stay watertight: both closed bodies have no open edge at all.
+  const auto open = open_edges(r.mesh, r.fine_vertex_of_coarse);
+  const std::set<int> in_open = open_vertices(sat);
+  for (const auto& e : open) EXPECT_TRUE(in_open.count(e.first) && in_open.count(e.second));
+}
+
+TEST(DecimateNodes, repeated_runs_are_bit_identical) {
+  const Mesh sat = test::satellite(8, 12);
+  const DecimationResult a = decimate_to_global_ratio(sat, 0.6);
+  const DecimationResult b = decimate_to_global_ratio(sat, 0.6);
+  EXPECT_TRUE(identical(a, b));
+}
+
+TEST(DecimateNodes, two_node_plate_interface_stays_straight_and_shared) {
+  const Mesh plate = test::two_node_plate(8);
+  const DecimationOptions o;
+  const DecimationResult r = decimate_nodes(plate, Eigen::Vector2d(0.9, 0.9), o);
+  expect_node_preserving(plate, r, o);
+  // Interface edges (faces of both nodes on one edge) all lie on x = 0.5 and each has two faces.
+  int interface_edges = 0;
+  for (const auto& [e, fs] : edge_faces(r.mesh)) {
+    std::set<int> nodes;
+    for (int f : fs) nodes.insert(r.mesh.face_node[f]);
+    if (nodes.size() < 2) continue;
+    ++interface_edges;
+    EXPECT_EQ(fs.size(), 2u);
+    EXPECT_EQ(r.mesh.V(e.first, 0), 0.5);
+    EXPECT_EQ(r.mesh.V(e.second, 0), 0.5);
+  }
+  EXPECT_GE(interface_edges, 1);
+  EXPECT_NEAR(r.nodes[0].area_after_m2, 0.5, 1e-12);
+  EXPECT_NEAR(r.nodes[1].area_after_m2, 0.5, 1e-12);
+  EXPECT_LT(r.mesh.num_faces(), plate.num_faces() / 4);
+}
+
+TEST(DecimateNodes, per_node_ratios_leave_untargeted_nodes_alone) {
+  const Mesh plate = test::two_node_plate(8);
+  const DecimationResult r = decimate_nodes(plate, Eigen::Vector2d(0.8, 0.0));
+  EXPECT_EQ(r.nodes[1].faces_after, r.nodes[1].faces_before);
+  EXPECT_LT(r.nodes[0].faces_after, r.nodes[0].faces_before / 2);
+}
+
+TEST(DecimateNodes, non_conforming_input_decimates_without_crashing) {
+  const Mesh t = test::t_junction_mesh();
+  const DecimationOptions o;
+  const DecimationResult r = decimate_nodes(t, Eigen::Vector2d(0.5, 0.5), o);
+  expect_node_preserving(t, r, o);
+}
+
+TEST(DecimateNodes, non_manifold_fin_decimates_and_keeps_its_non_manifold_edges) {
+  const Mesh fin = test::non_manifold_fin(8);
+  const DecimationOptions o;
+  const DecimationResult r = decimate_nodes(fin, Eigen::Vector3d(0.7, 0.7, 0.5), o);
+  expect_node_preserving(fin, r, o);
+  EXPECT_LT(r.mesh.num_faces(), fin.num_faces());
+  // The fin's foot (edges with > 2 faces) is frozen: all its vertices survive unmoved.
+  int nm = 0;
+  for (const auto& [e, fs] : edge_faces(r.mesh)) nm += fs.size() > 2;
+  EXPECT_EQ(nm, 8);
+}
+
+TEST(DecimateNodes, unassigned_faces_use_the_unassigned_ratio) {
+  Mesh box = test::subdivided_box(6, false);
+  box.face_node.setConstant(-1);
+  box.node_names.clear();
+  DecimationOptions o;
+  o.unassigned_ratio = 0.75;
+  const DecimationResult r = decimate_nodes(box, Eigen::VectorXd(), o);
+  ASSERT_EQ(r.nodes.size(), 1u);
+  EXPECT_TRUE(r.nodes[0].reached);
+  EXPECT_NEAR(r.closed_volume_after_m3[0], 1.0, 1e-12);
+}
+
+TEST(DecimateNodes, invalid_ratios_are_rejected) {
+  const Mesh plate = test::two_node_plate(2);
+  EXPECT_THROW(decimate_nodes(plate, Eigen::Vector2d(1.5, 0)), InvalidInput);
+  EXPECT_THROW(decimate_nodes(plate, Eigen::VectorXd::Zero(1)), InvalidInput);
+  EXPECT_THROW(decimate_to_global_ratio(plate, -0.1), InvalidInput);
+  Mesh bad = plate;
+  bad.F(0, 0) = 1000;
+  EXPECT_THROW(decimate_nodes(bad, Eigen::Vector2d(0.5, 0.5)), InvalidInput);
+}
