@@ -112,6 +112,80 @@ DocumentMesh mesh_with_nodes(MeshDocument& md) {
   return dm;
 }
 
+DocumentMesh mesh_with_optional_nodes(MeshDocument& md) {
+  if (md.meshList.size() > 1 ||
+      (md.mm() != nullptr && md.mm()->hasDataMask(MeshModel::MM_FACEQUALITY)))
+    return mesh_with_nodes(md);
+  if (md.mm() == nullptr) throw thermodec::InvalidInput("the document has no mesh layer");
+  return mesh_from_layer(*md.mm());
+}
+
+namespace {
+
+// Copies the faces of `mesh` listed in `faces` (and the vertices they use) into `cm`.
+void fill_layer(CMeshO& cm, const thermodec::Mesh& mesh, const std::vector<int>& faces) {
+  std::vector<int> vertex_of(mesh.num_vertices(), -1);
+  int nv = 0;
+  for (int f : faces)
+    for (int k = 0; k < 3; ++k)
+      if (vertex_of[mesh.F(f, k)] < 0) vertex_of[mesh.F(f, k)] = nv++;
+  auto vi = vcg::tri::Allocator<CMeshO>::AddVertices(cm, nv);
+  (void)vi;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (vertex_of[v] >= 0)
+      cm.vert[vertex_of[v]].P() = CMeshO::CoordType(CMeshO::ScalarType(mesh.V(v, 0)),
+                                                   CMeshO::ScalarType(mesh.V(v, 1)),
+                                                   CMeshO::ScalarType(mesh.V(v, 2)));
+  vcg::tri::Allocator<CMeshO>::AddFaces(cm, faces.size());
+  for (size_t i = 0; i < faces.size(); ++i)
+    for (int k = 0; k < 3; ++k) cm.face[i].V(k) = &cm.vert[vertex_of[mesh.F(faces[i], k)]];
+}
+
+}  // namespace
+
+std::vector<MeshModel*> add_layers(MeshDocument& md, const DocumentMesh& dm,
+                                   const thermodec::Mesh& mesh, const QString& suffix) {
+  if (mesh.num_faces() == 0) throw thermodec::InvalidInput("the result has no faces");
+  std::vector<MeshModel*> layers;
+  auto finish = [&](MeshModel* layer) {
+    layer->UpdateBoxAndNormals();
+    layers.push_back(layer);
+  };
+  const int node_count = static_cast<int>(dm.node_ids.size());
+  if (dm.source == NodeSource::Layers) {
+    std::vector<std::vector<int>> faces_of_node(node_count);
+    for (int f = 0; f < mesh.num_faces(); ++f)
+      if (mesh.face_node[f] >= 0 && mesh.face_node[f] < node_count)
+        faces_of_node[mesh.face_node[f]].push_back(f);
+    for (int n = 0; n < node_count; ++n) {
+      if (faces_of_node[n].empty()) continue;
+      const QString name = QString::fromStdString(dm.mesh.node_names[n]) + " " + suffix;
+      MeshModel* layer = md.addNewMesh("", name, false);
+      fill_layer(layer->cm, mesh, faces_of_node[n]);
+      layer->updateDataMask(MeshModel::MM_FACECOLOR);
+      for (auto& face : layer->cm.face) face.C() = node_color(n, node_count);
+      finish(layer);
+    }
+    if (!layers.empty()) md.setCurrentMesh(layers.front()->id());
+    return layers;
+  }
+  std::vector<int> all(mesh.num_faces());
+  for (int f = 0; f < mesh.num_faces(); ++f) all[f] = f;
+  MeshModel* layer = md.addNewMesh("", md.mm()->label() + " " + suffix, false);
+  fill_layer(layer->cm, mesh, all);
+  if (dm.source == NodeSource::FaceQuality) {
+    layer->updateDataMask(MeshModel::MM_FACEQUALITY | MeshModel::MM_FACECOLOR);
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      const int n = mesh.face_node[f];
+      layer->cm.face[f].Q() = n >= 0 ? CMeshO::ScalarType(dm.node_ids[n]) : CMeshO::ScalarType(-1);
+      layer->cm.face[f].C() = node_color(n, node_count);
+    }
+  }
+  finish(layer);
+  md.setCurrentMesh(layer->id());
+  return layers;
+}
+
 vcg::Color4b node_color(int node, int node_count) {
   if (node < 0) return vcg::Color4b::Gray;
   return vcg::Color4b::Scatter(std::max(node_count, 1), node, 0.6f, 0.9f);

@@ -48,6 +48,20 @@ DocumentMesh mesh_from_layer(MeshModel& layer);
 //! non-negative integer (naming the face).
 DocumentMesh mesh_with_nodes(MeshDocument& md);
 
+//! The current layer with its nodes when its face quality holds node ids (as
+//! mesh_with_nodes), else the bare layer (face_node = -1, source None). For filters that work
+//! with or without nodes. \throw thermodec::InvalidInput as mesh_with_nodes.
+DocumentMesh mesh_with_optional_nodes(MeshDocument& md);
+
+//! Adds `mesh` (whose face_node indexes dm's nodes, or is -1) to the document as new layers
+//! and returns them. Layers source: one layer per node, labelled "<node name> <suffix>".
+//! Otherwise one layer "<current layer> <suffix>"; with nodes, its face quality holds the
+//! document's node id (dm.node_ids[face_node]) and faces are coloured per node.
+//! The (first) new layer becomes the current one (what meshlabserver -o saves).
+//! \throw thermodec::InvalidInput if `mesh` has no face.
+std::vector<MeshModel*> add_layers(MeshDocument& md, const DocumentMesh& dm,
+                                   const thermodec::Mesh& mesh, const QString& suffix);
+
 //! Per node i, a distinct colour (vcg's scatter palette over node_count hues).
 vcg::Color4b node_color(int node, int node_count);
 

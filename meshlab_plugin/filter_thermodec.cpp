@@ -1,11 +1,25 @@
 #include "filter_thermodec.h"
 
+#include <algorithm>
 #include <exception>
+#include <string>
 
 #include "document_mesh.h"
 #include "thermodec/common/errors.h"
 #ifdef THERMODEC_FILTER_ASSIGN_NODES
 #include "thermodec/nodes/automatic_nodes.h"
+#endif
+#ifdef THERMODEC_FILTER_EXTRACT_EXTERNAL
+#include "thermodec/radiation/external_geometry.h"
+#include "thermodec/radiation/ray_scene.h"
+#endif
+#ifdef THERMODEC_FILTER_DECIMATE_RATIO
+#include "thermodec/decimation/decimate_nodes.h"
+#endif
+#ifdef THERMODEC_FILTER_SIMULATE
+#include <vcg/complex/algorithms/update/color.h>
+
+#include "core_calls.h"
 #endif
 
 using namespace thermodec_meshlab;
@@ -23,6 +37,15 @@ ThermodecFilterPlugin::ThermodecFilterPlugin() {
 #ifdef THERMODEC_FILTER_ASSIGN_NODES
   typeList << FP_ASSIGN_NODES;
 #endif
+#ifdef THERMODEC_FILTER_EXTRACT_EXTERNAL
+  typeList << FP_EXTRACT_EXTERNAL;
+#endif
+#ifdef THERMODEC_FILTER_DECIMATE_RATIO
+  typeList << FP_DECIMATE_RATIO;
+#endif
+#ifdef THERMODEC_FILTER_SIMULATE
+  typeList << FP_SIMULATE;
+#endif
   for (FilterIDType id : types()) actionList << new QAction(filterName(id), this);
 }
 
@@ -31,6 +54,9 @@ QString ThermodecFilterPlugin::pluginName() const { return "FilterThermodec"; }
 QString ThermodecFilterPlugin::filterName(FilterIDType filter) const {
   switch (filter) {
     case FP_ASSIGN_NODES: return "Thermal: assign nodes";
+    case FP_EXTRACT_EXTERNAL: return "Thermal: extract external geometry";
+    case FP_DECIMATE_RATIO: return "Thermal: decimate to global ratio";
+    case FP_SIMULATE: return "Thermal: simulate";
   }
   assert(false);
   return QString();
@@ -46,6 +72,34 @@ QString ThermodecFilterPlugin::filterInfo(FilterIDType filter) const {
              "and the face is painted with one colour per node. Save with face quality "
              "(meshlabserver <code>-m fq</code>) to keep the nodes; the other Thermal filters "
              "read them from there. Deterministic: the same mesh always gives the same nodes.";
+    case FP_EXTRACT_EXTERNAL:
+      return "Keeps the faces visible from outside the spacecraft (thermodec external-geometry "
+             "extraction: a face is kept if a ray leaving it escapes to infinity) and drops "
+             "internal ones, e.g. walls hidden inside closed solids. The result is added as new "
+             "layer(s) named '... external'; kept/dropped faces per node go to the log. Works "
+             "with or without nodes." "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
+             "nodes</i>); with several layers, every layer is one node (the one-file-per-node "
+             "layout, e.g. an .mlp project).";
+    case FP_DECIMATE_RATIO:
+      return "Node-preserving decimation of the thermal model's shared mesh (thermodec): removes "
+             "the given fraction of all faces, spread over the nodes by the paper's global-ratio "
+             "rule, without ever moving a face to another node, opening holes or changing any "
+             "node's area or closed volume beyond the stated tolerances. The result is added as "
+             "new layer(s) named '... decimated'; faces per node before/after go to the log. "
+             "(The simulation-driven, tolerance-in-kelvin reduction comes with thermodec's "
+             "reduction driver.)" "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
+             "nodes</i>); with several layers, every layer is one node (the one-file-per-node "
+             "layout, e.g. an .mlp project).";
+    case FP_SIMULATE:
+      return "Radiative thermal simulation of the nodes (thermodec simulate: Monte Carlo "
+             "radiative couplings, orbit or fixed-sun loads, steady or orbit-periodic "
+             "transient solve). Per-node min/mean/max temperatures [K] go to the log; the chosen "
+             "statistic is written to the face quality [K] and shown with a colour map (one "
+             "layer: in a new layer '... temperature', so the node ids stay; several layers: in "
+             "place). Materials, environment and analysis come from an optional thermodec "
+             "model.json (its mesh is replaced by the document's), else the core defaults." "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
+             "nodes</i>); with several layers, every layer is one node (the one-file-per-node "
+             "layout, e.g. an .mlp project).";
   }
   assert(false);
   return QString();
@@ -54,6 +108,9 @@ QString ThermodecFilterPlugin::filterInfo(FilterIDType filter) const {
 MeshFilterInterface::FilterClass ThermodecFilterPlugin::getClass(QAction* action) {
   switch (ID(action)) {
     case FP_ASSIGN_NODES: return FilterClass(Quality | FaceColoring);
+    case FP_EXTRACT_EXTERNAL: return FilterClass(Cleaning | Layer);
+    case FP_DECIMATE_RATIO: return FilterClass(Remeshing | Layer);
+    case FP_SIMULATE: return FilterClass(Quality | FaceColoring | Measure);
   }
   assert(false);
   return Quality;
@@ -62,6 +119,10 @@ MeshFilterInterface::FilterClass ThermodecFilterPlugin::getClass(QAction* action
 MeshFilterInterface::FILTER_ARITY ThermodecFilterPlugin::filterArity(QAction* action) const {
   switch (ID(action)) {
     case FP_ASSIGN_NODES: return SINGLE_MESH;
+    // These read every layer of a multi-layer document (one layer = one node).
+    case FP_EXTRACT_EXTERNAL:
+    case FP_DECIMATE_RATIO:
+    case FP_SIMULATE: return VARIABLE;
   }
   assert(false);
   return SINGLE_MESH;
@@ -70,6 +131,11 @@ MeshFilterInterface::FILTER_ARITY ThermodecFilterPlugin::filterArity(QAction* ac
 int ThermodecFilterPlugin::getRequirements(QAction* action) {
   switch (ID(action)) {
     case FP_ASSIGN_NODES: return MeshModel::MM_FACEQUALITY | MeshModel::MM_FACECOLOR;
+    // Node ids are read from face quality only when the layer already has it: requiring it
+    // here would make MeshLab add a zero quality to every layer.
+    case FP_EXTRACT_EXTERNAL:
+    case FP_DECIMATE_RATIO:
+    case FP_SIMULATE: return MeshModel::MM_NONE;
   }
   assert(false);
   return MeshModel::MM_NONE;
@@ -77,7 +143,10 @@ int ThermodecFilterPlugin::getRequirements(QAction* action) {
 
 int ThermodecFilterPlugin::getPreConditions(QAction* action) const {
   switch (ID(action)) {
-    case FP_ASSIGN_NODES: return MeshModel::MM_FACENUMBER;
+    case FP_ASSIGN_NODES:
+    case FP_EXTRACT_EXTERNAL:
+    case FP_DECIMATE_RATIO:
+    case FP_SIMULATE: return MeshModel::MM_FACENUMBER;
   }
   assert(false);
   return MeshModel::MM_NONE;
@@ -86,6 +155,9 @@ int ThermodecFilterPlugin::getPreConditions(QAction* action) const {
 int ThermodecFilterPlugin::postCondition(QAction* action) const {
   switch (ID(action)) {
     case FP_ASSIGN_NODES: return MeshModel::MM_FACEQUALITY | MeshModel::MM_FACECOLOR;
+    case FP_EXTRACT_EXTERNAL:
+    case FP_DECIMATE_RATIO: return MeshModel::MM_NONE;  // results are new layers
+    case FP_SIMULATE: return MeshModel::MM_FACEQUALITY | MeshModel::MM_FACECOLOR;
   }
   assert(false);
   return MeshModel::MM_NONE;
@@ -113,6 +185,68 @@ void ThermodecFilterPlugin::initParameterSet(QAction* action, MeshModel& /*m*/,
 #endif
       break;
     }
+    case FP_EXTRACT_EXTERNAL: {
+#ifdef THERMODEC_FILTER_EXTRACT_EXTERNAL
+      const thermodec::ExternalSettings defaults;
+      params.addParam(RichInt(
+          "rays_per_face", defaults.rays_per_face, "Rays per face",
+          "Maximum rays per tested face side (>= 1); the test stops at the first ray that "
+          "escapes. A face seen from outside through a fraction p of its hemisphere is missed "
+          "with probability about (1 - p)^rays."));
+      params.addParam(RichInt("seed", int(defaults.seed), "Seed",
+                              "Seed of the ray directions (same seed, same result)."));
+      params.addParam(RichBool(
+          "both_sides", defaults.both_sides, "Test both sides",
+          "Also test the back of every face, for meshes whose orientation is unreliable "
+          "(e.g. STL exports). Off: a face is seen only from the side its vertices turn "
+          "counter-clockwise around."));
+#endif
+      break;
+    }
+    case FP_DECIMATE_RATIO: {
+#ifdef THERMODEC_FILTER_DECIMATE_RATIO
+      const thermodec::DecimationOptions defaults;
+      params.addParam(RichFloat(
+          "global_ratio", 0.5f, "Global ratio",
+          "Fraction of all faces to remove, in [0, 1) (0.5 = keep half). Spread over the nodes "
+          "by the paper's rule: small nodes first, a node that cannot remove its share hands "
+          "the rest to larger ones."));
+      params.addParam(RichFloat(
+          "max_relative_area_change", float(defaults.max_relative_area_change),
+          "Max relative area change",
+          "Hard bound on |area after - area before| / area before of every node."));
+      params.addParam(RichFloat(
+          "max_relative_volume_change", float(defaults.max_relative_volume_change),
+          "Max relative volume change",
+          "Hard bound on the relative change of the volume enclosed by every closed part."));
+      params.addParam(RichFloat(
+          "max_contour_deviation", float(defaults.max_contour_deviation),
+          "Max contour deviation",
+          "A vertex on a node boundary may go only if it lies within this fraction of the "
+          "replacing segment's length from it (0.02 = about 2.3 degrees of kink)."));
+#endif
+      break;
+    }
+    case FP_SIMULATE: {
+#ifdef THERMODEC_FILTER_SIMULATE
+      params.addParam(RichString(
+          "model_file", "", "Model file (model.json)",
+          "Optional thermodec model file (docs/model-format.md) giving materials, node "
+          "capacitances/powers, conductances, environment, analysis and radiation settings; "
+          "its mesh is replaced by the document's, nodes matched by name (layer label or "
+          "node_<id>) or else by id = position in the model. Empty: the core defaults (one "
+          "default coating, 500 km orbit, steady state)."));
+      params.addParam(RichInt(
+          "rays_per_face", 0, "Rays per face",
+          "Monte Carlo rays per face for the radiative couplings; 0 = the model's setting "
+          "(core default 4000). Fewer rays are faster and noisier."));
+      params.addParam(RichEnum(
+          "face_value", 1, QStringList() << "min" << "mean" << "max", "Face value",
+          "Which temperature over the orbit goes to the face quality [K]: each face shows its "
+          "node's minimum, mean or maximum (steady analysis: all equal)."));
+#endif
+      break;
+    }
   }
 }
 
@@ -123,6 +257,9 @@ bool ThermodecFilterPlugin::applyFilter(QAction* action, MeshDocument& md,
   try {
     switch (ID(action)) {
       case FP_ASSIGN_NODES: return assign_nodes(md, params, cb);
+      case FP_EXTRACT_EXTERNAL: return extract_external(md, params, cb);
+      case FP_DECIMATE_RATIO: return decimate_ratio(md, params, cb);
+      case FP_SIMULATE: return simulate(md, params, cb);
     }
     errorMessage = "unknown thermodec filter";
   } catch (const thermodec::Error& e) {
@@ -164,6 +301,138 @@ bool ThermodecFilterPlugin::assign_nodes(MeshDocument& md, const RichParameterLi
   return true;
 #else
   throw thermodec::InvalidInput("this build of thermodec has no automatic nodal breakdown");
+#endif
+}
+
+bool ThermodecFilterPlugin::extract_external(MeshDocument& md, const RichParameterList& params,
+                                             vcg::CallBackPos* cb) {
+#ifdef THERMODEC_FILTER_EXTRACT_EXTERNAL
+  thermodec::ExternalSettings settings;
+  settings.rays_per_face = params.getInt("rays_per_face");
+  settings.seed = static_cast<std::uint64_t>(params.getInt("seed"));
+  settings.both_sides = params.getBool("both_sides");
+
+  progress(cb, 0, "Thermal: gathering mesh");
+  const DocumentMesh dm = mesh_with_optional_nodes(md);
+  progress(cb, 10, "Thermal: building ray scene");
+  const thermodec::RayScene scene(dm.mesh);
+  progress(cb, 30, "Thermal: tracing escape rays");
+  const thermodec::ExternalFaces ext = thermodec::external_faces(scene, settings);
+  if (ext.kept == 0)
+    throw thermodec::InvalidInput("no face is visible from outside (" +
+                                  std::to_string(ext.untraceable) + " untraceable faces)");
+  progress(cb, 90, "Thermal: adding the external layer(s)");
+  const thermodec::Mesh external = thermodec::extract_external(dm.mesh, ext);
+  const auto layers = add_layers(md, dm, external, "external");
+
+  Log("Thermal: extract external geometry: kept %d of %d faces, dropped %d (%d untraceable), "
+      "%lld rays, %d new layer(s)",
+      ext.kept, dm.mesh.num_faces(), ext.dropped, ext.untraceable,
+      static_cast<long long>(ext.rays_traced), int(layers.size()));
+  for (size_t n = 0; n < dm.mesh.node_names.size(); ++n)
+    Log("  %s: kept %d, dropped %d", dm.mesh.node_names[n].c_str(), ext.kept_per_node[n],
+        ext.dropped_per_node[n]);
+  progress(cb, 100, "Thermal: external geometry extracted");
+  return true;
+#else
+  throw thermodec::InvalidInput("this build of thermodec has no external-geometry extraction");
+#endif
+}
+
+bool ThermodecFilterPlugin::decimate_ratio(MeshDocument& md, const RichParameterList& params,
+                                           vcg::CallBackPos* cb) {
+#ifdef THERMODEC_FILTER_DECIMATE_RATIO
+  thermodec::DecimationOptions options;
+  const double ratio = params.getFloat("global_ratio");
+  options.max_relative_area_change = params.getFloat("max_relative_area_change");
+  options.max_relative_volume_change = params.getFloat("max_relative_volume_change");
+  options.max_contour_deviation = params.getFloat("max_contour_deviation");
+
+  progress(cb, 0, "Thermal: gathering mesh");
+  const DocumentMesh dm = mesh_with_optional_nodes(md);
+  progress(cb, 10, "Thermal: decimating");
+  const thermodec::DecimationResult r = thermodec::decimate_to_global_ratio(dm.mesh, ratio, options);
+  progress(cb, 90, "Thermal: adding the decimated layer(s)");
+  const auto layers = add_layers(md, dm, r.mesh, "decimated");
+
+  Log("Thermal: decimate to global ratio %.3f: %d -> %d faces (%.1f %% removed), %d collapses, "
+      "%d new layer(s)",
+      ratio, dm.mesh.num_faces(), r.mesh.num_faces(),
+      100.0 * (1.0 - double(r.mesh.num_faces()) / dm.mesh.num_faces()), r.collapses,
+      int(layers.size()));
+  for (size_t n = 0; n < r.nodes.size(); ++n) {
+    const thermodec::NodeDecimationStats& s = r.nodes[n];
+    const std::string name = n < dm.mesh.node_names.size() ? dm.mesh.node_names[n] : "(no node)";
+    Log("  %s: %d -> %d faces (target %d%s), area change %+.3g %%", name.c_str(),
+        s.faces_before, s.faces_after, s.target_faces, s.reached ? "" : ", not reached",
+        100.0 * s.relative_area_change());
+  }
+  progress(cb, 100, "Thermal: decimated");
+  return true;
+#else
+  throw thermodec::InvalidInput("this build of thermodec has no decimation");
+#endif
+}
+
+bool ThermodecFilterPlugin::simulate(MeshDocument& md, const RichParameterList& params,
+                                     vcg::CallBackPos* cb) {
+#ifdef THERMODEC_FILTER_SIMULATE
+  const std::string model_file = params.getString("model_file").trimmed().toStdString();
+  const int rays = params.getInt("rays_per_face");
+  const int face_value = params.getEnum("face_value");
+  if (rays < 0) throw thermodec::InvalidInput("rays_per_face must be >= 0 (0 = the model's)");
+
+  progress(cb, 0, "Thermal: gathering nodes");
+  const DocumentMesh dm = mesh_with_nodes(md);
+  int step = 0;
+  const NodeTemperatures t = simulate_document(
+      dm.mesh, dm.node_ids, dm.source == NodeSource::FaceQuality, model_file, rays,
+      [&](const std::string& what) {
+        step = std::min(step + 15, 90);
+        progress(cb, step, what.c_str());
+        Log("  %s", what.c_str());
+      });
+
+  Log("Thermal: simulate (%s): %s, %d time(s)%s", t.model_description.c_str(),
+      t.transient ? "orbit-periodic transient" : "steady state", t.times,
+      t.transient ? qUtf8Printable(QString(", %1 orbits, periodicity residual %2 K")
+                                       .arg(t.orbits).arg(t.periodicity_residual_K, 0, 'g', 3))
+                  : "");
+  Log("  node: min / mean / max [K]");
+  for (size_t n = 0; n < t.nodes.size(); ++n)
+    Log("  %s%s: %.2f / %.2f / %.2f", t.nodes[n].c_str(),
+        t.model_nodes[n] == t.nodes[n] ? "" : (" (as " + t.model_nodes[n] + ")").c_str(),
+        t.min_K[n], t.mean_K[n], t.max_K[n]);
+
+  const std::vector<double>& node_value = face_value == 0 ? t.min_K : face_value == 2 ? t.max_K : t.mean_K;
+  std::vector<double> value(dm.origin.size());
+  for (size_t f = 0; f < value.size(); ++f) value[f] = node_value[dm.mesh.face_node[f]];
+  const auto range = std::minmax_element(node_value.begin(), node_value.end());
+  const double lo = *range.first, hi = *range.second > lo ? *range.second : lo + 1.0;
+
+  // One layer: the temperatures go to a copy, so that the node ids stay in the original's
+  // quality. Several layers: the nodes are the layers, so the quality is free to use.
+  std::vector<MeshModel*> layers;
+  if (dm.source == NodeSource::FaceQuality) {
+    layers = add_layers(md, dm, dm.mesh, "temperature");
+    MeshModel* layer = layers.front();
+    for (size_t f = 0; f < value.size(); ++f) layer->cm.face[f].Q() = CMeshO::ScalarType(value[f]);
+  } else {
+    set_face_quality(dm, value);
+    for (MeshModel* layer : md.meshList) layers.push_back(layer);
+  }
+  for (MeshModel* layer : layers) {
+    layer->updateDataMask(MeshModel::MM_FACEQUALITY | MeshModel::MM_FACECOLOR);
+    // vcg's ramp runs red -> blue from its first bound to its second: hot is red.
+    vcg::tri::UpdateColor<CMeshO>::PerFaceQualityRamp(layer->cm, CMeshO::ScalarType(hi),
+                                                      CMeshO::ScalarType(lo));
+  }
+  Log("  face quality = node %s temperature [K], colour ramp %.2f K (blue) .. %.2f K (red)",
+      face_value == 0 ? "min" : face_value == 2 ? "max" : "mean", lo, hi);
+  progress(cb, 100, "Thermal: simulated");
+  return true;
+#else
+  throw thermodec::InvalidInput("this build of thermodec has no thermal simulation");
 #endif
 }
 

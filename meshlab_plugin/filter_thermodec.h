@@ -14,6 +14,9 @@ class ThermodecFilterPlugin : public QObject, public MeshFilterInterface {
  public:
   enum FilterId {
     FP_ASSIGN_NODES,
+    FP_EXTRACT_EXTERNAL,
+    FP_DECIMATE_RATIO,
+    FP_SIMULATE,
   };
 
   ThermodecFilterPlugin();
@@ -36,4 +39,7 @@ class ThermodecFilterPlugin : public QObject, public MeshFilterInterface {
 
  private:
   bool assign_nodes(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
+  bool extract_external(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
+  bool decimate_ratio(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
+  bool simulate(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
 };

@@ -3,7 +3,7 @@
 holding node ids, one colour per node. Exit 0 when every requested check holds, else 1 with the
 reason on stderr. PLY ascii and binary_little_endian; triangles only (what MeshLab writes here).
 
-  check_ply.py OUT.ply [--faces N] [--nodes N | --max-nodes N] [--faces-per-node N]
+  check_ply.py OUT.ply [--faces N] [--min-faces N] [--max-faces N] [--nodes N | --max-nodes N] [--faces-per-node N]
                [--integer-quality] [--colour-per-node] [--quality-range LO HI]
 """
 import argparse
@@ -98,6 +98,8 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("ply")
     ap.add_argument("--faces", type=int)
+    ap.add_argument("--min-faces", type=int)
+    ap.add_argument("--max-faces", type=int)
     ap.add_argument("--nodes", type=int)
     ap.add_argument("--max-nodes", type=int)
     ap.add_argument("--faces-per-node", type=int)
@@ -118,6 +120,10 @@ def main():
     print(f"{a.ply}: {n} faces")
     if a.faces is not None and n != a.faces:
         fail(f"{n} faces, expected {a.faces}")
+    if a.min_faces is not None and n < a.min_faces:
+        fail(f"{n} faces, expected at least {a.min_faces}")
+    if a.max_faces is not None and n > a.max_faces:
+        fail(f"{n} faces, expected at most {a.max_faces}")
     names = faces.dtype.names
     need_q = a.nodes or a.max_nodes or a.faces_per_node or a.integer_quality or a.colour_per_node or a.quality_range
     if need_q and "quality" not in names:

@@ -3,6 +3,7 @@
 # creates a GL context; QT_QPA_PLATFORM=offscreen aborts), then checks the result.
 #
 #   run_meshlabserver.sh MESHLABSERVER WORKDIR INPUT SCRIPT.mlx OUT.ply [options] [-- check_ply args]
+#     INPUT: one mesh, or several separated by commas (one layer each: a multi-layer document)
 #     --expect-log REGEX   the run's output must match REGEX (grep -E); repeatable
 #     --expect-fail REGEX  the script must fail (non-zero exit, no OUT.ply) with REGEX in the output
 #     --save-mask "fq fc"  meshlabserver -m mask (default "fq fc": face quality and colour)
@@ -28,7 +29,10 @@ rm -f "$out"
 log=$work/$(basename "$out").log
 # shellcheck disable=SC2086  # the mask is a list of words
 set +e
-xvfb-run -a "$server" -i "$input" -o "$out" -m $mask -s "$script" >"$log" 2>&1
+IFS=',' read -ra inputs <<<"$input"
+in_args=()
+for i in "${inputs[@]}"; do in_args+=(-i "$i"); done
+xvfb-run -a "$server" "${in_args[@]}" -o "$out" -m $mask -s "$script" >"$log" 2>&1
 rc=$?
 set -e
 sed -n '/^LOG:/p' "$log"

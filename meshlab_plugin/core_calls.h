@@ -1,0 +1,42 @@
+#pragma once
+//! Core calls whose headers need C++17 (std::filesystem, std::optional in the thermal model),
+//! behind an interface the C++14 plugin sources can include: only thermodec::Mesh, strings and
+//! vectors cross it. Compiled as C++17 without any MeshLab header.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "thermodec/mesh/mesh.h"
+
+namespace thermodec_meshlab {
+
+//! Per-node temperatures of one simulation, in the order of the document's nodes.
+struct NodeTemperatures {
+  std::vector<std::string> nodes;            //!< document node names
+  std::vector<std::string> model_nodes;      //!< the model node each one was simulated as
+  std::vector<double> min_K, mean_K, max_K;  //!< over the orbit (steady: all equal) [K]
+  bool transient = false;
+  int times = 0;                             //!< number of time points
+  int orbits = 0;                            //!< transient: orbits simulated
+  double periodicity_residual_K = 0.0;       //!< transient: max |T(P) - T(0)| [K]
+  std::string model_description;             //!< one line: where materials/environment came from
+};
+
+//! Simulates the document's mesh (face_node set for every face; node_names) as
+//! `thermodec simulate` would. With `model_file` empty, the core's bare-mesh defaults apply
+//! (load_model of the mesh alone: default coating, orbit environment, steady analysis).
+//! Otherwise the model file gives materials, nodes (capacitance, power, fixed temperature),
+//! conductances, environment, analysis and radiation settings; its mesh is replaced by the
+//! document's, each document node being the model node of the same name, or, when
+//! `ids_index_model_nodes` and no name matches, the model node at position node_ids[i]
+//! (face quality written by `thermodec convert` is that position). Faces take their node's
+//! most common front and back material in the model (per-face coatings inside a node are not
+//! carried by MeshLab's PLY import). `rays_per_face` > 0 overrides the model's.
+//! \throw thermodec::InvalidInput (unreadable/bad model file, a node the model lacks, ...),
+//! thermodec::IOError, thermodec::SolverError.
+NodeTemperatures simulate_document(const thermodec::Mesh& mesh, const std::vector<int>& node_ids,
+                                   bool ids_index_model_nodes, const std::string& model_file,
+                                   int rays_per_face,
+                                   const std::function<void(const std::string&)>& progress);
+
+}  // namespace thermodec_meshlab

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Starts the staged MeshLab GUI under Xvfb with a model loaded and saves a screenshot of the
+# whole screen once the main window has rendered. Used by CTest (meshlab.gui_screenshot) and to
+# make docs/img/meshlab.png.
+#
+#   gui_screenshot.sh MESHLAB OUT.png FILE...   (FILE: a mesh or a .mlp project)
+# Run it under Xvfb yourself, or let it start one: it re-executes itself through xvfb-run.
+set -euo pipefail
+if [ -z "${THERMODEC_IN_XVFB:-}" ]; then
+  THERMODEC_IN_XVFB=1 exec xvfb-run -a -s "-screen 0 1280x800x24" "$0" "$@"
+fi
+meshlab=$1 out=$2
+shift 2
+tmp=$(mktemp -d)
+trap 'kill "$pid" 2>/dev/null || true; wait "$pid" 2>/dev/null || true; rm -rf "$tmp"' EXIT
+
+# A fresh HOME: MeshLab's saved window layout and recent files must not change the picture.
+HOME=$tmp "$meshlab" "$@" >"$tmp/meshlab.log" 2>&1 &
+pid=$!
+
+# Wait for the main window (titled "MeshLab <version> - [file]"), then for the first frames.
+for _ in $(seq 1 60); do
+  if xwininfo -root -tree 2>/dev/null | grep -q '"MeshLab [0-9]'; then break; fi
+  if ! kill -0 "$pid" 2>/dev/null; then
+    echo "FAIL: meshlab exited before showing a window" >&2
+    cat "$tmp/meshlab.log" >&2
+    exit 1
+  fi
+  sleep 0.5
+done
+xwininfo -root -tree | grep -q '"MeshLab [0-9]' || { echo "FAIL: no MeshLab window after 30 s" >&2; exit 1; }
+sleep "${THERMODEC_SCREENSHOT_DELAY:-4}"
+# The main window only (there is no window manager to size it to the screen).
+window=$(xwininfo -root -tree | grep '"MeshLab [0-9]' | head -1 | awk '{print $1}')
+import -window "$window" "$tmp/shot.png"
+mv "$tmp/shot.png" "$out"
+
+# A rendered scene has many colours; a blank or black screen has a handful.
+colours=$(identify -format '%k' "$out")
+echo "screenshot $out: $(identify -format '%wx%h' "$out"), $colours colours"
+if [ "$colours" -lt 50 ]; then
+  echo "FAIL: the screenshot looks empty ($colours colours)" >&2
+  exit 1
+fi
+grep -E "thermodec|Thermal" "$tmp/meshlab.log" || true
