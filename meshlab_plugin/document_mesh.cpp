@@ -162,6 +162,7 @@ std::vector<MeshModel*> add_layers(MeshDocument& md, const DocumentMesh& dm,
       const QString name = QString::fromStdString(dm.mesh.node_names[n]) + " " + suffix;
       MeshModel* layer = md.addNewMesh("", name, false);
       fill_layer(layer->cm, mesh, faces_of_node[n]);
+      layer->cm.Tr = md.getMesh(dm.node_ids[n])->cm.Tr;
       layer->updateDataMask(MeshModel::MM_FACECOLOR);
       for (auto& face : layer->cm.face) face.C() = node_color(n, node_count);
       finish(layer);
@@ -171,8 +172,10 @@ std::vector<MeshModel*> add_layers(MeshDocument& md, const DocumentMesh& dm,
   }
   std::vector<int> all(mesh.num_faces());
   for (int f = 0; f < mesh.num_faces(); ++f) all[f] = f;
-  MeshModel* layer = md.addNewMesh("", md.mm()->label() + " " + suffix, false);
+  MeshModel* source = md.mm();
+  MeshModel* layer = md.addNewMesh("", source->label() + " " + suffix, false);
   fill_layer(layer->cm, mesh, all);
+  layer->cm.Tr = source->cm.Tr;
   if (dm.source == NodeSource::FaceQuality) {
     layer->updateDataMask(MeshModel::MM_FACEQUALITY | MeshModel::MM_FACECOLOR);
     for (int f = 0; f < mesh.num_faces(); ++f) {

@@ -3,6 +3,10 @@
 //! algorithm lives here: the filters gather a thermodec::Mesh, call the core, and scatter the
 //! per-face results back onto the faces they came from.
 //!
+//! Coordinates are each layer's vertex coordinates; layer matrices (cm.Tr, e.g. from an .mlp)
+//! are not applied, and new layers inherit their source layer's matrix, so a result sits where
+//! its input is drawn. Layers of one document must therefore share one frame.
+//!
 //! Units: MeshLab coordinates are taken as metres (thermodec's unit); scale the layer first
 //! (Filters > Normals, Curvatures and Orientation > Transform: Scale) if the file is in mm.
 #include <common/meshmodel.h>
