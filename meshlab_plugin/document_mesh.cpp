@@ -1,6 +1,10 @@
 #include "document_mesh.h"
 
+#include <QFileInfo>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <string>
 
@@ -10,6 +14,15 @@ namespace thermodec_meshlab {
 namespace {
 
 std::string label(const MeshModel& layer) { return layer.label().toStdString(); }
+
+// A layer's node name: its label without a mesh-file extension, so that the layers of a
+// one-file-per-node project ("body_px.ply") match the model file's node names ("body_px").
+std::string node_name(const MeshModel& layer) {
+  const QFileInfo info(layer.label());
+  const QString ext = info.suffix().toLower();
+  if (ext == "ply" || ext == "obj" || ext == "stl" || ext == "off") return info.completeBaseName().toStdString();
+  return label(layer);
+}
 
 // Appends the live part of `layer` to `dm`; returns the number of faces appended.
 int append_layer(DocumentMesh& dm, MeshModel& layer, int node) {
@@ -76,7 +89,7 @@ DocumentMesh mesh_with_nodes(MeshDocument& md) {
       const int node = static_cast<int>(dm.node_ids.size());
       append_layer(dm, *layer, node);
       dm.node_ids.push_back(layer->id());
-      dm.mesh.node_names.push_back(label(*layer));
+      dm.mesh.node_names.push_back(node_name(*layer));
     }
     return dm;
   }

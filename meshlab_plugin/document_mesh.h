@@ -45,8 +45,9 @@ struct DocumentMesh {
 DocumentMesh mesh_from_layer(MeshModel& layer);
 
 //! The document's nodal breakdown: with more than one mesh layer, every layer is one node
-//! named after its label; with one layer, the current layer's per-face quality holds node ids
-//! (integers >= 0, named "node_<id>"; ids need not be contiguous).
+//! named after its label (without a .ply/.obj/.stl/.off extension); with one layer, the
+//! current layer's per-face quality holds node ids (integers >= 0, named "node_<id>"; ids need
+//! not be contiguous).
 //! \throw thermodec::InvalidInput on an empty document or layer, a single layer without face
 //! quality ("no nodes: run Thermal: assign nodes first"), or a quality that is not a
 //! non-negative integer (naming the face).
