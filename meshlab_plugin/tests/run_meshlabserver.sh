@@ -3,7 +3,8 @@
 # creates a GL context; QT_QPA_PLATFORM=offscreen aborts), then checks the result.
 #
 #   run_meshlabserver.sh MESHLABSERVER WORKDIR INPUT SCRIPT.mlx OUT.ply [options] [-- check_ply args]
-#     INPUT: one mesh, or several separated by commas (one layer each: a multi-layer document)
+#     INPUT: one mesh, or several separated by commas (one layer each: a multi-layer document),
+#            or a MeshLab project (.mlp)
 #     --expect-log REGEX   the run's output must match REGEX (grep -E); repeatable
 #     --expect-fail REGEX  the script must fail (non-zero exit, no OUT.ply) with REGEX in the output
 #     --save-mask "fq fc"  meshlabserver -m mask (default "fq fc": face quality and colour)
@@ -31,7 +32,9 @@ log=$work/$(basename "$out").log
 set +e
 IFS=',' read -ra inputs <<<"$input"
 in_args=()
-for i in "${inputs[@]}"; do in_args+=(-i "$i"); done
+for i in "${inputs[@]}"; do
+  case $i in *.mlp) in_args+=(-p "$i") ;; *) in_args+=(-i "$i") ;; esac
+done
 xvfb-run -a "$server" "${in_args[@]}" -o "$out" -m $mask -s "$script" >"$log" 2>&1
 rc=$?
 set -e
