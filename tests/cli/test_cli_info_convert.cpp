@@ -1,5 +1,6 @@
 // The CLI's contract for `info` and `convert`: exit 0 on success, 1 on bad input with a
 // one-line reason on stderr, outputs never overwrite inputs.
+#include <unistd.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -29,7 +30,7 @@ std::string read_text(const fs::path& p) {
 }
 
 fs::path temp_dir(const std::string& name) {
-  auto d = fs::temp_directory_path() / ("thermodec_test_cli_io_" + name);
+  auto d = fs::temp_directory_path() / ("thermodec_test_cli_io_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(d);
   fs::create_directories(d);
   return d;

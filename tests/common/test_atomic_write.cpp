@@ -1,3 +1,4 @@
+#include <unistd.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -12,7 +13,7 @@ using namespace thermodec;
 
 namespace {
 fs::path temp_dir(const char* name) {
-  fs::path d = fs::temp_directory_path() / ("thermodec_test_" + std::string(name));
+  fs::path d = fs::temp_directory_path() / ("thermodec_test_" + std::to_string(::getpid()) + "_" + std::string(name));
   fs::remove_all(d);
   fs::create_directories(d);
   return d;

@@ -126,3 +126,25 @@ TEST(OrbitLoads, eclipse_steps_get_no_direct_sun_and_same_seed_is_bit_identical)
     }
   EXPECT_EQ(a.reflected_solar_W.sum(), 0.0);  // convex: nothing reflects onto itself
 }
+
+TEST(CubeLoads, inertial_attitude_earth_view_from_escaping_rays_matches_closed_form) {
+  // Equatorial orbit, inertial attitude: at t = 0 the spacecraft is on ECI +X, so the Earth is
+  // along body -X. The Earth moves in body axes, so the escaping-hemisphere path is used:
+  // cosine-weighted Sobol rays, the cone edge a discontinuity: ~N^-3/4 (4096 rays: < 0.5 %).
+  ThermalModel model = model_with({"px", "mx", "py", "my", "pz", "mz"}, {{"paint", 0.5, 0.8}});
+  add_cube(model.mesh, 0.5, {0, 1, 2, 3, 4, 5});
+  model.environment.type = EnvironmentType::orbit;
+  model.environment.attitude = Attitude::inertial;
+  model.environment.inclination_deg = 0.0;
+  model.environment.altitude_km = 600.0;
+  model.analysis.steps_per_orbit = 4;
+  const Loads l = loads_of(model, {}, false);
+  const double r = orbit_radius_m(600.0), H = r / kEarthRadius_m, x = std::sqrt(H * H - 1.0);
+  const double F_nadir = 1.0 / (H * H), F_side = (std::atan(1.0 / x) - x / (H * H)) / 3.14159265358979323846;
+  const double q = 0.8 * 237.0;
+  EXPECT_NEAR(l.earth_ir_W(1, 0), q * F_nadir, 0.01 * q * F_nadir);
+  EXPECT_EQ(l.earth_ir_W(0, 0), 0.0);
+  for (int n : {2, 3, 4, 5}) EXPECT_NEAR(l.earth_ir_W(n, 0), q * F_side, 0.01 * q * F_side) << n;
+  // A quarter orbit later the Earth is along body -Y.
+  EXPECT_NEAR(l.earth_ir_W(3, 1), q * F_nadir, 0.01 * q * F_nadir);
+}

@@ -1,5 +1,6 @@
 #pragma once
 // Small hand-built meshes and file helpers shared by the mesh tests.
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -9,7 +10,7 @@
 namespace thermodec::test {
 
 inline std::filesystem::path temp_dir(const std::string& name) {
-  auto d = std::filesystem::temp_directory_path() / ("thermodec_test_mesh_" + name);
+  auto d = std::filesystem::temp_directory_path() / ("thermodec_test_mesh_" + std::to_string(::getpid()) + "_" + name);
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;

@@ -237,6 +237,88 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   return out;
 }
 
+// For attitudes in which the Earth moves in body axes (sun-pointing, inertial), tracing Earth
+// rays at every step would cost steps x the nadir case. Instead each side traces once a set of
+// cosine-weighted hemisphere rays and keeps the directions that escape the spacecraft; at each
+// step, the escaping directions that point into the Earth's cone are its Earth hits
+// (F = hits / N). The spacecraft is treated as a point against the Earth distance (metres
+// against thousands of kilometres). Noisier than the cone sampling at equal ray counts (the
+// cone edge is a discontinuity of the integrand), but independent of the step count.
+struct EscapingRays {
+  Eigen::Matrix<float, Eigen::Dynamic, 3> directions;  // all sides, side s owning [begin[s], begin[s+1])
+  std::vector<int> begin;
+  int rays = 0;
+};
+
+EscapingRays escaping_rays(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides, int rays,
+                           std::uint64_t seed) {
+  const int ns = sides.size();
+  const auto sobol = sampling::sobol_4d(rays);
+  std::vector<std::vector<Eigen::Vector3f>> per_side(ns);
+  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
+    std::vector<RayQuery> batch;
+    std::vector<std::uint8_t> blocked;
+    for (int s = range.begin(); s < range.end(); ++s) {
+      const Side& g = geo[s];
+      if (g.area <= 0.0) continue;
+      Eigen::Vector3d t, u;
+      orthonormal_frame(g.normal, t, u);
+      const auto sd = side_seeds(seed, sides.key[s], 3);
+      batch.clear();
+      std::vector<Eigen::Vector3f> dirs;
+      for (int k = 0; k < rays; ++k) {
+        const auto& q = sobol[k];
+        const Eigen::Vector2d uv(scrambled(q[0], sd[0]), scrambled(q[1], sd[1]));
+        const double r2 = scrambled(q[2], sd[2]), phi = 2.0 * kPi * scrambled(q[3], sd[3]);
+        const double st = std::sqrt(r2), ct = std::sqrt(std::max(0.0, 1.0 - r2));  // Malley
+        const Eigen::Vector3d d = st * std::cos(phi) * t + st * std::sin(phi) * u + ct * g.normal;
+        batch.push_back(make_ray(on_triangle(uv, g.a, g.b, g.c) + g.offset * g.normal, d, 1e30));
+        dirs.push_back(d.cast<float>());
+      }
+      scene.occluded(batch, blocked);
+      for (int k = 0; k < rays; ++k)
+        if (!blocked[k]) per_side[s].push_back(dirs[k]);
+    }
+  });
+  EscapingRays out;
+  out.rays = rays;
+  out.begin.assign(ns + 1, 0);
+  for (int s = 0; s < ns; ++s) out.begin[s + 1] = out.begin[s] + static_cast<int>(per_side[s].size());
+  out.directions.resize(out.begin.back(), 3);
+  for (int s = 0; s < ns; ++s)
+    for (size_t k = 0; k < per_side[s].size(); ++k) out.directions.row(out.begin[s] + k) = per_side[s][k].transpose();
+  return out;
+}
+
+// Per side, at one step: F_side->Earth and sum over Earth hits of w max(0, n_E . sun).
+void earth_view_from_escaping(const EscapingRays& esc, const Eigen::Vector3d& earth_dir_in, double distance_m,
+                              const Eigen::Vector3d& sun, Eigen::VectorXd& view_factor, Eigen::VectorXd& lit_sum) {
+  const int ns = static_cast<int>(esc.begin.size()) - 1;
+  const Eigen::Vector3d e = earth_dir_in.normalized();
+  const double sin_half = kEarthRadius_m / distance_m, cos_half = std::sqrt(1.0 - sin_half * sin_half);
+  const double R2 = kEarthRadius_m * kEarthRadius_m, r2 = distance_m * distance_m;
+  const double w = 1.0 / esc.rays;
+  view_factor.setZero(ns);
+  lit_sum.setZero(ns);
+  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
+    for (int s = range.begin(); s < range.end(); ++s) {
+      double f = 0.0, lit = 0.0;
+      for (int k = esc.begin[s]; k < esc.begin[s + 1]; ++k) {
+        const Eigen::Vector3d d = esc.directions.row(k).transpose().cast<double>();
+        const double c = d.dot(e);
+        if (c <= cos_half) continue;
+        // Nearest intersection with the sphere of the ray from the body origin.
+        const double t = distance_m * c - std::sqrt(std::max(0.0, R2 - r2 * (1.0 - c * c)));
+        const Eigen::Vector3d n = (t * d - distance_m * e) / kEarthRadius_m;
+        f += w;
+        lit += w * std::max(0.0, n.dot(sun));
+      }
+      view_factor[s] = f;
+      lit_sum[s] = lit;
+    }
+  });
+}
+
 bool same_direction(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).norm() < 1e-12; }
 
 }  // namespace
@@ -312,29 +394,36 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       incident_direct(s, k) = flux * geo[s].area * std::max(0.0, geo[s].normal.dot(st.sun_direction_body)) * lit[s];
   }
 
-  // Earth: view rays once per distinct Earth direction (once for a nadir attitude).
+  // Earth: cone rays once if the Earth is fixed in body axes (nadir), else escaping
+  // hemisphere rays once, intersected with the Earth's cone at every step.
   if (orbit) {
     if (progress) progress("Earth view factors");
     const double distance = orbit_radius_m(env.altitude_km);
+    bool earth_fixed = true;
+    for (int k = 1; k < steps; ++k) earth_fixed &= same_direction(states[k].earth_direction_body, states[0].earth_direction_body);
     EarthHits hits;
-    Eigen::Vector3d last_earth = Eigen::Vector3d::Zero();
+    EscapingRays escaping;
+    if (earth_fixed)
+      hits = earth_hits(scene, geo, sides, states[0].earth_direction_body, distance, settings.earth_rays_per_face,
+                        settings.earth_pilot_rays, settings.seed);
+    else
+      escaping = escaping_rays(scene, geo, sides, settings.earth_rays_per_face, settings.seed);
+    Eigen::VectorXd view_factor, lit_sum(ns);
     for (int k = 0; k < steps; ++k) {
       const OrbitState& st = states[k];
-      if (hits.empty() || !same_direction(st.earth_direction_body, last_earth)) {
-        hits = earth_hits(scene, geo, sides, st.earth_direction_body, distance, settings.earth_rays_per_face,
-                          settings.earth_pilot_rays,
-                          settings.seed);
-        last_earth = st.earth_direction_body;
+      if (earth_fixed) {
+        const Eigen::Vector3f sun = st.sun_direction_body.cast<float>();
+        const Eigen::VectorXf lit = (hits.normals * sun).cwiseMax(0.0f).cwiseProduct(hits.weights);
+        for (int s = 0; s < ns; ++s) lit_sum[s] = lit.segment(hits.begin[s], hits.begin[s + 1] - hits.begin[s]).sum();
+        view_factor = hits.view_factor;
+      } else {
+        earth_view_from_escaping(escaping, st.earth_direction_body, distance, st.sun_direction_body, view_factor, lit_sum);
       }
-      const Eigen::Vector3f sun = st.sun_direction_body.cast<float>();
-      const Eigen::VectorXf lit = (hits.normals * sun).cwiseMax(0.0f).cwiseProduct(hits.weights);
       for (int s = 0; s < ns; ++s) {
-        const int count = hits.begin[s + 1] - hits.begin[s];
-        if (count == 0) continue;
-        const double lit_sum = lit.segment(hits.begin[s], count).sum();
-        incident_albedo(s, k) = env.albedo * flux * geo[s].area * lit_sum;
+        if (view_factor[s] == 0.0) continue;
+        incident_albedo(s, k) = env.albedo * flux * geo[s].area * lit_sum[s];
         const int node = sides.node[s];
-        if (node >= 0) loads.earth_ir_W(node, k) += eps[s] * env.earth_ir_flux_W_per_m2 * geo[s].area * hits.view_factor[s];
+        if (node >= 0) loads.earth_ir_W(node, k) += eps[s] * env.earth_ir_flux_W_per_m2 * geo[s].area * view_factor[s];
       }
     }
   }

@@ -1,0 +1,73 @@
+#pragma once
+//! The product's main job: reduce a thermal model's mesh as far as a temperature tolerance
+//! allows, node by node, guided by simulation, and verify the result (paper §IV-V).
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "thermodec/reduction/reduction_reference.h"
+#include "thermodec/reduction/sensitivity.h"
+#include "thermodec/reduction/strategies.h"
+
+namespace thermodec {
+
+enum class ReductionStrategy { informed, uniform };
+
+struct ReduceSettings {
+  double tolerance_K = 0.5;  //!< max |dT| over nodes and the orbit allowed vs the reference [K]
+  ReductionStrategy strategy = ReductionStrategy::informed;
+  ReductionReferenceSettings reference;
+  SensitivityOptions sensitivity;  //!< its cap_K is replaced by sensitivity_cap_factor x tolerance
+  double sensitivity_cap_factor = 2.0;
+  UniformOptions uniform;          //!< tolerance taken from tolerance_K
+  InformedOptions informed;        //!< tolerance taken from tolerance_K
+  int noise_runs = 2;              //!< independent-seed runs measuring the noise floor (>= 2)
+  //! Extra trials for the predicted-vs-real plot: targets as multiples of the tolerance.
+  std::vector<double> prediction_targets{0.1, 0.25, 0.5, 1.0, 2.0};
+  std::function<void(const std::string&)> progress;  //!< human-readable progress lines
+};
+
+struct NodeReduction {
+  std::string name;
+  int faces_before = 0, faces_after = 0;
+  double requested_ratio = 0.0;   //!< ratio asked of the decimator
+  double ratio = 0.0;             //!< achieved: 1 - faces_after / faces_before
+  double predicted_ratio = 0.0;   //!< informed: the paper's prediction from the curve alone
+  double max_abs_dT_K = 0.0;      //!< this node's max |dT| over the orbit in the verified model
+  double area_before_m2 = 0.0, area_after_m2 = 0.0;
+};
+
+struct PredictionPoint {
+  double target_K = 0.0;     //!< tolerance the prediction was made for
+  double predicted_K = 0.0;  //!< largest single-node difference on the curves at those ratios
+  double real_K = 0.0;       //!< simulated difference of all nodes reduced together
+  int faces_after = 0;
+};
+
+struct ReductionRun {
+  std::string strategy;
+  double tolerance_K = 0.0;
+  double noise_floor_K = 0.0;     //!< max |dT| between independent-seed reference runs
+  int faces_before = 0, faces_after = 0;
+  double max_temperature_difference_K = 0.0;  //!< of the verified reduced model (full recompute)
+  std::string max_difference_node;
+  double max_difference_time_s = 0.0;
+  std::vector<NodeReduction> nodes;
+  std::vector<SensitivityCurve> curves;       //!< informed only
+  std::vector<PredictionPoint> prediction;    //!< informed only
+  ReductionOutcome outcome;
+  Candidate reduced;                          //!< the verified reduced model and its result
+  SimulationResult reference;
+  Mesh reference_mesh;                         //!< the input mesh (for pictures)
+  int trials = 0;
+  double seconds_total = 0.0, seconds_noise = 0.0, seconds_sensitivity = 0.0, seconds_search = 0.0;
+};
+
+//! Runs the whole reduction: reference simulation, noise floor, (informed) sensitivity and
+//! prediction, strategy search, full verification.
+//! \throw InvalidInput if the tolerance is not finite and positive, or is below twice the
+//! measured noise floor (the message says what to change); SolverError from the stages.
+ReductionRun reduce_model(const ThermalModel& model, const ReduceSettings& settings);
+
+}  // namespace thermodec

@@ -1,0 +1,38 @@
+#pragma once
+//! Per-node sensitivity analysis (paper §V.A): each node alone is decimated by increasing
+//! ratios, the rest of the model unchanged, and the max temperature difference of the whole
+//! model over the whole orbit is recorded, until it exceeds a cap.
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "thermodec/reduction/trial.h"
+
+namespace thermodec {
+
+//! One node's curve: samples in increasing ratio order.
+struct SensitivityCurve {
+  int node = -1;
+  std::vector<double> ratios;          //!< fraction of the node's faces removed [-]
+  std::vector<double> max_abs_dT_K;    //!< max |dT| of the whole model [K]
+  std::vector<int> faces_after;        //!< faces the node kept
+};
+
+struct SensitivityOptions {
+  //! Ratios tried in increasing order (the sweep of one node stops once the cap is exceeded).
+  std::vector<double> ratios{0.2, 0.4, 0.5, 0.6, 0.7, 0.8, 0.85, 0.9, 0.93, 0.96, 0.98};
+  double cap_K = 1.0;      //!< stop a node's sweep once max |dT| exceeds this [K]
+  bool parallel = true;    //!< nodes swept concurrently (TBB); results independent of it
+  //! Called after each node's sweep: (nodes done, nodes total). Thread-safe calls.
+  std::function<void(int, int)> progress;
+};
+
+//! Sweeps each node in `nodes` (all nodes if empty) over options.ratios.
+//! A node whose decimator cannot go further (faces_after stops decreasing) ends its sweep.
+//! \throw InvalidInput if ratios are not increasing within [0, 1) or cap_K <= 0.
+std::vector<SensitivityCurve> sensitivity_analysis(int num_nodes, const TrialFunction& trial,
+                                                   const SensitivityOptions& options,
+                                                   const std::vector<int>& nodes = {});
+
+}  // namespace thermodec

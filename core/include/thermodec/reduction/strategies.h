@@ -1,0 +1,64 @@
+#pragma once
+//! Reduction strategies over a TrialFunction: the paper's physics-unaware uniform loop (§IV)
+//! and the physics-informed prediction (§V), extended with measured back-off and push.
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "thermodec/reduction/sensitivity.h"
+#include "thermodec/reduction/trial.h"
+
+namespace thermodec {
+
+//! One evaluated candidate, in the order evaluated.
+struct ReductionStep {
+  Eigen::VectorXd ratio_per_node;
+  TrialResult result;
+  bool within_tolerance = false;
+  std::string action;  //!< "uniform 0.45", "predicted", "back off node 3", "push node 5", "verify"
+};
+
+struct ReductionOutcome {
+  Eigen::VectorXd ratio_per_node;   //!< the returned candidate's ratios
+  TrialResult verified;             //!< its full verification (always <= tolerance)
+  std::vector<ReductionStep> history;
+  Eigen::VectorXd predicted_ratio_per_node;  //!< informed: the paper's prediction before back-off/push
+};
+
+struct UniformOptions {
+  double tolerance_K = 0.5;
+  double step = 0.05;        //!< global ratio increment per iteration
+  double max_ratio = 0.98;
+  int bisection_steps = 3;   //!< refine between the last ratio within tolerance and the first beyond
+  std::function<void(const std::string&)> log;
+};
+
+//! §IV: one global ratio for every node (mapped to per-node ratios by `ratios_for_global`,
+//! e.g. the deficit rule), raised step by step with a trial each time until max |dT| exceeds
+//! the tolerance; returns the last candidate within it, confirmed by `verify`.
+//! \throw InvalidInput if tolerance_K <= 0 or step not in (0, 1).
+ReductionOutcome uniform_reduction(
+    const std::function<Eigen::VectorXd(double global_ratio)>& ratios_for_global,
+    const TrialFunction& trial, const TrialFunction& verify, const UniformOptions& options);
+
+struct InformedOptions {
+  double tolerance_K = 0.5;
+  int max_evaluations = 40;   //!< bound on trials after the prediction (back-off + push)
+  bool push = true;           //!< use remaining slack to reduce nodes further
+  bool parallel = true;       //!< leave-one-out contributions measured concurrently
+  std::function<void(const std::string&)> log;
+};
+
+//! §V.B and beyond. Starts from each node's feasible ratio on its own curve (the paper's
+//! prediction). While the combined candidate exceeds the tolerance (coupled nodes make the
+//! prediction optimistic), measures each reduced node's contribution by a leave-one-out
+//! trial and backs off the largest contributor one sample on its curve. Then, while slack
+//! remains, pushes nodes one sample further in order of smallest predicted increase, keeping
+//! only pushes that stay within tolerance. The returned candidate always passed `verify`
+//! (a full, non-incremental evaluation); if nothing else does, the unreduced model is returned.
+ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves, int num_nodes,
+                                    const TrialFunction& trial, const TrialFunction& verify,
+                                    const InformedOptions& options);
+
+}  // namespace thermodec

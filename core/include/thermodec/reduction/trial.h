@@ -1,0 +1,24 @@
+#pragma once
+//! A reduction trial: decimate each node by its own ratio, simulate, and compare with the
+//! reference simulation. The strategies (uniform, sensitivity, informed) only see this
+//! function, so they are plain logic over it, testable with synthetic models, and trials can
+//! later be spread over processes (each depends only on the reference and its ratios).
+#include <Eigen/Core>
+#include <functional>
+
+namespace thermodec {
+
+//! What one trial measured.
+struct TrialResult {
+  double max_abs_dT_K = 0.0;           //!< max over nodes and time of |T_candidate - T_reference| [K]
+  Eigen::VectorXd node_max_abs_dT_K;   //!< per node: max over time of |dT| [K]
+  Eigen::VectorXi node_faces_after;    //!< per node: faces kept by the decimator
+  int faces_after = 0;                 //!< total faces of the candidate mesh
+};
+
+//! Evaluates a candidate defined by `ratio_per_node` (fraction of each node's faces to
+//! remove, in [0, 1): 0 keeps the node as is, 0.9 keeps about a tenth). Must be thread-safe
+//! and deterministic: the same ratios always give the same result.
+using TrialFunction = std::function<TrialResult(const Eigen::VectorXd& ratio_per_node)>;
+
+}  // namespace thermodec

@@ -1,0 +1,132 @@
+#include "thermodec/reduction/reduce_model.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <tbb/parallel_for.h>
+
+#include "thermodec/common/errors.h"
+#include "thermodec/decimation/global_ratio.h"
+#include "thermodec/reduction/prediction.h"
+
+namespace thermodec {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+std::string fmt(const char* f, double a, double b = 0, double c = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, f, a, b, c);
+  return buf;
+}
+}  // namespace
+
+ReductionRun reduce_model(const ThermalModel& model, const ReduceSettings& settings) {
+  const double tol = settings.tolerance_K;
+  if (!std::isfinite(tol) || tol <= 0)
+    throw InvalidInput("tolerance must be a finite temperature difference > 0 K (got " + std::to_string(tol) + ")");
+  if (settings.noise_runs < 2) throw InvalidInput("noise_runs must be >= 2");
+  auto say = [&](const std::string& s) { if (settings.progress) settings.progress(s); };
+  const auto t0 = Clock::now();
+  ReductionRun run;
+  run.strategy = settings.strategy == ReductionStrategy::informed ? "informed" : "uniform";
+  run.tolerance_K = tol;
+
+  // Noise floor first: a tolerance the Monte Carlo noise could eat is refused before any work.
+  say("noise floor: simulating the reference with " + std::to_string(settings.noise_runs) + " seeds");
+  const NoiseFloor noise = noise_floor(model, settings.noise_runs, settings.reference.simulation);
+  run.noise_floor_K = noise.worst.max_abs_K;
+  run.seconds_noise = since(t0);
+  say(fmt("noise floor %.4f K (%.1f s per simulation)", run.noise_floor_K,
+          noise.run_time_s.empty() ? 0.0 : noise.run_time_s.front()));
+  if (tol < 2.0 * run.noise_floor_K)
+    throw InvalidInput(fmt("tolerance %.4g K is below twice the measured noise floor (%.4g K): "
+                           "ask for at least %.4g K or raise radiation.rays_per_face",
+                           tol, run.noise_floor_K, 2.0 * run.noise_floor_K));
+
+  say("reference: preparing reusable rays and simulation");
+  const ReductionReference ref(model, settings.reference);
+  run.reference = ref.result();
+  run.reference_mesh = model.mesh;
+  const int n = static_cast<int>(model.nodes.size());
+  const Eigen::VectorXi faces = ref.faces_per_node();
+  run.faces_before = faces.sum();
+  auto trial = [&](const Eigen::VectorXd& r) { return ref.trial(r); };
+  auto verify = [&](const Eigen::VectorXd& r) { return ref.verify(r); };
+  auto log = [&](const std::string& s) { say("  " + s); };
+
+  const auto t_search = Clock::now();
+  if (settings.strategy == ReductionStrategy::uniform) {
+    const Eigen::VectorXd reachable = ref.max_ratio_per_node();
+    auto ratios_for_global = [&](double g) {
+      return node_ratios_for_global_ratio(faces, g, settings.reference.decimation.min_faces_per_node, reachable);
+    };
+    UniformOptions uo = settings.uniform;
+    uo.tolerance_K = tol;
+    uo.log = log;
+    say("uniform reduction: one global ratio, raised until the tolerance is exceeded");
+    run.outcome = uniform_reduction(ratios_for_global, trial, verify, uo);
+  } else {
+    SensitivityOptions so = settings.sensitivity;
+    so.cap_K = settings.sensitivity_cap_factor * tol;
+    so.progress = [&](int done, int total) {
+      say("  sensitivity: " + std::to_string(done) + "/" + std::to_string(total) + " nodes swept (" +
+          std::to_string(ref.trials_evaluated()) + " trials)");
+    };
+    say("sensitivity analysis: each node alone, increasing ratios, cap " + fmt("%.3g K", so.cap_K));
+    const auto ts = Clock::now();
+    run.curves = sensitivity_analysis(n, trial, so);
+    run.seconds_sensitivity = since(ts);
+    InformedOptions io = settings.informed;
+    io.tolerance_K = tol;
+    io.log = log;
+    say("prediction and verified reduction");
+    run.outcome = informed_reduction(run.curves, n, trial, verify, io);
+
+    // Predicted vs real (paper Fig. 11): for several targets, the curves' prediction and the
+    // simulated difference of all nodes reduced together.
+    run.prediction.resize(settings.prediction_targets.size());
+    tbb::parallel_for(size_t(0), settings.prediction_targets.size(), [&](size_t i) {
+      PredictionPoint& p = run.prediction[i];
+      p.target_K = settings.prediction_targets[i] * tol;
+      Eigen::VectorXd r = Eigen::VectorXd::Zero(n);
+      for (const auto& c : run.curves) {
+        r[c.node] = feasible_ratio(c, p.target_K);
+        p.predicted_K = std::max(p.predicted_K, predicted_difference_K(c, r[c.node]));
+      }
+      const TrialResult t = ref.trial(r);
+      p.real_K = t.max_abs_dT_K;
+      p.faces_after = t.faces_after;
+    });
+  }
+  run.seconds_search = since(t_search);
+
+  // The returned model is the verified candidate, rebuilt in full (nothing reused).
+  run.reduced = ref.candidate(run.outcome.ratio_per_node, true);
+  run.faces_after = run.reduced.model.mesh.num_faces();
+  run.max_temperature_difference_K = run.reduced.difference.max_abs_K;
+  run.max_difference_node = run.reduced.difference.node;
+  run.max_difference_time_s = run.reduced.difference.time_s;
+  if (!(run.max_temperature_difference_K <= tol))  // cannot happen: the strategies verified it
+    throw SolverError("internal: the verified model exceeds the tolerance on rebuild");
+  for (int k = 0; k < n; ++k) {
+    NodeReduction nr;
+    nr.name = model.nodes[k].name;
+    const auto& st = run.reduced.decimation.nodes[k];
+    nr.faces_before = st.faces_before;
+    nr.faces_after = st.faces_after;
+    nr.requested_ratio = run.outcome.ratio_per_node[k];
+    nr.ratio = 1.0 - static_cast<double>(st.faces_after) / std::max(1, st.faces_before);
+    nr.predicted_ratio = run.outcome.predicted_ratio_per_node.size() ? run.outcome.predicted_ratio_per_node[k] : 0.0;
+    nr.max_abs_dT_K = run.reduced.trial.node_max_abs_dT_K[k];
+    nr.area_before_m2 = st.area_before_m2;
+    nr.area_after_m2 = st.area_after_m2;
+    run.nodes.push_back(nr);
+  }
+  run.trials = ref.trials_evaluated();
+  run.seconds_total = since(t0);
+  return run;
+}
+
+}  // namespace thermodec

@@ -1,0 +1,129 @@
+#include "thermodec/reduction/reduction_reference.h"
+
+#include <atomic>
+#include <map>
+#include <vector>
+
+#include "thermodec/common/errors.h"
+#include "thermodec/environment/external_loads.h"
+#include "thermodec/radiation/face_view_factors.h"
+#include "thermodec/radiation/radiation_reference.h"
+#include "thermodec/radiation/ray_scene.h"
+
+namespace thermodec {
+
+struct ReductionReference::Impl {
+  ThermalModel model;
+  ReductionReferenceSettings settings;
+  SimulationResult result;
+  Eigen::VectorXi faces_per_node;
+  std::unique_ptr<RadiationReference> radiation;
+  mutable std::mutex cache_mutex;
+  mutable std::map<std::vector<double>, TrialResult> cache;
+  mutable std::atomic<int> evaluated{0};
+};
+
+TrialResult trial_result(const SimulationResult& reference, const SimulationResult& candidate,
+                         const DecimationResult& decimation) {
+  if (reference.temperature_K.rows() != candidate.temperature_K.rows() ||
+      reference.temperature_K.cols() != candidate.temperature_K.cols())
+    throw InvalidInput("candidate and reference results differ in size");
+  TrialResult t;
+  const Eigen::MatrixXd dT = (candidate.temperature_K - reference.temperature_K).cwiseAbs();
+  t.node_max_abs_dT_K = dT.rowwise().maxCoeff();
+  // note: NaN temperatures must not hide behind maxCoeff(): they fail every tolerance.
+  t.max_abs_dT_K = dT.array().isNaN().any() ? std::numeric_limits<double>::quiet_NaN()
+                                            : (dT.size() ? dT.maxCoeff() : 0.0);
+  const int n = static_cast<int>(reference.temperature_K.rows());
+  t.node_faces_after = Eigen::VectorXi::Zero(n);
+  for (int k = 0; k < n && k < static_cast<int>(decimation.nodes.size()); ++k)
+    t.node_faces_after[k] = decimation.nodes[k].faces_after;
+  t.faces_after = decimation.mesh.num_faces();
+  return t;
+}
+
+ReductionReference::ReductionReference(const ThermalModel& model, const ReductionReferenceSettings& settings)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->model = model;
+  impl_->settings = settings;
+  impl_->settings.simulation.progress = {};  // trials run by the hundred: keep them quiet
+  const int n = static_cast<int>(model.nodes.size());
+  if (n < 1) throw InvalidInput("the model has no thermal nodes");
+  impl_->faces_per_node = Eigen::VectorXi::Zero(n);
+  for (int f = 0; f < model.mesh.num_faces(); ++f) {
+    const int k = model.mesh.face_node[f];
+    if (k < 0 || k >= n) throw InvalidInput("face " + std::to_string(f) + " has no thermal node");
+    ++impl_->faces_per_node[k];
+  }
+  for (int k = 0; k < n; ++k)
+    if (impl_->faces_per_node[k] == 0)
+      throw InvalidInput("node '" + model.nodes[k].name + "' has no faces in the mesh");
+  ModelSimulationSettings sim = settings.simulation;  // the caller's progress for the reference
+  impl_->result = simulate_model(model, sim);
+  impl_->radiation = std::make_unique<RadiationReference>(prepare_radiation(model, model.radiation));
+}
+
+ReductionReference::~ReductionReference() = default;
+
+const ThermalModel& ReductionReference::model() const { return impl_->model; }
+const SimulationResult& ReductionReference::result() const { return impl_->result; }
+const Eigen::VectorXi& ReductionReference::faces_per_node() const { return impl_->faces_per_node; }
+int ReductionReference::trials_evaluated() const { return impl_->evaluated; }
+
+Eigen::VectorXd ReductionReference::max_ratio_per_node() const {
+  const int n = static_cast<int>(impl_->model.nodes.size());
+  const DecimationResult d = decimate_nodes(impl_->model.mesh, Eigen::VectorXd::Constant(n, 0.999),
+                                            impl_->settings.decimation);
+  Eigen::VectorXd r(n);
+  for (int k = 0; k < n; ++k)
+    r[k] = 1.0 - static_cast<double>(d.nodes[k].faces_after) / std::max(1, d.nodes[k].faces_before);
+  return r;
+}
+
+Candidate ReductionReference::candidate(const Eigen::VectorXd& ratios, bool full) const {
+  const Impl& s = *impl_;
+  if (ratios.size() != static_cast<Eigen::Index>(s.model.nodes.size()))
+    throw InvalidInput("one ratio per node expected");
+  Candidate c;
+  c.decimation = decimate_nodes(s.model.mesh, ratios, s.settings.decimation);
+  c.model = s.model;
+  c.model.mesh = c.decimation.mesh;
+  if (full) {
+    c.result = simulate_model(c.model, s.settings.simulation);
+  } else {
+    // Same chain as simulate_model, but the IR couplings reuse the reference's rays and the
+    // loads are sampled with the same per-side seeds, so unchanged faces see unchanged rays.
+    FaceViewFactors vf;
+    const NodeCouplings couplings = radiative_couplings_incremental(*s.radiation, c.model, nullptr, &vf);
+    const RayScene scene(c.model.mesh);
+    ExternalLoadSettings load_settings = s.settings.simulation.loads;
+    load_settings.seed = c.model.radiation.seed;
+    const Loads loads = external_loads(c.model, scene, vf.sides,
+                                       load_settings.solar_reflections ? &vf : nullptr, load_settings);
+    c.result = simulate(c.model, couplings, loads, s.settings.simulation.solver);
+  }
+  c.difference = compare_results(s.result, c.result);
+  c.trial = trial_result(s.result, c.result, c.decimation);
+  return c;
+}
+
+TrialResult ReductionReference::trial(const Eigen::VectorXd& ratios) const {
+  std::vector<double> key(ratios.data(), ratios.data() + ratios.size());
+  {
+    std::lock_guard<std::mutex> lock(impl_->cache_mutex);
+    auto it = impl_->cache.find(key);
+    if (it != impl_->cache.end()) return it->second;
+  }
+  const TrialResult t = candidate(ratios, false).trial;
+  ++impl_->evaluated;
+  std::lock_guard<std::mutex> lock(impl_->cache_mutex);
+  impl_->cache.emplace(std::move(key), t);
+  return t;
+}
+
+TrialResult ReductionReference::verify(const Eigen::VectorXd& ratios) const {
+  ++impl_->evaluated;
+  return candidate(ratios, true).trial;
+}
+
+}  // namespace thermodec

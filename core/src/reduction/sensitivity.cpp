@@ -1,0 +1,62 @@
+#include "thermodec/reduction/sensitivity.h"
+
+#include <atomic>
+#include <cmath>
+#include <numeric>
+#include <tbb/parallel_for.h>
+
+#include "thermodec/common/errors.h"
+
+namespace thermodec {
+
+std::vector<SensitivityCurve> sensitivity_analysis(int num_nodes, const TrialFunction& trial,
+                                                   const SensitivityOptions& options,
+                                                   const std::vector<int>& nodes_in) {
+  if (num_nodes < 1) throw InvalidInput("sensitivity analysis needs at least one node");
+  if (!(options.cap_K > 0)) throw InvalidInput("sensitivity cap must be > 0 K");
+  if (options.ratios.empty()) throw InvalidInput("sensitivity analysis needs at least one ratio");
+  for (size_t i = 0; i < options.ratios.size(); ++i) {
+    const double r = options.ratios[i];
+    if (!(r > 0 && r < 1) || (i > 0 && !(r > options.ratios[i - 1])))
+      throw InvalidInput("sensitivity ratios must increase strictly within (0, 1)");
+  }
+  std::vector<int> nodes = nodes_in;
+  if (nodes.empty()) {
+    nodes.resize(num_nodes);
+    std::iota(nodes.begin(), nodes.end(), 0);
+  }
+  for (int n : nodes)
+    if (n < 0 || n >= num_nodes) throw InvalidInput("sensitivity node index out of range: " + std::to_string(n));
+
+  std::vector<SensitivityCurve> curves(nodes.size());
+  std::atomic<int> done{0};
+  // note: sweeps of different nodes are independent given the reference; within one node the
+  // sweep is sequential because it stops at the cap.
+  auto sweep = [&](size_t i) {
+    SensitivityCurve& c = curves[i];
+    c.node = nodes[i];
+    int last_faces = -1;
+    for (double r : options.ratios) {
+      Eigen::VectorXd ratios = Eigen::VectorXd::Zero(num_nodes);
+      ratios[c.node] = r;
+      const TrialResult res = trial(ratios);
+      const int faces = res.node_faces_after.size() > c.node ? res.node_faces_after[c.node] : -1;
+      if (faces >= 0 && faces == last_faces) break;  // the decimator cannot go further
+      c.ratios.push_back(r);
+      c.max_abs_dT_K.push_back(res.max_abs_dT_K);
+      c.faces_after.push_back(faces);
+      last_faces = faces;
+      if (!(res.max_abs_dT_K <= options.cap_K)) break;
+    }
+    const int d = ++done;
+    if (options.progress) options.progress(d, static_cast<int>(nodes.size()));
+  };
+  if (options.parallel) {
+    tbb::parallel_for(size_t(0), nodes.size(), sweep);
+  } else {
+    for (size_t i = 0; i < nodes.size(); ++i) sweep(i);
+  }
+  return curves;
+}
+
+}  // namespace thermodec

@@ -1,0 +1,199 @@
+#include "thermodec/reduction/strategies.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <tbb/parallel_for.h>
+
+#include "thermodec/common/errors.h"
+#include "thermodec/reduction/prediction.h"
+
+namespace thermodec {
+
+namespace {
+
+bool within(const TrialResult& r, double tol) { return r.max_abs_dT_K <= tol; }  // NaN fails
+
+std::string fmt_ratio(double r) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", r);
+  return buf;
+}
+
+}  // namespace
+
+ReductionOutcome uniform_reduction(
+    const std::function<Eigen::VectorXd(double)>& ratios_for_global, const TrialFunction& trial,
+    const TrialFunction& verify, const UniformOptions& o) {
+  if (!(o.tolerance_K > 0)) throw InvalidInput("tolerance must be > 0 K");
+  if (!(o.step > 0 && o.step < 1)) throw InvalidInput("uniform step must be in (0, 1)");
+  if (!(o.max_ratio > 0 && o.max_ratio < 1)) throw InvalidInput("max_ratio must be in (0, 1)");
+  auto log = [&](const std::string& s) { if (o.log) o.log(s); };
+
+  ReductionOutcome out;
+  auto evaluate = [&](double g, const TrialFunction& f, const char* what) {
+    ReductionStep s;
+    s.ratio_per_node = ratios_for_global(g);
+    s.result = f(s.ratio_per_node);
+    s.within_tolerance = within(s.result, o.tolerance_K);
+    s.action = std::string(what) + " " + fmt_ratio(g);
+    out.history.push_back(s);
+    log(s.action + ": faces " + std::to_string(s.result.faces_after) + ", max|dT| " +
+        std::to_string(s.result.max_abs_dT_K) + " K");
+    return s.within_tolerance;
+  };
+
+  double ok = 0.0, bad = -1.0;
+  const int n_steps = static_cast<int>(std::floor(o.max_ratio / o.step + 1e-9));
+  for (int i = 1; i <= n_steps; ++i) {
+    const double g = i * o.step;
+    if (evaluate(g, trial, "uniform")) ok = g;
+    else { bad = g; break; }
+  }
+  if (bad > 0)
+    for (int i = 0; i < o.bisection_steps; ++i) {
+      const double mid = 0.5 * (ok + bad);
+      if (evaluate(mid, trial, "bisect")) ok = mid;
+      else bad = mid;
+    }
+  // The incremental trial chose `ok`; a full verification must confirm it. Step back if not.
+  double g = ok;
+  while (true) {
+    out.ratio_per_node = ratios_for_global(g);
+    out.verified = verify(out.ratio_per_node);
+    ReductionStep s{out.ratio_per_node, out.verified, within(out.verified, o.tolerance_K),
+                    "verify " + fmt_ratio(g)};
+    out.history.push_back(s);
+    log(s.action + ": max|dT| " + std::to_string(out.verified.max_abs_dT_K) + " K");
+    if (s.within_tolerance || g <= 0.0) break;
+    g = std::max(0.0, g - o.step);
+  }
+  return out;
+}
+
+ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves, int num_nodes,
+                                    const TrialFunction& trial, const TrialFunction& verify,
+                                    const InformedOptions& o) {
+  if (!(o.tolerance_K > 0)) throw InvalidInput("tolerance must be > 0 K");
+  if (num_nodes < 1) throw InvalidInput("informed reduction needs at least one node");
+  auto log = [&](const std::string& s) { if (o.log) o.log(s); };
+  const double tol = o.tolerance_K;
+
+  std::vector<const SensitivityCurve*> curve_of(num_nodes, nullptr);
+  for (const auto& c : curves)
+    if (c.node >= 0 && c.node < num_nodes) curve_of[c.node] = &c;
+
+  ReductionOutcome out;
+  Eigen::VectorXd ratios = Eigen::VectorXd::Zero(num_nodes);
+  for (int k = 0; k < num_nodes; ++k)
+    if (curve_of[k]) ratios[k] = feasible_ratio(*curve_of[k], tol);
+  out.predicted_ratio_per_node = ratios;
+
+  int evaluations = 0;
+  auto record = [&](const Eigen::VectorXd& r, const TrialResult& res, const std::string& action) {
+    out.history.push_back({r, res, within(res, tol), action});
+    log(action + ": faces " + std::to_string(res.faces_after) + ", max|dT| " +
+        std::to_string(res.max_abs_dT_K) + " K");
+  };
+
+  TrialResult res = trial(ratios);
+  ++evaluations;
+  record(ratios, res, "predicted");
+
+  // Back-off: measured contributions (leave-one-out) decide which node gives way.
+  Eigen::VectorXd best = Eigen::VectorXd::Zero(num_nodes);
+  TrialResult best_verified;
+  bool have_best = false;
+  while (true) {
+    while (!within(res, tol) && ratios.maxCoeff() > 0.0 && evaluations < o.max_evaluations) {
+      std::vector<int> reduced;
+      for (int k = 0; k < num_nodes; ++k)
+        if (ratios[k] > 0) reduced.push_back(k);
+      std::vector<TrialResult> loo(reduced.size());
+      std::vector<Eigen::VectorXd> cand(reduced.size(), ratios);
+      for (size_t i = 0; i < reduced.size(); ++i)
+        cand[i][reduced[i]] = curve_of[reduced[i]] ? previous_ratio(*curve_of[reduced[i]], ratios[reduced[i]]) : 0.0;
+      auto run = [&](size_t i) { loo[i] = trial(cand[i]); };
+      if (o.parallel) tbb::parallel_for(size_t(0), reduced.size(), run);
+      else for (size_t i = 0; i < reduced.size(); ++i) run(i);
+      evaluations += static_cast<int>(reduced.size());
+      size_t pick = 0;
+      for (size_t i = 1; i < reduced.size(); ++i)
+        if (loo[i].max_abs_dT_K < loo[pick].max_abs_dT_K) pick = i;  // largest contribution
+      ratios = cand[pick];
+      res = loo[pick];
+      record(ratios, res, "back off node " + std::to_string(reduced[pick]) + " (contribution " +
+                              std::to_string(out.history.back().result.max_abs_dT_K - res.max_abs_dT_K) + " K)");
+    }
+    if (!within(res, tol)) {
+      if (ratios.maxCoeff() > 0.0) {  // evaluation budget spent: fall back to the reference
+        log("evaluation budget spent while backing off; returning the unreduced model");
+        ratios.setZero();
+      }
+    }
+    const TrialResult v = verify(ratios);
+    record(ratios, v, "verify");
+    if (within(v, tol)) {
+      best = ratios;
+      best_verified = v;
+      have_best = true;
+      break;
+    }
+    if (ratios.maxCoeff() <= 0.0) break;  // the reference itself fails: noise above tolerance
+    res = v;  // the full evaluation disagrees with the trial: keep backing off from it
+  }
+  if (!have_best)
+    throw SolverError("even the unreduced model differs from the reference by " +
+                      std::to_string(res.max_abs_dT_K) + " K > tolerance " + std::to_string(tol) +
+                      " K: the simulation noise exceeds the tolerance");
+
+  // Push: spend remaining slack one sample at a time, cheapest predicted increase per face first.
+  if (o.push) {
+    Eigen::VectorXd current = best;
+    std::vector<bool> saturated(num_nodes, false);
+    bool pushed = false;
+    while (evaluations < o.max_evaluations) {
+      int pick = -1;
+      double pick_score = std::numeric_limits<double>::infinity();
+      for (int k = 0; k < num_nodes; ++k) {
+        if (saturated[k] || !curve_of[k]) continue;
+        const auto& c = *curve_of[k];
+        const double nxt = next_ratio(c, current[k]);
+        if (!(nxt > current[k])) continue;
+        const double inc = predicted_difference_K(c, nxt) - predicted_difference_K(c, current[k]);
+        double saved = 1.0;
+        for (size_t i = 0; i < c.ratios.size(); ++i)
+          if (std::abs(c.ratios[i] - nxt) < 1e-12 && i > 0) saved = std::max(1, c.faces_after[i - 1] - c.faces_after[i]);
+        const double score = std::max(inc, 0.0) / saved;
+        if (score < pick_score) { pick_score = score; pick = k; }
+      }
+      if (pick < 0) break;
+      Eigen::VectorXd cand = current;
+      cand[pick] = next_ratio(*curve_of[pick], current[pick]);
+      const TrialResult r = trial(cand);
+      ++evaluations;
+      record(cand, r, "push node " + std::to_string(pick));
+      if (within(r, tol)) {
+        current = cand;
+        pushed = true;
+      } else {
+        saturated[pick] = true;
+      }
+    }
+    if (pushed) {
+      const TrialResult v = verify(current);
+      record(current, v, "verify");
+      if (within(v, tol)) {
+        best = current;
+        best_verified = v;
+      } else {
+        log("pushed candidate failed full verification; keeping the last verified one");
+      }
+    }
+  }
+  out.ratio_per_node = best;
+  out.verified = best_verified;
+  return out;
+}
+
+}  // namespace thermodec

@@ -1,0 +1,153 @@
+#include "thermodec/report/reduction_report.h"
+
+#include <cstdio>
+#include <sstream>
+
+#include "thermodec/common/atomic_write.h"
+#include "thermodec/common/errors.h"
+#include "thermodec/nodes/load_model.h"
+#include "thermodec/report/plot.h"
+
+namespace thermodec {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+json curve_json(const SensitivityCurve& c, const ReductionRun& run) {
+  return {{"node", run.nodes[c.node].name},
+          {"faces_before", run.nodes[c.node].faces_before},
+          {"ratios", c.ratios},
+          {"max_abs_dT_K", c.max_abs_dT_K},
+          {"faces_after", c.faces_after}};
+}
+
+json mesh_panel(const Mesh& m, const std::string& title, const Eigen::VectorXd* value, const std::string& label) {
+  json V = json::array(), F = json::array(), val = json::array();
+  for (int v = 0; v < m.num_vertices(); ++v) V.push_back({m.V(v, 0), m.V(v, 1), m.V(v, 2)});
+  for (int f = 0; f < m.num_faces(); ++f) {
+    F.push_back({m.F(f, 0), m.F(f, 1), m.F(f, 2)});
+    val.push_back(value ? (*value)[m.face_node[f]] : static_cast<double>(m.face_node[f]));
+  }
+  return {{"title", title}, {"vertices", V}, {"faces", F}, {"face_value", val},
+          {"categorical", value == nullptr}, {"value_label", label}};
+}
+
+}  // namespace
+
+json reduction_report_json(const ReductionRun& run) {
+  json j;
+  j["strategy"] = run.strategy;
+  j["tolerance_K"] = run.tolerance_K;
+  j["faces_before"] = run.faces_before;
+  j["faces_after"] = run.faces_after;
+  j["max_temperature_difference_K"] = run.max_temperature_difference_K;
+  j["max_temperature_difference_at"] = {{"node", run.max_difference_node}, {"time_s", run.max_difference_time_s}};
+  j["noise_floor_K"] = run.noise_floor_K;
+  j["verified"] = "full recompute of the reduced model (no reuse) compared with the reference";
+  json nodes = json::object();
+  for (const auto& n : run.nodes)
+    nodes[n.name] = {{"faces_before", n.faces_before}, {"faces_after", n.faces_after}, {"ratio", n.ratio},
+                     {"requested_ratio", n.requested_ratio}, {"predicted_ratio", n.predicted_ratio},
+                     {"max_abs_dT_K", n.max_abs_dT_K}, {"area_before_m2", n.area_before_m2},
+                     {"area_after_m2", n.area_after_m2}};
+  j["nodes"] = nodes;
+  json curves = json::array();
+  for (const auto& c : run.curves) curves.push_back(curve_json(c, run));
+  j["sensitivity"] = curves;
+  json pred = json::array();
+  for (const auto& p : run.prediction)
+    pred.push_back({{"target_K", p.target_K}, {"predicted_K", p.predicted_K}, {"real_K", p.real_K},
+                    {"faces_after", p.faces_after}});
+  j["predicted_vs_real"] = pred;
+  json hist = json::array();
+  for (const auto& h : run.outcome.history)
+    hist.push_back({{"action", h.action}, {"faces_after", h.result.faces_after},
+                    {"max_abs_dT_K", h.result.max_abs_dT_K}, {"within_tolerance", h.within_tolerance}});
+  j["history"] = hist;
+  j["trials"] = run.trials;
+  j["timings_s"] = {{"total", run.seconds_total}, {"noise_floor", run.seconds_noise},
+                    {"sensitivity", run.seconds_sensitivity}, {"search", run.seconds_search}};
+  return j;
+}
+
+std::vector<std::string> write_reduction_outputs(const ReductionRun& run, const fs::path& out_dir,
+                                                 const std::vector<fs::path>& protected_inputs, bool plots) {
+  for (const auto& in : protected_inputs)
+    for (const char* name : {"model.json", "reduced.obj", "report.json"})
+      if (!in.empty() && same_file(out_dir / name, in))
+        throw InvalidInput("output folder " + out_dir.string() + " would overwrite input " + in.string());
+  save_model(run.reduced.model, out_dir / "model.json", out_dir / "reduced.obj");
+  write_text_atomically(out_dir / "report.json", reduction_report_json(run).dump(2) + "\n", protected_inputs);
+
+  std::vector<std::string> warnings;
+  if (!plots) return warnings;
+  auto plot = [&](const std::string& kind, const json& data, const std::string& file) {
+    try {
+      plot_png(kind, data, out_dir / file);
+    } catch (const Error& e) {
+      warnings.push_back(file + ": " + e.what());
+    }
+  };
+  if (!run.curves.empty()) {
+    json curves = json::array();
+    for (const auto& c : run.curves) curves.push_back(curve_json(c, run));
+    plot("sensitivity", {{"tolerance_K", run.tolerance_K}, {"noise_floor_K", run.noise_floor_K}, {"curves", curves}},
+         "sensitivity.png");
+  }
+  if (!run.prediction.empty()) {
+    json pts = json::array();
+    for (const auto& p : run.prediction)
+      pts.push_back({{"target_K", p.target_K}, {"predicted_K", p.target_K}, {"real_K", p.real_K},
+                     {"label", std::to_string(p.faces_after) + " f"}});
+    plot("predicted_vs_real", {{"points", pts}, {"tolerance_K", run.tolerance_K}}, "predicted_vs_real.png");
+  }
+  {
+    json ref = json::object(), red = json::object();
+    const auto& a = run.reference;
+    const auto& b = run.reduced.result;
+    for (size_t k = 0; k < a.nodes.size(); ++k) {
+      std::vector<double> ta(a.temperature_K.cols()), tb(b.temperature_K.cols());
+      for (Eigen::Index s = 0; s < a.temperature_K.cols(); ++s) ta[s] = a.temperature_K(k, s);
+      for (Eigen::Index s = 0; s < b.temperature_K.cols(); ++s) tb[s] = b.temperature_K(k, s);
+      ref[a.nodes[k]] = ta;
+      red[a.nodes[k]] = tb;
+    }
+    std::vector<double> times(a.times_s.data(), a.times_s.data() + a.times_s.size());
+    plot("temperatures_before_after", {{"times_s", times}, {"nodes", a.nodes}, {"reference_K", ref}, {"reduced_K", red}},
+         "temperatures.png");
+  }
+  {
+    Eigen::VectorXd dT(run.nodes.size());
+    for (size_t k = 0; k < run.nodes.size(); ++k) dT[k] = run.nodes[k].max_abs_dT_K;
+    char t1[96], t2[96];
+    std::snprintf(t1, sizeof t1, "reference: %d faces", run.faces_before);
+    std::snprintf(t2, sizeof t2, "%s: %d faces, by node", run.strategy.c_str(), run.faces_after);
+    json panels = json::array({mesh_panel(run.reference_mesh, t1, nullptr, ""),
+                               mesh_panel(run.reduced.model.mesh, t2, nullptr, ""),
+                               mesh_panel(run.reduced.model.mesh, "max |dT| per node [K]", &dT, "max |dT| [K]")});
+    plot("mesh_view", {{"panels", panels}}, "mesh.png");
+  }
+  return warnings;
+}
+
+std::string reduction_summary(const ReductionRun& run) {
+  std::ostringstream o;
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "%s reduction: %d -> %d faces (%.1f %% removed); verified max |dT| %.4f K (node %s) "
+                "<= tolerance %.3g K; noise floor %.4f K; %d trials in %.1f s\n",
+                run.strategy.c_str(), run.faces_before, run.faces_after,
+                100.0 * (1.0 - static_cast<double>(run.faces_after) / std::max(1, run.faces_before)),
+                run.max_temperature_difference_K, run.max_difference_node.c_str(), run.tolerance_K,
+                run.noise_floor_K, run.trials, run.seconds_total);
+  o << buf;
+  for (const auto& n : run.nodes) {
+    std::snprintf(buf, sizeof buf, "  %-16s %5d -> %5d faces  ratio %.2f  max|dT| %.4f K\n", n.name.c_str(),
+                  n.faces_before, n.faces_after, n.ratio, n.max_abs_dT_K);
+    o << buf;
+  }
+  return o.str();
+}
+
+}  // namespace thermodec

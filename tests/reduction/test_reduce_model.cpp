@@ -1,0 +1,194 @@
+// The reduction driver on a small model that simulates in milliseconds: a subdivided cube
+// (six nodes) with a two-sided panel beside it, in a fixed sun (steady state).
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <unistd.h>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "thermodec/common/errors.h"
+#include "thermodec/nodes/load_model.h"
+#include "thermodec/reduction/reduce_model.h"
+#include "thermodec/report/reduction_report.h"
+#include "thermodec/thermal/simulate_model.h"
+
+using namespace thermodec;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Adds an n x n grid quad (corner o, edges u, v) as 2 n^2 triangles of node `node`.
+void add_grid(Mesh& m, std::vector<std::array<double, 3>>& V, std::vector<std::array<int, 4>>& F,
+              const Eigen::Vector3d& o, const Eigen::Vector3d& u, const Eigen::Vector3d& v, int n, int node) {
+  const int base = static_cast<int>(V.size());
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const Eigen::Vector3d p = o + u * (double(i) / n) + v * (double(j) / n);
+      V.push_back({p.x(), p.y(), p.z()});
+    }
+  auto id = [&](int i, int j) { return base + j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      F.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), node});
+      F.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1), node});
+    }
+}
+
+ThermalModel small_model() {
+  Mesh m;
+  std::vector<std::array<double, 3>> V;
+  std::vector<std::array<int, 4>> F;
+  const int n = 4;
+  using V3 = Eigen::Vector3d;
+  // cube [0,1]^3, outward normals (u x v points out)
+  add_grid(m, V, F, V3(1, 0, 0), V3(0, 1, 0), V3(0, 0, 1), n, 0);  // +x
+  add_grid(m, V, F, V3(0, 0, 0), V3(0, 0, 1), V3(0, 1, 0), n, 1);  // -x
+  add_grid(m, V, F, V3(0, 1, 0), V3(0, 0, 1), V3(1, 0, 0), n, 2);  // +y
+  add_grid(m, V, F, V3(0, 0, 0), V3(1, 0, 0), V3(0, 0, 1), n, 3);  // -y
+  add_grid(m, V, F, V3(0, 0, 1), V3(1, 0, 0), V3(0, 1, 0), n, 4);  // +z
+  add_grid(m, V, F, V3(0, 0, 0), V3(0, 1, 0), V3(1, 0, 0), n, 5);  // -z
+  add_grid(m, V, F, V3(0, 1.3, 0), V3(0, 0, 1), V3(1, 0, 0), 6, 6);  // panel facing +y... and -y
+  m.V.resize(V.size(), 3);
+  for (size_t i = 0; i < V.size(); ++i) m.V.row(i) << V[i][0], V[i][1], V[i][2];
+  m.F.resize(F.size(), 3);
+  m.face_node.resize(F.size());
+  m.face_material = Eigen::VectorXi::Zero(F.size());
+  m.face_back_material = Eigen::VectorXi::Constant(F.size(), -1);
+  for (size_t f = 0; f < F.size(); ++f) {
+    m.F.row(f) << F[f][0], F[f][1], F[f][2];
+    m.face_node[f] = F[f][3];
+    if (F[f][3] == 6) m.face_back_material[f] = 0;
+  }
+  ThermalModel model;
+  model.materials = {{"white_paint", 0.2, 0.85}};
+  const char* names[] = {"px", "mx", "py", "my", "pz", "mz", "panel"};
+  for (int k = 0; k < 7; ++k) {
+    Node node;
+    node.name = names[k];
+    node.material = 0;
+    node.capacitance_J_per_K = 1000.0;
+    node.power_W = k < 6 ? 10.0 : 0.0;
+    model.nodes.push_back(node);
+    m.node_names.push_back(names[k]);
+  }
+  m.material_names = {"white_paint"};
+  model.mesh = m;
+  for (int k = 0; k < 6; ++k) model.conductances.push_back({k, (k + 1) % 6, 0.5});
+  model.environment.type = EnvironmentType::fixed_sun;
+  model.environment.sun_direction = Eigen::Vector3d(0.3, -1.0, 0.4).normalized();
+  model.analysis.type = AnalysisType::steady;
+  model.radiation.rays_per_face = 2000;
+  model.radiation.seed = 7;
+  return model;
+}
+
+ReduceSettings quick_settings(double tol) {
+  ReduceSettings s;
+  s.tolerance_K = tol;
+  s.reference.simulation.loads.earth_rays_per_face = 16;
+  s.reference.simulation.loads.sun_rays_per_face = 256;
+  s.sensitivity.ratios = {0.3, 0.6, 0.8, 0.9};
+  s.prediction_targets = {0.5, 1.0};
+  return s;
+}
+
+}  // namespace
+
+TEST(ReductionReference, incremental_trials_match_full_recompute) {
+  const ThermalModel model = small_model();
+  ReductionReferenceSettings rs;
+  rs.simulation.loads.earth_rays_per_face = 16;
+  rs.simulation.loads.sun_rays_per_face = 256;
+  const ReductionReference ref(model, rs);
+  const Eigen::VectorXd none = Eigen::VectorXd::Zero(7);
+  EXPECT_LT(ref.trial(none).max_abs_dT_K, 1e-6);  // unchanged model: no difference at all
+  Eigen::VectorXd one = none;
+  one[6] = 0.8;  // only the panel changes
+  const TrialResult inc = ref.trial(one);
+  const TrialResult full = ref.verify(one);
+  EXPECT_LT(inc.node_faces_after[6], 72);
+  EXPECT_NEAR(inc.max_abs_dT_K, full.max_abs_dT_K, 1e-6);
+}
+
+TEST(ReduceModel, informed_result_is_verified_within_tolerance_by_an_independent_simulation) {
+  const ThermalModel model = small_model();
+  const double tol = 0.5;
+  const ReductionRun run = reduce_model(model, quick_settings(tol));
+  EXPECT_LT(run.faces_after, run.faces_before);
+  EXPECT_LE(run.max_temperature_difference_K, tol);
+  // independent check: plain simulations of both models, nothing shared with the driver
+  ModelSimulationSettings ss;
+  ss.loads.earth_rays_per_face = 16;
+  ss.loads.sun_rays_per_face = 256;
+  const auto a = simulate_model(model, ss);
+  const auto b = simulate_model(run.reduced.model, ss);
+  EXPECT_LE(compare_results(a, b).max_abs_K, tol);
+  ASSERT_EQ(run.nodes.size(), 7u);
+  for (const auto& n : run.nodes) EXPECT_GE(n.faces_after, 1);
+  EXPECT_EQ(run.curves.size(), 7u);
+}
+
+TEST(ReduceModel, uniform_result_is_verified_within_tolerance) {
+  const ThermalModel model = small_model();
+  ReduceSettings s = quick_settings(0.5);
+  s.strategy = ReductionStrategy::uniform;
+  s.uniform.step = 0.2;
+  const ReductionRun run = reduce_model(model, s);
+  EXPECT_LE(run.max_temperature_difference_K, 0.5);
+  EXPECT_LE(run.faces_after, run.faces_before);
+}
+
+TEST(ReduceModel, same_input_gives_same_reduction) {
+  const ThermalModel model = small_model();
+  const ReductionRun a = reduce_model(model, quick_settings(0.5));
+  const ReductionRun b = reduce_model(model, quick_settings(0.5));
+  EXPECT_EQ(a.faces_after, b.faces_after);
+  EXPECT_EQ(a.outcome.ratio_per_node, b.outcome.ratio_per_node);
+  EXPECT_EQ(a.max_temperature_difference_K, b.max_temperature_difference_K);
+}
+
+TEST(ReduceModel, impossible_tolerances_are_refused) {
+  const ThermalModel model = small_model();
+  for (double tol : {0.0, -1.0, std::nan(""), std::numeric_limits<double>::infinity()})
+    EXPECT_THROW(reduce_model(model, quick_settings(tol)), InvalidInput) << tol;
+  // below twice the measured Monte Carlo noise floor (noise is > 0 with few rays)
+  ThermalModel noisy = model;
+  noisy.radiation.rays_per_face = 50;
+  try {
+    reduce_model(noisy, quick_settings(1e-7));
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("noise floor"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ReduceCli, writes_loadable_model_and_report_with_required_keys) {
+  const fs::path dir = fs::temp_directory_path() / ("thermodec_test_reduce_cli_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  ThermalModel model = small_model();
+  save_model(model, dir / "in.json", dir / "in.obj");
+  const fs::path out = dir / "out";
+  const std::string cmd = std::string(THERMODEC_CLI) + " reduce " + (dir / "in.json").string() +
+                          " --tolerance 0.5 --out " + out.string() + " --no-plots -q > " +
+                          (dir / "stdout.txt").string() + " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::ifstream in(out / "report.json");
+  const auto j = nlohmann::json::parse(in);
+  for (const char* key : {"strategy", "tolerance_K", "faces_before", "faces_after", "max_temperature_difference_K",
+                          "noise_floor_K", "nodes"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  for (const char* key : {"faces_before", "faces_after", "ratio", "max_abs_dT_K"})
+    EXPECT_TRUE(j["nodes"]["panel"].contains(key)) << key;
+  EXPECT_LE(j["max_temperature_difference_K"].get<double>(), 0.5);
+  const ThermalModel reduced = load_model(out / "model.json");
+  EXPECT_EQ(reduced.mesh.num_faces(), j["faces_after"].get<int>());
+  EXPECT_EQ(reduced.nodes.size(), model.nodes.size());
+
+  // bad tolerance: exit code 1 and a one-line reason
+  const std::string bad = std::string(THERMODEC_CLI) + " reduce " + (dir / "in.json").string() +
+                          " --tolerance -1 --out " + (dir / "bad").string() + " -q 2> " + (dir / "err.txt").string();
+  EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 1);
+}

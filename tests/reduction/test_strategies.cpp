@@ -1,0 +1,161 @@
+// Reduction strategies on synthetic models: the logic is independent of the physics, so a
+// known analytic "simulation" checks prediction, back-off, push and the verification guarantee.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "thermodec/common/errors.h"
+#include "thermodec/reduction/prediction.h"
+#include "thermodec/reduction/sensitivity.h"
+#include "thermodec/reduction/strategies.h"
+
+using namespace thermodec;
+
+namespace {
+
+// dT = sum_k s_k r_k^4 + coupling * sum_{i<j} r_i r_j  (coupling makes isolated curves optimistic)
+struct Synthetic {
+  Eigen::VectorXd sensitivity_K;
+  Eigen::VectorXi faces;
+  double coupling_K = 0.0;
+
+  TrialResult operator()(const Eigen::VectorXd& r) const {
+    TrialResult t;
+    const int n = static_cast<int>(r.size());
+    t.node_faces_after.resize(n);
+    t.node_max_abs_dT_K = Eigen::VectorXd::Zero(n);
+    double dT = 0.0;
+    for (int k = 0; k < n; ++k) {
+      dT += sensitivity_K[k] * std::pow(r[k], 4);
+      t.node_faces_after[k] = std::max(1, static_cast<int>(std::lround(faces[k] * (1.0 - r[k]))));
+      for (int j = k + 1; j < n; ++j) dT += coupling_K * r[k] * r[j];
+    }
+    t.max_abs_dT_K = dT;
+    t.faces_after = t.node_faces_after.sum();
+    return t;
+  }
+};
+
+Synthetic three_nodes(double coupling) {
+  Synthetic s;
+  s.sensitivity_K = Eigen::Vector3d(0.05, 2.0, 20.0);  // insensitive, medium, very sensitive
+  s.faces = Eigen::Vector3i(400, 300, 300);
+  s.coupling_K = coupling;
+  return s;
+}
+
+}  // namespace
+
+TEST(Prediction, feasible_ratio_is_last_sample_within_budget) {
+  SensitivityCurve c;
+  c.ratios = {0.2, 0.4, 0.6, 0.8};
+  c.max_abs_dT_K = {0.01, 0.1, 0.6, 0.3};  // the dip after a violation is not trusted
+  c.faces_after = {80, 60, 40, 20};
+  EXPECT_DOUBLE_EQ(feasible_ratio(c, 0.5), 0.4);
+  EXPECT_DOUBLE_EQ(feasible_ratio(c, 1.0), 0.8);
+  EXPECT_DOUBLE_EQ(feasible_ratio(c, 0.001), 0.0);
+  EXPECT_NEAR(predicted_difference_K(c, 0.3), 0.055, 1e-12);
+  EXPECT_DOUBLE_EQ(predicted_difference_K(c, 0.8), 0.6);  // running maximum
+  EXPECT_DOUBLE_EQ(next_ratio(c, 0.4), 0.6);
+  EXPECT_DOUBLE_EQ(previous_ratio(c, 0.4), 0.2);
+  EXPECT_DOUBLE_EQ(previous_ratio(c, 0.2), 0.0);
+}
+
+TEST(Prediction, nan_difference_counts_as_violation) {
+  SensitivityCurve c;
+  c.ratios = {0.2, 0.4};
+  c.max_abs_dT_K = {0.01, std::nan("")};
+  c.faces_after = {8, 6};
+  EXPECT_DOUBLE_EQ(feasible_ratio(c, 0.5), 0.2);
+}
+
+TEST(Sensitivity, sweep_stops_at_cap_and_is_deterministic) {
+  const Synthetic s = three_nodes(0.0);
+  SensitivityOptions o;
+  o.cap_K = 1.0;
+  const auto a = sensitivity_analysis(3, s, o);
+  const auto b = sensitivity_analysis(3, s, o);
+  ASSERT_EQ(a.size(), 3u);
+  EXPECT_EQ(a[0].ratios.size(), o.ratios.size());  // 0.05 K at most: never reaches the cap
+  EXPECT_LT(a[2].ratios.size(), o.ratios.size());  // very sensitive: stops early
+  EXPECT_GT(a[2].max_abs_dT_K.back(), 1.0);
+  for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].max_abs_dT_K, b[i].max_abs_dT_K);
+}
+
+TEST(Sensitivity, rejects_bad_ratios) {
+  SensitivityOptions o;
+  o.ratios = {0.5, 0.4};
+  EXPECT_THROW(sensitivity_analysis(1, three_nodes(0), o), InvalidInput);
+  o.ratios = {0.5, 1.0};
+  EXPECT_THROW(sensitivity_analysis(1, three_nodes(0), o), InvalidInput);
+}
+
+TEST(InformedReduction, uncoupled_prediction_holds_and_beats_uniform) {
+  const Synthetic s = three_nodes(0.0);
+  const double tol = 0.5;
+  SensitivityOptions so;
+  const auto curves = sensitivity_analysis(3, s, so);
+  InformedOptions io;
+  io.tolerance_K = tol;
+  const auto informed = informed_reduction(curves, 3, s, s, io);
+  EXPECT_LE(informed.verified.max_abs_dT_K, tol);
+  EXPECT_GE(informed.ratio_per_node[0], 0.9);  // the insensitive node goes far
+
+  UniformOptions uo;
+  uo.tolerance_K = tol;
+  auto same = [](double g) { return Eigen::VectorXd::Constant(3, g).eval(); };
+  const auto uniform = uniform_reduction(same, s, s, uo);
+  EXPECT_LE(uniform.verified.max_abs_dT_K, tol);
+  EXPECT_LT(informed.verified.faces_after, uniform.verified.faces_after);
+}
+
+TEST(InformedReduction, coupled_nodes_back_off_until_within_tolerance) {
+  const Synthetic s = three_nodes(0.4);  // isolated curves are now optimistic
+  const double tol = 0.5;
+  const auto curves = sensitivity_analysis(3, s, SensitivityOptions{});
+  InformedOptions io;
+  io.tolerance_K = tol;
+  io.push = false;
+  const auto out = informed_reduction(curves, 3, s, s, io);
+  EXPECT_GT(s(out.predicted_ratio_per_node).max_abs_dT_K, tol);  // the paper's prediction fails
+  EXPECT_LE(out.verified.max_abs_dT_K, tol);
+  bool backed_off = false;
+  for (const auto& h : out.history) backed_off |= h.action.rfind("back off", 0) == 0;
+  EXPECT_TRUE(backed_off);
+}
+
+TEST(InformedReduction, never_returns_a_candidate_that_fails_full_verification) {
+  const Synthetic s = three_nodes(0.0);
+  // The trial is optimistic (as an inexact incremental evaluation could be); the full
+  // verification sees three times the difference.
+  auto verify = [&](const Eigen::VectorXd& r) {
+    TrialResult t = s(r);
+    t.max_abs_dT_K *= 3.0;
+    return t;
+  };
+  const auto curves = sensitivity_analysis(3, s, SensitivityOptions{});
+  InformedOptions io;
+  io.tolerance_K = 0.5;
+  const auto out = informed_reduction(curves, 3, s, verify, io);
+  EXPECT_LE(out.verified.max_abs_dT_K, 0.5);
+  EXPECT_LE(verify(out.ratio_per_node).max_abs_dT_K, 0.5);
+
+  UniformOptions uo;
+  uo.tolerance_K = 0.5;
+  auto same = [](double g) { return Eigen::VectorXd::Constant(3, g).eval(); };
+  const auto u = uniform_reduction(same, s, verify, uo);
+  EXPECT_LE(verify(u.ratio_per_node).max_abs_dT_K, 0.5);
+}
+
+TEST(InformedReduction, refuses_when_the_reference_itself_exceeds_tolerance) {
+  auto noisy = [](const Eigen::VectorXd& r) {
+    TrialResult t;
+    t.max_abs_dT_K = 1.0;  // noise floor above the tolerance
+    t.node_faces_after = Eigen::VectorXi::Constant(r.size(), 10);
+    t.faces_after = 10 * static_cast<int>(r.size());
+    return t;
+  };
+  InformedOptions io;
+  io.tolerance_K = 0.5;
+  EXPECT_THROW(informed_reduction({}, 2, noisy, noisy, io), SolverError);
+}
