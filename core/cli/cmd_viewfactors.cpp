@@ -18,6 +18,7 @@ struct ViewFactorsOptions {
   std::string json;
   int rays = -1;  // -1 = the model's radiation.rays_per_face
   long long seed = -1;
+  bool two_sided = false;
 };
 
 nlohmann::ordered_json matrix(const Eigen::MatrixXd& m) {
@@ -33,7 +34,10 @@ nlohmann::ordered_json matrix(const Eigen::MatrixXd& m) {
 nlohmann::ordered_json vector(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
 
 void run(const ViewFactorsOptions& o) {
-  const ThermalModel model = load_model(o.model);
+  ThermalModel model = load_model(o.model);
+  if (o.two_sided)  // thin sheets everywhere: the robust reading of open or badly oriented meshes
+    for (int f = 0; f < model.mesh.num_faces(); ++f)
+      if (model.mesh.face_back_material[f] < 0) model.mesh.face_back_material[f] = model.mesh.face_material[f];
   RadiationSettings settings = model.radiation;
   if (o.rays != -1) settings.rays_per_face = o.rays;
   if (o.seed != -1) settings.seed = static_cast<std::uint64_t>(o.seed);
@@ -81,8 +85,12 @@ void run(const ViewFactorsOptions& o) {
              d.view_factor_closure_error, d.coupling_closure_error, d.gebhart_closure_error, d.gebhart_iterations);
   if (d.untraceable_faces) fmt::print("{} zero-area or non-finite faces left out\n", d.untraceable_faces);
   if (d.back_hits_on_one_sided)
-    fmt::print("{} rays hit the back of a one-sided face (counted on its front; check orientation)\n",
+    fmt::print("{} rays passed through the back of a one-sided face (open or inconsistently oriented mesh?)\n",
                d.back_hits_on_one_sided);
+  if (d.view_factor_asymmetry_sigma > 6.0)
+    fmt::print("warning: the raw view factors are not reciprocal ({:.0f} sigma): the mesh is probably open, "
+               "inconsistently oriented, self-intersecting or has coincident faces{}\n",
+               d.view_factor_asymmetry_sigma, o.two_sided ? "" : " (try --two-sided)");
   fmt::print("{:<20} {:>10} {:>10} {:>12}\n", "node", "area_m2", "F_space", "GR_space_m2");
   for (std::size_t i = 0; i < model.nodes.size(); ++i)
     fmt::print("{:<20} {:>10.4g} {:>10.4f} {:>12.4g}\n", model.nodes[i].name, c.area_m2[i], c.to_space[i],
@@ -103,6 +111,8 @@ void add_viewfactors(CLI::App& app) {
   sub->add_option("--rays", opts->rays, "rays per face side (default: the model's radiation.rays_per_face)")
       ->check(CLI::PositiveNumber);
   sub->add_option("--seed", opts->seed, "random seed (default: the model's radiation.seed)")->check(CLI::NonNegativeNumber);
+  sub->add_flag("--two-sided", opts->two_sided,
+                "treat every one-sided face as a two-sided sheet (its back radiating with its front material)");
   sub->callback([opts] { run_guarded([&] { run(*opts); }); });
 }
 

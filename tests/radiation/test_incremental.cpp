@@ -83,3 +83,27 @@ TEST(IncrementalCouplings, one_node_change_is_far_below_independent_seed_noise) 
   RecordProperty("correlated_max_dF", std::to_string(correlated));
   RecordProperty("independent_max_dF", std::to_string(independent));
 }
+
+TEST(IncrementalCouplings, sidedness_changes_and_new_nodes_are_handled_like_a_full_recompute) {
+  const ThermalModel ref = satellite(0.0, 4);
+  const RadiationReference prepared = prepare_radiation(ref, ref.radiation);
+  // (a) the antenna becomes a two-sided sheet: same coordinates, new identity.
+  ThermalModel two_sided = ref;
+  for (int f = 0; f < two_sided.mesh.num_faces(); ++f)
+    if (two_sided.mesh.face_node[f] == 2) two_sided.mesh.face_back_material[f] = 0;
+  // (b) half of the body becomes a new node (geometry unchanged: nothing re-traced, only
+  // re-aggregated), so the candidate has one node more than the reference.
+  ThermalModel split = ref;
+  split.nodes.push_back(Node{"body_half", 0});
+  split.mesh.node_names.push_back("body_half");
+  for (int f = 0; f < split.mesh.num_faces(); ++f)
+    if (split.mesh.face_node[f] == 0 && f % 2) split.mesh.face_node[f] = 3;
+  for (const ThermalModel* cand : {&two_sided, &split}) {
+    IncrementalStats st;
+    const NodeCouplings inc = radiative_couplings_incremental(prepared, *cand, &st);
+    const NodeCouplings full = radiative_couplings(*cand, ref.radiation);
+    EXPECT_EQ(inc.view_factors, full.view_factors);
+    EXPECT_LT((inc.radiative_couplings_m2 - full.radiative_couplings_m2).cwiseAbs().maxCoeff(), 1e-9);
+    if (cand == &split) EXPECT_EQ(st.rays_retraced, 0);
+  }
+}

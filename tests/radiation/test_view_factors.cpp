@@ -197,3 +197,22 @@ TEST(ViewFactors, two_sided_faces_emit_from_both_sides) {
   expect_matches(c, 1, 0, exact / 2);
   expect_matches(c, 1, 2, exact / 2);
 }
+
+TEST(ViewFactors, rays_pass_through_the_back_of_one_sided_faces) {
+  // Plate P (one-sided, facing +z) at z = 0 and plate Q below it facing P's back. P's back
+  // neither emits nor absorbs, so Q's rays go through it: F_QP = F_PQ = 0, reciprocity holds.
+  Mesh mesh;
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F;
+  grid({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 4, 4, V, F);  // P, normal +z
+  append_part(mesh, V, F, "P");
+  grid({0, 0, -0.5}, {1, 0, 0}, {0, 1, 0}, 4, 4, V, F);  // Q, normal +z (towards P's back)
+  append_part(mesh, V, F, "Q");
+  const ThermalModel m = model_of(mesh, 1.0, 1.0, 500);
+  const NodeCouplings c = radiative_couplings(m, m.radiation);
+  EXPECT_EQ(c.view_factors(1, 0), 0.0);
+  EXPECT_EQ(c.view_factors(0, 1), 0.0);
+  EXPECT_EQ(c.to_space[1], 1.0);
+  EXPECT_GT(c.diagnostics.back_hits_on_one_sided, 0);
+  EXPECT_LT(c.diagnostics.view_factor_asymmetry_sigma, 1e-9);
+}

@@ -144,6 +144,14 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
         // A ray whose reference hit comes before it enters the box hits the same face in the
         // candidate (the faces in front of the box did not change, the new ones are inside).
         const tracing::RayRecord* rec = ref.records.data() + std::size_t(r) * R;
+        // No ray can enter the box before travelling the distance between the face's bounding
+        // box (grown by the origin lift) and the changed box: a reference hit closer than
+        // that is kept without even generating the ray.
+        Eigen::AlignedBox3d face_box;
+        face_box.extend(e.a).extend(Eigen::Vector3d(e.a + e.e1)).extend(Eigen::Vector3d(e.a + e.e2));
+        const double lift = 2.0 * e.offset + 1e-6 * (face_box.max().cwiseAbs().maxCoeff() + 1.0);
+        const Eigen::Vector3d gap = (box.min().cast<double>() - face_box.max()).cwiseMax(face_box.min() - box.max().cast<double>()).cwiseMax(0.0);
+        const float reach = static_cast<float>(std::max(0.0, gap.norm() - lift) * (1.0 - 1e-5));
         tracing::trace_emitter(
             scene.impl(), sides, e, sobol, R,
             [&](int i, const float* o, const float* d) {
@@ -156,7 +164,8 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
               cnt.add(hit, 1);
               back += b;
               ++traced;
-            });
+            },
+            [&](int i) { return rec[i].t >= reach; });
       } else if (box_in_front) {
         auto meets = [&](int, const float* o, const float* d) {
           return tracing::ray_box_entry(o, d, box) < std::numeric_limits<float>::infinity();

@@ -46,15 +46,18 @@ inline float ray_box_entry(const float* o, const float* d, const Eigen::AlignedB
 
 //! Accept-all ray filter.
 struct AllRays {
+  bool operator()(int) const { return true; }
   bool operator()(int, const float*, const float*) const { return true; }
 };
 
-//! Traces the rays i in [0, rays) of emitter `e` accepted by keep(i, origin, direction) in
-//! `scene`, calling on_hit(i, side, back_hit_on_one_sided, t) in ray order, with side = hit
-//! side of `sides` (the sides of scene's mesh) or -1 for space (t = +inf).
-template <class Keep, class OnHit>
+//! Traces the rays i in [0, rays) of emitter `e` accepted by pre(i) and then by
+//! keep(i, origin, direction) in
+//! `scene`, calling on_hit(i, side, crossed, t) in ray order, with side = hit side of `sides`
+//! (the sides of scene's mesh) or -1 for space (t = +inf), and crossed = the ray passed
+//! through the back of a one-sided face on its way.
+template <class Keep, class OnHit, class Pre = AllRays>
 void trace_emitter(const RayScene::Impl& scene, const SurfaceSides& sides, const sampling::Emitter& e,
-                   const SobolTable& sobol, int rays, Keep&& keep, OnHit&& on_hit) {
+                   const SobolTable& sobol, int rays, Keep&& keep, OnHit&& on_hit, Pre&& pre = Pre{}) {
   constexpr int kChunk = 64;
   alignas(16) RTCRayHit buf[kChunk];
   int index[kChunk];
@@ -65,6 +68,7 @@ void trace_emitter(const RayScene::Impl& scene, const SurfaceSides& sides, const
   while (i < rays) {
     int n = 0;
     for (; i < rays && n < kChunk; ++i) {
+      if (!pre(i)) continue;  // decided without generating the ray
       float org[3], dir[3];
       sampling::emit(e, sobol[i], true, org, dir);
       if (!keep(i, org, dir)) continue;
@@ -81,32 +85,48 @@ void trace_emitter(const RayScene::Impl& scene, const SurfaceSides& sides, const
     if (n == 0) continue;
     rtcIntersect1M(scene.scene, &ctx, buf, static_cast<unsigned>(n), sizeof(RTCRayHit));
     for (int k = 0; k < n; ++k) {
-      const RTCRayHit& rh = buf[k];
+      RTCRayHit& rh = buf[k];
+      bool crossed = false;
+      // The back of a one-sided face neither emits nor absorbs (Mesh::face_back_material):
+      // a ray reaching it passes through and goes on. A closed, consistently oriented model
+      // never gets here; an open one (e.g. a CAD sheet exported one-sided) stays reciprocal.
+      for (int pass = 0; pass < 64; ++pass) {
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+        const unsigned p = rh.hit.primID;
+        const float* nf = &scene.prim_normal[3 * p];
+        const bool from_back = rh.ray.dir_x * nf[0] + rh.ray.dir_y * nf[1] + rh.ray.dir_z * nf[2] > 0.0f;
+        if (!from_back || sides.back_side[scene.face_of_prim[p]] >= 0) break;
+        crossed = true;
+        const float t = rh.ray.tfar;
+        rh.ray.tnear = t + std::max(1e-6f * t, 1e-30f);
+        rh.ray.tfar = std::numeric_limits<float>::infinity();
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene.scene, &ctx, &rh);
+      }
       if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-        on_hit(index[k], -1, false, std::numeric_limits<float>::infinity());
+        on_hit(index[k], -1, crossed, std::numeric_limits<float>::infinity());
         continue;
       }
       const unsigned p = rh.hit.primID;
       const int f = scene.face_of_prim[p];
       const float* nf = &scene.prim_normal[3 * p];
       const bool from_back = rh.ray.dir_x * nf[0] + rh.ray.dir_y * nf[1] + rh.ray.dir_z * nf[2] > 0.0f;
-      if (from_back && sides.back_side[f] >= 0) {
-        on_hit(index[k], sides.back_side[f], false, rh.ray.tfar);
-      } else {
-        on_hit(index[k], sides.front_side[f], from_back, rh.ray.tfar);
-      }
+      // from_back here only if 64 crossings were not enough (pathological): counted on the front.
+      on_hit(index[k], from_back && sides.back_side[f] >= 0 ? sides.back_side[f] : sides.front_side[f], crossed,
+             rh.ray.tfar);
     }
   }
 }
 
-//! What one reference ray hit: code = 0 for space, else 2 (side + 1) + back_hit_on_one_sided;
+//! What one reference ray hit: code = 0 (space) or 2 (side + 1), + 1 if it crossed a back;
 //! t = hit distance [m] (+inf for space).
 struct RayRecord {
   std::int32_t code;
   float t;
-  int side() const { return code == 0 ? -1 : code / 2 - 1; }
-  bool back() const { return code != 0 && (code & 1); }
-  static RayRecord of(int side, bool back, float t) { return {side < 0 ? 0 : 2 * (side + 1) + (back ? 1 : 0), t}; }
+  int side() const { return code / 2 - 1; }  // -1 = space
+  bool back() const { return (code & 1) != 0; }
+  static RayRecord of(int side, bool back, float t) { return {2 * (side + 1) + (back ? 1 : 0), t}; }
 };
 
 //! Dense per-thread counter over sides + space (+ a "gone" bucket used by the incremental

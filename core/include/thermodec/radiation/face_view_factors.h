@@ -15,13 +15,13 @@ namespace thermodec {
 //! Owen-scrambled 4-D Sobol sequence seeded by the side's identity and RadiationSettings::seed.
 struct FaceViewFactors {
   SurfaceSides sides;
-  //! #S x #S: F(s, t) = fraction of the rays of side s whose first hit is side t [-]. A ray
-  //! hitting the back of a one-sided face is attributed to that face's front (see docs).
+  //! #S x #S: F(s, t) = fraction of the rays of side s whose first hit is side t [-]. The
+  //! back of a one-sided face neither emits nor absorbs: rays pass through it (see docs).
   Eigen::SparseMatrix<double, Eigen::RowMajor> F;
   Eigen::VectorXd to_space;  //!< #S fraction of rays escaping to infinity [-]
   int rays_per_side = 0;
   std::int64_t rays_traced = 0;
-  std::int64_t back_hits_on_one_sided = 0;  //!< rays that hit the back of a one-sided face
+  std::int64_t back_hits_on_one_sided = 0;  //!< rays that passed through the back of a one-sided face
   Eigen::VectorXi back_hits_per_side;        //!< #S the same, per emitting side
 };
 

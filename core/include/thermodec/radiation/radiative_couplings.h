@@ -29,7 +29,9 @@ struct CouplingDiagnostics {
   double gebhart_closure_error = 0.0;
   int gebhart_iterations = 0;
   std::int64_t rays_traced = 0;             //!< rays traced for this result
-  std::int64_t back_hits_on_one_sided = 0;  //!< rays that hit the back of a one-sided face
+  //! Rays that passed through the back of a one-sided face (it neither emits nor absorbs);
+  //! non-zero means an open or inconsistently oriented mesh.
+  std::int64_t back_hits_on_one_sided = 0;
   int surface_sides = 0;                    //!< radiating sides (fronts + backs of two-sided faces)
   int untraceable_faces = 0;                //!< zero-area / non-finite faces left out
   double unassigned_area_m2 = 0.0;          //!< area of faces without a node (absorb, not reported)
