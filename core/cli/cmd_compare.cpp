@@ -1,6 +1,8 @@
 // `thermodec compare A.json B.json`: max |dT| over nodes and times between two results.
 #include <cstdio>
 
+#include <nlohmann/json.hpp>
+
 #include "commands.h"
 #include "thermodec/thermal/result_json.h"
 
@@ -19,8 +21,12 @@ void add_compare(CLI::App& app) {
     run_guarded([&] {
       const TemperatureDifference d = compare_results(read_result(*a), read_result(*b));
       if (*json)
-        std::printf("{\"max_abs_dT_K\": %.9g, \"node\": \"%s\", \"time_s\": %.6g, \"time_index\": %d}\n",
-                    d.max_abs_K, d.node.c_str(), d.time_s, d.time_index);
+        std::printf("%s\n", nlohmann::json{{"max_abs_dT_K", d.max_abs_K},
+                                           {"node", d.node},
+                                           {"time_s", d.time_s},
+                                           {"time_index", d.time_index}}
+                                 .dump()
+                                 .c_str());
       else
         std::printf("max |dT| = %.6g K at node %s, t = %.1f s (step %d)\n", d.max_abs_K, d.node.c_str(),
                     d.time_s, d.time_index);

@@ -10,8 +10,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
-#include <map>
 #include <vector>
 
 #include "thermodec/common/errors.h"
@@ -206,14 +204,15 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       };
       // Pilot: a side none of whose first `pilot` rays is blocked sees the Earth unobstructed
       // and keeps those (the integrand is then smooth and the Sobol estimate accurate); a side
-      // with any blocked pilot ray traces all `rays`, where the visibility edge needs them.
+      // all of whose pilot rays are blocked (e.g. an internal wall) sees none of it; only sides
+      // with both trace all `rays`, where the visibility edge needs them.
       add_rays(0, pilot);
       if (batch.empty()) continue;
       scene.occluded(batch, blocked);
-      int used = pilot;
-      bool any_blocked = false;
-      for (auto b : blocked) any_blocked |= b != 0;
-      if (any_blocked && rays > pilot) {
+      int used = pilot, n_blocked = 0;
+      for (auto b : blocked) n_blocked += b != 0;
+      const bool mixed = n_blocked > 0 && n_blocked < static_cast<int>(blocked.size());
+      if (mixed && rays > pilot) {
         const size_t first_new = batch.size();
         add_rays(pilot, rays);
         std::vector<std::uint8_t> more;
@@ -412,9 +411,20 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     for (int k = 0; k < steps; ++k) {
       const OrbitState& st = states[k];
       if (earth_fixed) {
-        const Eigen::Vector3f sun = st.sun_direction_body.cast<float>();
-        const Eigen::VectorXf lit = (hits.normals * sun).cwiseMax(0.0f).cwiseProduct(hits.weights);
-        for (int s = 0; s < ns; ++s) lit_sum[s] = lit.segment(hits.begin[s], hits.begin[s + 1] - hits.begin[s]).sum();
+        const float sx = float(st.sun_direction_body.x()), sy = float(st.sun_direction_body.y()),
+                    sz = float(st.sun_direction_body.z());
+        const float* nx = hits.normals.col(0).data();
+        const float* ny = hits.normals.col(1).data();
+        const float* nz = hits.normals.col(2).data();
+        const float* w = hits.weights.data();
+        tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
+          for (int s = range.begin(); s < range.end(); ++s) {
+            float sum = 0.0f;
+            for (int k = hits.begin[s]; k < hits.begin[s + 1]; ++k)
+              sum += w[k] * std::max(0.0f, nx[k] * sx + ny[k] * sy + nz[k] * sz);
+            lit_sum[s] = sum;
+          }
+        });
         view_factor = hits.view_factor;
       } else {
         earth_view_from_escaping(escaping, st.earth_direction_body, distance, st.sun_direction_body, view_factor, lit_sum);
