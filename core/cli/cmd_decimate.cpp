@@ -91,7 +91,7 @@ void run_decimate(const DecimateArgs& args) {
   for (size_t k = 0; k < r.closed_volume_before_m3.size(); ++k)
     if (r.closed_volume_before_m3[k] != 0)
       worst_volume = std::max(worst_volume, std::abs(r.closed_volume_after_m3[k] / r.closed_volume_before_m3[k] - 1.0));
-  std::cout << fmt::format("closed components: {}, largest relative volume change {:.4f} %\n",
+  std::cout << fmt::format("closed parts: {}, largest relative volume change {:.4f} %\n",
                            r.closed_volume_before_m3.size(), 100.0 * worst_volume);
   model.mesh = std::move(r.mesh);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 #include <set>
+#include <thread>
 
 #include "decimation/test_meshes.h"
 #include "thermodec/common/errors.h"
@@ -173,6 +174,19 @@ TEST(DecimateNodes, repeated_runs_are_bit_identical) {
   const DecimationResult a = decimate_to_global_ratio(sat, 0.6);
   const DecimationResult b = decimate_to_global_ratio(sat, 0.6);
   EXPECT_TRUE(identical(a, b));
+}
+
+TEST(DecimateNodes, concurrent_calls_give_the_sequential_result) {
+  const Mesh sat = test::satellite(6, 10);
+  const Eigen::VectorXd ratio = Eigen::VectorXd::Constant(11, 0.7);
+  const DecimationResult expected = decimate_nodes(sat, ratio);
+  DecimationResult a, b;
+  std::thread ta([&] { a = decimate_nodes(sat, ratio); });
+  std::thread tb([&] { b = decimate_nodes(sat, ratio); });
+  ta.join();
+  tb.join();
+  EXPECT_TRUE(identical(a, expected));
+  EXPECT_TRUE(identical(b, expected));
 }
 
 TEST(DecimateNodes, two_node_plate_interface_stays_straight_and_shared) {

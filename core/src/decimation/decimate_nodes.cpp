@@ -55,6 +55,10 @@ struct Context : vcg::BaseParameterClass {
   double cost_scale = 1.0;      // 1 / (bbox diagonal)^6: makes priorities scale-free floats
   double degenerate_area2 = 0;  // squared doubled-area below which a new face is degenerate
   int mark = 0;
+  // Collapse counter and, per vertex, the counter value when its star last changed: an entry
+  // evaluated after both its ends' stamps is still exact and need not be re-evaluated.
+  int clock = 0;
+  std::vector<int> stamp;
 
   std::vector<int> face_region, region_node, region_faces, face_component;
   std::vector<uint8_t> vclass;
@@ -64,6 +68,9 @@ struct Context : vcg::BaseParameterClass {
   std::vector<char> comp_closed;
   std::vector<int> absorbed_by;  // removed face -> face that took over its area (provenance)
   std::vector<VFace*> star;      // scratch for evaluate()
+  std::vector<VVertex*> scratch_v[3];
+  std::vector<std::pair<VVertex*, VVertex*>> scratch_e[2];
+  void* heap = nullptr;          // vcg's heap, for re-queuing re-evaluated collapses
 
   int vi(const VVertex* v) const { return static_cast<int>(v - &m->vert[0]); }
   int fi(const VFace* f) const { return static_cast<int>(f - &m->face[0]); }
@@ -149,6 +156,14 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     _priority = std::numeric_limits<float>::max();
     VVertex* a = pos.V(0);
     VVertex* b = pos.V(1);
+    evaluated_at_ = c.clock;
+    // A collapse removes the faces on its edge; if one of their nodes is at its target the
+    // collapse can never run (budgets only shrink), so do not even queue it.
+    for (vcg::face::VFIterator<VFace> it(a); !it.End(); ++it)
+      if (it.V1() == b || it.V2() == b) {
+        const int node = c.region_node[c.face_region[c.fi(it.F())]];
+        if (c.node_faces[node] <= c.node_target[node]) return _priority;
+      }
     const uint8_t ca = c.vclass[c.vi(a)], cb = c.vclass[c.vi(b)];
     if (ca == kFree && cb == kFree) {
       evaluate(c, a, b, /*optimal=*/true);
@@ -184,7 +199,19 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
 
   bool IsFeasible(vcg::BaseParameterClass* pp) override {
     auto& c = *static_cast<Context*>(pp);
+    // Lazy re-evaluation: after a collapse only the edges at the kept vertex are re-queued;
+    // other entries whose stars changed are re-evaluated here when they surface. If the cost
+    // rose, the collapse goes back into the heap at its new priority instead of running now.
+    const ScalarType stored = _priority;
+    const bool fresh = c.stamp[c.vi(pos.V(0))] <= evaluated_at_ && c.stamp[c.vi(pos.V(1))] <= evaluated_at_;
+    if (!fresh) ComputePriority(pp);
     if (!valid_) return false;
+    if (_priority > stored) {
+      auto& heap = *static_cast<HeapType*>(c.heap);
+      heap.push_back(HeapElem(new NodeCollapse(*this)));
+      std::push_heap(heap.begin(), heap.end());
+      return false;
+    }
     for (const auto& d : removed_per_node_)
       if (c.node_faces[d.key] - static_cast<int>(d.value) < c.node_target[d.key]) return false;
     for (const auto& d : removed_per_region_)
@@ -236,27 +263,19 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     auto& c = *static_cast<Context*>(pp);
     ++c.mark;
     VVertex* kept = pos.V(1);
-    kept->IMark() = c.mark;
-    // The cost of an edge depends on the stars of both its ends, and every star touching the
-    // kept vertex changed: re-evaluate all edges with an end in {kept} U ring(kept).
-    std::vector<VVertex*> ring;
+    kept->IMark() = c.mark;  // invalidates the old entries at the kept vertex
+    auto& ring = c.scratch_v[0];
+    ring.clear();
     for (vcg::face::VFIterator<VFace> it(kept); !it.End(); ++it) {
       ring.push_back(it.V1());
       ring.push_back(it.V2());
     }
     std::sort(ring.begin(), ring.end());
     ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
-    for (VVertex* r : ring) r->IMark() = c.mark;
-    std::vector<std::pair<VVertex*, VVertex*>> edges;
-    auto collect = [&edges](VVertex* v) {
-      for (vcg::face::VFIterator<VFace> it(v); !it.End(); ++it)
-        for (VVertex* w : {it.V1(), it.V2()}) edges.emplace_back(std::min(v, w), std::max(v, w));
-    };
-    collect(kept);
-    for (VVertex* r : ring) collect(r);
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    for (const auto& e : edges) push(heap, e.first, e.second, c);
+    ++c.clock;
+    c.stamp[c.vi(kept)] = c.clock;
+    for (VVertex* r : ring) c.stamp[c.vi(r)] = c.clock;
+    for (VVertex* r : ring) push(heap, std::min(kept, r), std::max(kept, r), c);
   }
 
   static void push(HeapType& heap, VVertex* a, VVertex* b, Context& c) {
@@ -289,7 +308,6 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   static void Finalize(VMesh&, HeapType&, vcg::BaseParameterClass*) {}
   static float HeapSimplexRatio(vcg::BaseParameterClass*) { return 8.0f; }
 
- private:
  private:
   // Does the edge (a, b) separate two regions, or bound the surface (1 face or > 2 faces)?
   static bool is_contour_edge(const Context& c, VVertex* a, VVertex* b) {
@@ -449,8 +467,12 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   bool link_condition(Context& c) const {
     VVertex* gone = pos.cV(0);
     VVertex* kept = pos.cV(1);
-    std::vector<VVertex*> lg, lk, opposite;
-    std::vector<std::pair<VVertex*, VVertex*>> eg, ek;
+    auto& lg = c.scratch_v[0];
+    auto& lk = c.scratch_v[1];
+    auto& opposite = c.scratch_v[2];
+    auto& eg = c.scratch_e[0];
+    auto& ek = c.scratch_e[1];
+    lg.clear(), lk.clear(), opposite.clear(), eg.clear(), ek.clear();
     auto edge = [](VVertex* x, VVertex* y) { return std::make_pair(std::min(x, y), std::max(x, y)); };
     for (vcg::face::VFIterator<VFace> it(gone); !it.End(); ++it) {
       VVertex* v1 = it.V1();
@@ -476,20 +498,37 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
       std::sort(v->begin(), v->end());
       v->erase(std::unique(v->begin(), v->end()), v->end());
     }
-    std::vector<VVertex*> shared;
-    std::set_intersection(lg.begin(), lg.end(), lk.begin(), lk.end(), std::back_inserter(shared));
-    shared.erase(std::remove(shared.begin(), shared.end(), gone), shared.end());
-    shared.erase(std::remove(shared.begin(), shared.end(), kept), shared.end());
-    if (shared != opposite) return false;
+    // Shared link vertices (other than the edge's own ends) must be exactly the opposite ones.
+    size_t shared = 0;
+    for (size_t i = 0, j = 0; i < lg.size() && j < lk.size();) {
+      if (lg[i] == lk[j]) {
+        if (lg[i] != gone && lg[i] != kept) {
+          if (!std::binary_search(opposite.begin(), opposite.end(), lg[i])) return false;
+          ++shared;
+        }
+        ++i, ++j;
+      } else if (lg[i] < lk[j]) {
+        ++i;
+      } else {
+        ++j;
+      }
+    }
+    if (shared != opposite.size()) return false;
     // No edge may be in both links (e.g. a tetrahedron fold), else faces would duplicate.
     std::sort(eg.begin(), eg.end());
     std::sort(ek.begin(), ek.end());
-    std::vector<std::pair<VVertex*, VVertex*>> both;
-    std::set_intersection(eg.begin(), eg.end(), ek.begin(), ek.end(), std::back_inserter(both));
-    return both.empty();
+    for (size_t i = 0, j = 0; i < eg.size() && j < ek.size();) {
+      if (eg[i] == ek[j]) return false;
+      if (eg[i] < ek[j])
+        ++i;
+      else
+        ++j;
+    }
+    return true;
   }
 
   bool valid_ = false;
+  int evaluated_at_ = 0;
   Vec3 x_ = Vec3::Zero();
   Deltas removed_per_node_, removed_per_region_, area_delta_, volume_delta_;
 };
@@ -575,8 +614,10 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     }
   std::sort(ef.begin(), ef.end());
   std::vector<int> contour_edges_at(nv, 0);
-  std::vector<char> frozen(nv, 0), has_boundary(nv, 0);
-  // Connected components (union-find over faces sharing an edge) and their closedness.
+  std::vector<char> frozen(nv, 0);
+  // Parts: faces connected across manifold edges (exactly two faces), so that a fin standing
+  // on a closed box (a non-manifold edge) does not make the box "open". A part is closed when
+  // each of its edges is shared by exactly two of its faces; its enclosed volume is then kept.
   std::vector<int> parent(nf);
   std::iota(parent.begin(), parent.end(), 0);
   auto find = [&parent](int x) {
@@ -592,14 +633,23 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     const EdgeFace first = ef[i];
     for (auto it = ef.begin() + static_cast<std::ptrdiff_t>(i) + 1; it != ef.begin() + static_cast<std::ptrdiff_t>(j); ++it) {
       differ |= c.face_region[it->f] != c.face_region[first.f];
-      parent[find(it->f)] = find(first.f);
+      if (count == 2) parent[find(it->f)] = find(first.f);
     }
     if (count != 2 || differ) {
       ++contour_edges_at[ef[i].a];
       ++contour_edges_at[ef[i].b];
     }
     if (count > 2 || ef[i].a == ef[i].b) frozen[ef[i].a] = frozen[ef[i].b] = 1;
-    if (count == 1) face_on_open_edge[ef[i].f] = 1;
+    i = j;
+  }
+  for (size_t i = 0; i < ef.size();) {
+    size_t j = i;
+    while (j < ef.size() && ef[j].a == ef[i].a && ef[j].b == ef[i].b) ++j;
+    for (size_t k = i; k < j; ++k) {
+      int same_part = 0;
+      for (size_t l = i; l < j; ++l) same_part += find(ef[l].f) == find(ef[k].f);
+      if (same_part != 2) face_on_open_edge[ef[k].f] = 1;
+    }
     i = j;
   }
   // Non-manifold vertices: the faces around a vertex must form one fan (connected through
@@ -691,12 +741,14 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     for (int j = 0; j < 3; ++j) m.face[f].V(j) = &m.vert[mesh.F(f, j)];
   vcg::tri::UpdateTopology<VMesh>::VertexFace(m);
   c.absorbed_by.assign(nf, -1);
+  c.stamp.assign(nv, 0);
 
   int collapses = 0;
   bool needs_work = false;
   for (int g = 0; g < groups; ++g) needs_work |= c.node_target[g] < c.node_faces[g];
   if (needs_work && nf > 0) {
     vcg::LocalOptimization<VMesh> opt(m, &c);
+    c.heap = &opt.h;
     opt.Init<NodeCollapse>();
     opt.SetTargetSimplices(total_target);
     opt.DoOptimization();
@@ -749,12 +801,9 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
 
   res.nodes.resize(groups);
   for (int g = 0; g < groups; ++g) {
-    auto& s = res.nodes[g];
-    s.faces_before = c.node_faces[g] + 0;  // overwritten below from the input
-    s.area_before_m2 = c.node_area0[g];
-    s.target_faces = c.node_target[g];
+    res.nodes[g].area_before_m2 = c.node_area0[g];
+    res.nodes[g].target_faces = c.node_target[g];
   }
-  for (int g = 0; g < groups; ++g) res.nodes[g].faces_before = 0;
   for (int f = 0; f < nf; ++f) ++res.nodes[group_of(f)].faces_before;
   for (int i = 0; i < nf_out; ++i) {
     const int f = kept_faces[i];
@@ -764,16 +813,15 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     s.area_after_m2 += 0.5 * (p1 - p0).cross(p2 - p0).norm();
   }
   for (auto& s : res.nodes) s.reached = s.faces_after <= s.target_faces;
+  std::vector<double> volume_after(ncomp, 0.0);
+  for (int i = 0; i < nf_out; ++i) {
+    const Vec3 p0 = out.V.row(out.F(i, 0)), p1 = out.V.row(out.F(i, 1)), p2 = out.V.row(out.F(i, 2));
+    volume_after[c.face_component[kept_faces[i]]] += p0.dot(p1.cross(p2)) / 6.0;
+  }
   for (int k = 0; k < ncomp; ++k)
     if (c.comp_closed[k]) {
-      double after = 0;
-      for (int i = 0; i < nf_out; ++i)
-        if (c.face_component[kept_faces[i]] == k) {
-          const Vec3 p0 = out.V.row(out.F(i, 0)), p1 = out.V.row(out.F(i, 1)), p2 = out.V.row(out.F(i, 2));
-          after += p0.dot(p1.cross(p2)) / 6.0;
-        }
       res.closed_volume_before_m3.push_back(c.comp_volume0[k]);
-      res.closed_volume_after_m3.push_back(after);
+      res.closed_volume_after_m3.push_back(volume_after[k]);
     }
   return res;
 }
@@ -801,6 +849,10 @@ DecimationResult decimate_to_global_ratio(const Mesh& mesh, double global_ratio,
     res = decimate_nodes(mesh, ratios.head(num_nodes), o);
     // A node stopped short by the constraints caps its ratio at what it reached; the rule then
     // hands its deficit to the next nodes.
+    // Each node stops within one collapse (<= 2 faces) of its rounded target, so a total within
+    // `groups` faces of the global target is met; rerunning for that would only cost time.
+    const int global_target = static_cast<int>(std::lround((1.0 - global_ratio) * mesh.num_faces()));
+    if (res.mesh.num_faces() <= global_target + groups) break;
     bool short_of_target = false;
     for (int g = 0; g < groups; ++g)
       if (!res.nodes[g].reached && counts[g] > 0) {

@@ -27,8 +27,9 @@ namespace thermodec {
 struct DecimationOptions {
   //! Hard bound on |area_after - area_before| / area_before of every node.
   double max_relative_area_change = 0.005;
-  //! Hard bound on |volume_after - volume_before| / |volume_before| of every closed connected
-  //! component (one without open-boundary edges).
+  //! Hard bound on |volume_after - volume_before| / |volume_before| of every closed part: faces
+  //! connected across manifold edges, each of its edges shared by exactly two of its faces (a
+  //! closed box stays closed when a fin stands on one of its edges).
   double max_relative_volume_change = 0.005;
   //! A contour vertex may be removed only if its distance to the contour segment that
   //! replaces it is at most this fraction of that segment's length (0.02 ~ 2.3 degrees of kink).
@@ -71,8 +72,8 @@ struct DecimationResult {
   Eigen::VectorXi fine_vertex_of_coarse;
   //! One entry per node (+1 for the unassigned group when present).
   std::vector<NodeDecimationStats> nodes;
-  //! Enclosed volume [m^3] of each closed connected component (open ones are left out),
-  //! before and after, in order of their smallest input face index.
+  //! Enclosed volume [m^3] of each closed part (see max_relative_volume_change; open ones are
+  //! left out), before and after, in order of their smallest input face index.
   std::vector<double> closed_volume_before_m3, closed_volume_after_m3;
   int collapses = 0;
 };
@@ -90,7 +91,9 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
 //! Decimates to a global ratio with the paper's rule (node_ratios_for_global_ratio): the
 //! ratios are computed from the face counts, and when constraints stop a node short of its
 //! ratio, its deficit is handed to the next larger nodes and the decimation rerun from the
-//! input (at most `max_rounds` rounds). Unassigned faces (node -1) form one more group.
+//! input (at most `max_rounds` rounds; no rerun once the total is within one face per node of
+//! global_ratio). Unassigned faces (node -1) form one more group.
+//! \throw InvalidInput if global_ratio is outside [0, 1) or the mesh is invalid.
 DecimationResult decimate_to_global_ratio(const Mesh& mesh, double global_ratio,
                                           const DecimationOptions& options = {},
                                           int max_rounds = 3);

@@ -1,0 +1,157 @@
+// Issue 5 acceptance on the sample satellite (sample_models/satellite, 13 nodes): 50 % global
+// reduction keeps every node's area within 0.5 % and each closed part's volume within 1 %, no
+// face changes node, interfaces stay watertight, reruns are identical; and the CLI commands.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "thermodec/decimation/decimate_nodes.h"
+#include "thermodec/mesh/io.h"
+#include "thermodec/mesh/repair.h"
+#include "thermodec/nodes/load_model.h"
+
+using namespace thermodec;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path sample(const char* name) { return fs::path(THERMODEC_SOURCE_DIR) / "sample_models/satellite" / name; }
+
+using EdgeKey = std::pair<int, int>;
+std::map<EdgeKey, std::vector<int>> edge_faces(const Mesh& m) {
+  std::map<EdgeKey, std::vector<int>> e;
+  for (int f = 0; f < m.num_faces(); ++f)
+    for (int j = 0; j < 3; ++j) {
+      const int a = m.F(f, j), b = m.F(f, (j + 1) % 3);
+      e[{std::min(a, b), std::max(a, b)}].push_back(f);
+    }
+  return e;
+}
+
+// Interface edges (faces of different nodes) of `m`, as sorted pairs of input vertex indices,
+// with the number of faces on each.
+std::map<EdgeKey, int> interface_edges(const Mesh& m, const Eigen::VectorXi& to_input) {
+  std::map<EdgeKey, int> out;
+  for (const auto& [e, fs] : edge_faces(m)) {
+    std::set<int> nodes;
+    for (int f : fs) nodes.insert(m.face_node[f]);
+    if (nodes.size() < 2) continue;
+    const int a = to_input.size() ? to_input[e.first] : e.first, b = to_input.size() ? to_input[e.second] : e.second;
+    out[{std::min(a, b), std::max(a, b)}] = static_cast<int>(fs.size());
+  }
+  return out;
+}
+
+void check_half_reduction(const fs::path& model_path) {
+  if (!fs::exists(model_path)) GTEST_SKIP() << model_path << " missing";
+  const ThermalModel model = load_model(model_path);
+  const Mesh& in = model.mesh;
+  const DecimationResult r = decimate_to_global_ratio(in, 0.5);
+  EXPECT_NEAR(r.mesh.num_faces(), 0.5 * in.num_faces(), 0.01 * in.num_faces());
+  ASSERT_EQ(r.nodes.size(), in.node_names.size());
+  for (size_t n = 0; n < r.nodes.size(); ++n)
+    EXPECT_LE(std::abs(r.nodes[n].relative_area_change()), 0.005) << in.node_names[n];
+  ASSERT_GE(r.closed_volume_before_m3.size(), 1u);  // the body box
+  for (size_t k = 0; k < r.closed_volume_before_m3.size(); ++k)
+    EXPECT_NEAR(r.closed_volume_after_m3[k], r.closed_volume_before_m3[k], 0.01 * std::abs(r.closed_volume_before_m3[k]));
+  int changed_node = 0;
+  for (int i = 0; i < r.mesh.num_faces(); ++i) changed_node += r.mesh.face_node[i] != in.face_node[r.fine_face_of_coarse[i]];
+  EXPECT_EQ(changed_node, 0);
+  // Watertight interfaces: every interface edge of the output keeps as many faces as the
+  // input's interface edges had (2, or more on a non-manifold junction), and each lies along
+  // an input interface.
+  std::set<int> interface_vertices;
+  for (const auto& [e, n] : interface_edges(in, {})) interface_vertices.insert({e.first, e.second});
+  int in_max = 0;
+  for (const auto& [e, n] : interface_edges(in, {})) in_max = std::max(in_max, n);
+  for (const auto& [e, n] : interface_edges(r.mesh, r.fine_vertex_of_coarse)) {
+    EXPECT_GE(n, 2);
+    EXPECT_LE(n, in_max);
+    EXPECT_TRUE(interface_vertices.count(e.first) && interface_vertices.count(e.second));
+  }
+  // Open edges never appear where the input had none.
+  std::set<int> open_in;
+  for (const auto& [e, fs] : edge_faces(in))
+    if (fs.size() == 1) open_in.insert({e.first, e.second});
+  for (const auto& [e, fs] : edge_faces(r.mesh))
+    if (fs.size() == 1) {
+      EXPECT_TRUE(open_in.count(r.fine_vertex_of_coarse[e.first]) && open_in.count(r.fine_vertex_of_coarse[e.second]));
+    }
+  const DecimationResult again = decimate_to_global_ratio(in, 0.5);
+  EXPECT_TRUE(again.mesh.V == r.mesh.V && again.mesh.F == r.mesh.F && again.coarse_face_of_fine == r.coarse_face_of_fine);
+}
+
+int run_cli(const std::string& args, std::string& out) {
+  const fs::path log = fs::temp_directory_path() / "thermodec_test_decimation_cli.txt";
+  const std::string cmd = std::string("\"") + THERMODEC_CLI + "\" " + args + " > \"" + log.string() + "\" 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(log);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  out = ss.str();
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace
+
+TEST(SampleSatellite, half_global_reduction_keeps_node_areas_volume_and_interfaces) {
+  check_half_reduction(sample("model.json"));
+}
+
+TEST(SampleSatellite, dense_half_global_reduction_keeps_node_areas_volume_and_interfaces) {
+  check_half_reduction(sample("model_dense.json"));
+}
+
+TEST(SampleSatellite, repair_finds_nothing_to_change_on_the_conforming_sample) {
+  if (!fs::exists(sample("model.json"))) GTEST_SKIP();
+  const RepairResult r = repair_mesh(load_model(sample("model.json")).mesh);
+  EXPECT_EQ(r.report.t_junctions_split, 0);
+  EXPECT_EQ(r.report.duplicate_faces_dropped, 0);
+}
+
+TEST(DecimateCli, writes_a_model_that_loads_and_reports_every_node) {
+  if (!fs::exists(sample("model.json"))) GTEST_SKIP();
+  const fs::path dir = fs::temp_directory_path() / "thermodec_test_decimate_cli";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string out;
+  ASSERT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --ratio 0.5 -o \"" + (dir / "half.json").string() + "\"", out), 0) << out;
+  EXPECT_NE(out.find("body_px"), std::string::npos) << out;
+  const ThermalModel half = load_model(dir / "half.json");
+  const ThermalModel full = load_model(sample("model.json"));
+  EXPECT_EQ(half.nodes.size(), full.nodes.size());
+  EXPECT_NEAR(half.mesh.num_faces(), full.mesh.num_faces() / 2, full.mesh.num_faces() / 100 + 1);
+  // Per-node ratios from JSON: only the boom is reduced.
+  std::ofstream(dir / "ratios.json") << "{\"boom\": 0.5}";
+  ASSERT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --node-ratios \"" + (dir / "ratios.json").string() +
+                        "\" -o \"" + (dir / "boom.obj").string() + "\"", out), 0) << out;
+  EXPECT_TRUE(fs::exists(dir / "boom.json"));
+  // Errors exit 1 with a message: unknown node, missing ratio, overwriting the input.
+  std::ofstream(dir / "bad.json") << "{\"no_such_node\": 0.5}";
+  EXPECT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --node-ratios \"" + (dir / "bad.json").string() +
+                        "\" -o \"" + (dir / "x.json").string() + "\"", out), 1);
+  EXPECT_NE(out.find("no_such_node"), std::string::npos) << out;
+  EXPECT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" -o \"" + (dir / "x.json").string() + "\"", out), 1);
+  const fs::path copy = dir / "copy.obj";
+  fs::copy_file(sample("satellite.obj"), copy);
+  EXPECT_EQ(run_cli("decimate \"" + copy.string() + "\" --ratio 0.5 -o \"" + copy.string() + "\"", out), 1);
+}
+
+TEST(RepairCli, prints_what_it_changed_and_writes_a_loadable_model) {
+  const fs::path dir = fs::temp_directory_path() / "thermodec_test_repair_cli";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // A non-conforming two-square OBJ: the T-junction at (1, 0.5, 0) must be split.
+  std::ofstream(dir / "t.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1 0.5 0\nv 2 0 0\nv 2 1 0\n"
+                                  "g left\nf 1 2 3\nf 1 3 4\ng right\nf 2 6 5\nf 5 6 7\nf 5 7 3\n";
+  std::string out;
+  ASSERT_EQ(run_cli("repair \"" + (dir / "t.obj").string() + "\" -o \"" + (dir / "fixed.json").string() + "\"", out), 0) << out;
+  EXPECT_NE(out.find("T-junction edge bisections: 1"), std::string::npos) << out;
+  const ThermalModel fixed = load_model(dir / "fixed.json");
+  EXPECT_EQ(fixed.mesh.num_faces(), 6);
+}
