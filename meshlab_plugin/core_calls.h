@@ -39,4 +39,51 @@ NodeTemperatures simulate_document(const thermodec::Mesh& mesh, const std::vecto
                                    int rays_per_face,
                                    const std::function<void(const std::string&)>& progress);
 
+//! What the document asks of a reduction or sensitivity run (see simulate_document for how
+//! the model is built from the document and `model_file`).
+struct DocumentModelRequest {
+  const thermodec::Mesh* mesh = nullptr;  //!< document mesh, face_node set for every face
+  std::vector<int> node_ids;
+  bool ids_index_model_nodes = false;
+  std::string model_file;                 //!< empty = core defaults
+  int rays_per_face = 0;                  //!< > 0 overrides the model's
+  std::function<void(const std::string&)> progress;
+};
+
+//! Result of reduce_document.
+struct DocumentReduction {
+  //! The verified reduced mesh; face_node indexes the document's nodes (as the input mesh).
+  thermodec::Mesh mesh;
+  std::string summary;                 //!< thermodec's summary lines (as `thermodec reduce`)
+  std::vector<std::string> warnings;   //!< plots that could not be written
+  double max_temperature_difference_K = 0.0;
+  double noise_floor_K = 0.0;
+};
+
+//! `thermodec reduce` on the document: reduce_model with the tolerance [K] and strategy
+//! (informed = sensitivity-guided, else uniform), then write_reduction_outputs into `out_dir`
+//! (model.json + reduced.obj, report.json, PNG plots when `plots`).
+//! \throw thermodec::InvalidInput (tolerance not positive or below twice the noise floor, two
+//! document nodes mapped to one model node, ...), IOError, SolverError.
+DocumentReduction reduce_document(const DocumentModelRequest& request, double tolerance_K,
+                                  bool informed, const std::string& out_dir, bool plots);
+
+//! Result of sensitivity_document, per document node.
+struct DocumentSensitivity {
+  std::vector<std::string> nodes;
+  std::vector<std::vector<double>> ratios, max_abs_dT_K;  //!< per node, increasing ratio
+  std::vector<std::vector<int>> faces_after;
+  std::vector<int> faces_before;
+  std::vector<std::string> files;     //!< written: sensitivity.csv, sensitivity.png
+  std::vector<std::string> warnings;  //!< plot failures
+};
+
+//! The paper's per-node sensitivity analysis on the document (each node alone decimated by
+//! increasing ratios until the whole model's max |dT| over the orbit exceeds 2 x tolerance_K),
+//! written as `out_dir`/sensitivity.csv (node, faces_before, ratio, faces_after,
+//! max_abs_dT_K) and sensitivity.png.
+//! \throw thermodec::InvalidInput, IOError, SolverError.
+DocumentSensitivity sensitivity_document(const DocumentModelRequest& request, double tolerance_K,
+                                         const std::string& out_dir);
+
 }  // namespace thermodec_meshlab

@@ -16,7 +16,9 @@
 #ifdef THERMODEC_FILTER_DECIMATE_RATIO
 #include "thermodec/decimation/decimate_nodes.h"
 #endif
-#ifdef THERMODEC_FILTER_SIMULATE
+#if defined(THERMODEC_FILTER_SIMULATE) || defined(THERMODEC_FILTER_REDUCE)
+#include <QDir>
+#include <QFileInfo>
 #include <vcg/complex/algorithms/update/color.h>
 
 #include "core_calls.h"
@@ -46,6 +48,9 @@ ThermodecFilterPlugin::ThermodecFilterPlugin() {
 #ifdef THERMODEC_FILTER_SIMULATE
   typeList << FP_SIMULATE;
 #endif
+#ifdef THERMODEC_FILTER_REDUCE
+  typeList << FP_SENSITIVITY << FP_REDUCE;
+#endif
   for (FilterIDType id : types()) actionList << new QAction(filterName(id), this);
 }
 
@@ -57,6 +62,8 @@ QString ThermodecFilterPlugin::filterName(FilterIDType filter) const {
     case FP_EXTRACT_EXTERNAL: return "Thermal: extract external geometry";
     case FP_DECIMATE_RATIO: return "Thermal: decimate to global ratio";
     case FP_SIMULATE: return "Thermal: simulate";
+    case FP_SENSITIVITY: return "Thermal: sensitivity analysis";
+    case FP_REDUCE: return "Thermal: physics-informed decimation";
   }
   assert(false);
   return QString();
@@ -86,8 +93,29 @@ QString ThermodecFilterPlugin::filterInfo(FilterIDType filter) const {
              "rule, without ever moving a face to another node, opening holes or changing any "
              "node's area or closed volume beyond the stated tolerances. The result is added as "
              "new layer(s) named '... decimated'; faces per node before/after go to the log. "
-             "(The simulation-driven, tolerance-in-kelvin reduction comes with thermodec's "
-             "reduction driver.)" "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
+             "(To reduce as far as a temperature tolerance allows, use <i>Thermal: "
+             "physics-informed decimation</i>.)" "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
+             "nodes</i>); with several layers, every layer is one node (the one-file-per-node "
+             "layout, e.g. an .mlp project).";
+    case FP_SENSITIVITY:
+      return "The paper's per-node sensitivity analysis (thermodec): each node alone is "
+             "decimated by increasing ratios, the rest of the model unchanged, and the largest "
+             "temperature difference of the whole model over the orbit is recorded, until it "
+             "exceeds twice the tolerance. Curves are written as sensitivity.csv and "
+             "sensitivity.png in the output folder (default: beside the current layer's file); "
+             "a summary per node goes to the log. Simulation settings as in <i>Thermal: "
+             "simulate</i>." "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
+             "nodes</i>); with several layers, every layer is one node (the one-file-per-node "
+             "layout, e.g. an .mlp project).";
+    case FP_REDUCE:
+      return "Simulation-driven reduction (thermodec reduce, paper IV-V): decimates every node as "
+             "far as the temperature tolerance allows and verifies the result by a full "
+             "re-simulation (max |dT| over all nodes and the orbit <= tolerance). <i>informed</i>: "
+             "a sensitivity sweep per node predicts each node's ratio, then excesses are backed "
+             "off and spare tolerance used; <i>uniform</i>: one ratio for all nodes. The reduced "
+             "mesh is added as new layer(s) '... reduced'; model.json + reduced.obj, report.json "
+             "and plots go to the output folder (default: beside the current layer's file); the "
+             "summary goes to the log. Simulation settings as in <i>Thermal: simulate</i>." "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
              "nodes</i>); with several layers, every layer is one node (the one-file-per-node "
              "layout, e.g. an .mlp project).";
     case FP_SIMULATE:
@@ -111,6 +139,8 @@ MeshFilterInterface::FilterClass ThermodecFilterPlugin::getClass(QAction* action
     case FP_EXTRACT_EXTERNAL: return FilterClass(Cleaning | Layer);
     case FP_DECIMATE_RATIO: return FilterClass(Remeshing | Layer);
     case FP_SIMULATE: return FilterClass(Quality | FaceColoring | Measure);
+    case FP_SENSITIVITY: return Measure;
+    case FP_REDUCE: return FilterClass(Remeshing | Layer);
   }
   assert(false);
   return Quality;
@@ -122,7 +152,9 @@ MeshFilterInterface::FILTER_ARITY ThermodecFilterPlugin::filterArity(QAction* ac
     // These read every layer of a multi-layer document (one layer = one node).
     case FP_EXTRACT_EXTERNAL:
     case FP_DECIMATE_RATIO:
-    case FP_SIMULATE: return VARIABLE;
+    case FP_SIMULATE:
+    case FP_SENSITIVITY:
+    case FP_REDUCE: return VARIABLE;
   }
   assert(false);
   return SINGLE_MESH;
@@ -135,7 +167,9 @@ int ThermodecFilterPlugin::getRequirements(QAction* action) {
     // here would make MeshLab add a zero quality to every layer.
     case FP_EXTRACT_EXTERNAL:
     case FP_DECIMATE_RATIO:
-    case FP_SIMULATE: return MeshModel::MM_NONE;
+    case FP_SIMULATE:
+    case FP_SENSITIVITY:
+    case FP_REDUCE: return MeshModel::MM_NONE;
   }
   assert(false);
   return MeshModel::MM_NONE;
@@ -146,7 +180,9 @@ int ThermodecFilterPlugin::getPreConditions(QAction* action) const {
     case FP_ASSIGN_NODES:
     case FP_EXTRACT_EXTERNAL:
     case FP_DECIMATE_RATIO:
-    case FP_SIMULATE: return MeshModel::MM_FACENUMBER;
+    case FP_SIMULATE:
+    case FP_SENSITIVITY:
+    case FP_REDUCE: return MeshModel::MM_FACENUMBER;
   }
   assert(false);
   return MeshModel::MM_NONE;
@@ -158,6 +194,8 @@ int ThermodecFilterPlugin::postCondition(QAction* action) const {
     case FP_EXTRACT_EXTERNAL:
     case FP_DECIMATE_RATIO: return MeshModel::MM_NONE;  // results are new layers
     case FP_SIMULATE: return MeshModel::MM_FACEQUALITY | MeshModel::MM_FACECOLOR;
+    case FP_SENSITIVITY: return MeshModel::MM_NONE;  // files and log only
+    case FP_REDUCE: return MeshModel::MM_NONE;       // results are new layers
   }
   assert(false);
   return MeshModel::MM_NONE;
@@ -247,6 +285,44 @@ void ThermodecFilterPlugin::initParameterSet(QAction* action, MeshModel& /*m*/,
 #endif
       break;
     }
+    case FP_SENSITIVITY:
+    case FP_REDUCE: {
+#ifdef THERMODEC_FILTER_REDUCE
+      const bool reduce = ID(action) == FP_REDUCE;
+      params.addParam(RichFloat(
+          "tolerance_K", 0.5f, "Tolerance [K]",
+          reduce ? "Largest temperature difference allowed between the reduced and the original "
+                   "model, over all nodes and the whole orbit [K]. Must be at least twice the "
+                   "Monte Carlo noise floor, which is measured first."
+                 : "Temperature tolerance [K] the curves are read against: each node's sweep "
+                   "stops once the difference exceeds twice this value."));
+      if (reduce)
+        params.addParam(RichEnum(
+            "strategy", 0, QStringList() << "informed" << "uniform", "Strategy",
+            "informed: per-node ratios predicted from sensitivity curves, then verified and "
+            "adjusted; uniform: the same ratio for every node (the paper's baseline)."));
+      params.addParam(RichString(
+          "model_file", "", "Model file (model.json)",
+          "Optional thermodec model file: materials, capacitances, powers, conductances, "
+          "environment, analysis and radiation settings (nodes matched as in Thermal: "
+          "simulate). Empty: the core defaults."));
+      params.addParam(RichInt(
+          "rays_per_face", 0, "Rays per face",
+          "Monte Carlo rays per face for the radiative couplings; 0 = the model's setting. "
+          "Fewer rays are faster but raise the noise floor the tolerance must exceed."));
+      params.addParam(RichString(
+          "output_dir", "", "Output folder",
+          reduce ? "Folder for model.json, reduced.obj, report.json and the plots. Empty: "
+                   "'<layer file>_thermodec_reduction' beside the current layer's file."
+                 : "Folder for sensitivity.csv and sensitivity.png. Empty: "
+                   "'<layer file>_thermodec_sensitivity' beside the current layer's file."));
+      if (reduce)
+        params.addParam(RichBool("plots", true, "Write plots",
+                                 "Also write the PNG plots (sensitivity, predicted vs real, "
+                                 "temperatures, mesh) with matplotlib."));
+#endif
+      break;
+    }
   }
 }
 
@@ -260,6 +336,8 @@ bool ThermodecFilterPlugin::applyFilter(QAction* action, MeshDocument& md,
       case FP_EXTRACT_EXTERNAL: return extract_external(md, params, cb);
       case FP_DECIMATE_RATIO: return decimate_ratio(md, params, cb);
       case FP_SIMULATE: return simulate(md, params, cb);
+      case FP_SENSITIVITY: return sensitivity(md, params, cb);
+      case FP_REDUCE: return reduce(md, params, cb);
     }
     errorMessage = "unknown thermodec filter";
   } catch (const thermodec::Error& e) {
@@ -433,6 +511,109 @@ bool ThermodecFilterPlugin::simulate(MeshDocument& md, const RichParameterList& 
   return true;
 #else
   throw thermodec::InvalidInput("this build of thermodec has no thermal simulation");
+#endif
+}
+
+#ifdef THERMODEC_FILTER_REDUCE
+namespace {
+
+// The output folder: the parameter, or "<layer file stem>_thermodec_<what>" beside the current
+// layer's file (the paper's users keep results next to the project).
+std::string output_dir(MeshDocument& md, const RichParameterList& params, const char* what) {
+  const QString given = params.getString("output_dir").trimmed();
+  if (!given.isEmpty()) return QDir(given).absolutePath().toStdString();
+  const QFileInfo file(md.mm()->fullName());
+  if (md.mm()->fullName().isEmpty() || !file.dir().exists())
+    throw thermodec::InvalidInput("output_dir: the current layer has no file to put the results "
+                                  "beside; set output_dir");
+  return file.dir().filePath(file.completeBaseName() + "_thermodec_" + what).toStdString();
+}
+
+}  // namespace
+#endif
+
+bool ThermodecFilterPlugin::sensitivity(MeshDocument& md, const RichParameterList& params,
+                                        vcg::CallBackPos* cb) {
+#ifdef THERMODEC_FILTER_REDUCE
+  const double tolerance = params.getFloat("tolerance_K");
+  const std::string out_dir = output_dir(md, params, "sensitivity");
+  progress(cb, 0, "Thermal: gathering nodes");
+  const DocumentMesh dm = mesh_with_nodes(md);
+  if (params.getInt("rays_per_face") < 0)
+    throw thermodec::InvalidInput("rays_per_face must be >= 0 (0 = the model's)");
+  DocumentModelRequest request;
+  request.mesh = &dm.mesh;
+  request.node_ids = dm.node_ids;
+  request.ids_index_model_nodes = dm.source == NodeSource::FaceQuality;
+  request.model_file = params.getString("model_file").trimmed().toStdString();
+  request.rays_per_face = params.getInt("rays_per_face");
+  request.progress = [&](const std::string& what) {
+    progress(cb, 50, what.c_str());
+    Log("  %s", what.c_str());
+  };
+  const DocumentSensitivity s = sensitivity_document(request, tolerance, out_dir);
+
+  Log("Thermal: sensitivity analysis (tolerance %.3g K, sweeps stop above %.3g K): %s",
+      tolerance, 2 * tolerance, out_dir.c_str());
+  for (size_t n = 0; n < s.nodes.size(); ++n) {
+    // The largest ratio whose difference stays within the tolerance: what the curve allows.
+    int within = -1;
+    for (size_t k = 0; k < s.ratios[n].size(); ++k)
+      if (s.max_abs_dT_K[n][k] <= tolerance) within = int(k);
+    if (within < 0)
+      Log("  %s (%d faces): %d ratio(s) tried, none within tolerance", s.nodes[n].c_str(),
+          s.faces_before[n], int(s.ratios[n].size()));
+    else
+      Log("  %s (%d faces): %d ratio(s) tried, up to %.2f within tolerance (%d faces, max |dT| "
+          "%.3g K)", s.nodes[n].c_str(), s.faces_before[n], int(s.ratios[n].size()),
+          s.ratios[n][within], s.faces_after[n][within], s.max_abs_dT_K[n][within]);
+  }
+  for (const auto& f : s.files) Log("  wrote %s", f.c_str());
+  for (const auto& w : s.warnings) Log(GLLogStream::WARNING, ("  " + w).c_str());
+  progress(cb, 100, "Thermal: sensitivity analysed");
+  return true;
+#else
+  throw thermodec::InvalidInput("this build of thermodec has no reduction driver");
+#endif
+}
+
+bool ThermodecFilterPlugin::reduce(MeshDocument& md, const RichParameterList& params,
+                                   vcg::CallBackPos* cb) {
+#ifdef THERMODEC_FILTER_REDUCE
+  const double tolerance = params.getFloat("tolerance_K");
+  const bool informed = params.getEnum("strategy") == 0;
+  const bool plots = params.getBool("plots");
+  const std::string out_dir = output_dir(md, params, "reduction");
+  if (params.getInt("rays_per_face") < 0)
+    throw thermodec::InvalidInput("rays_per_face must be >= 0 (0 = the model's)");
+  progress(cb, 0, "Thermal: gathering nodes");
+  const DocumentMesh dm = mesh_with_nodes(md);
+  DocumentModelRequest request;
+  request.mesh = &dm.mesh;
+  request.node_ids = dm.node_ids;
+  request.ids_index_model_nodes = dm.source == NodeSource::FaceQuality;
+  request.model_file = params.getString("model_file").trimmed().toStdString();
+  request.rays_per_face = params.getInt("rays_per_face");
+  int step = 0;
+  request.progress = [&](const std::string& what) {
+    step = std::min(step + 5, 90);
+    progress(cb, step, what.c_str());
+    Log("  %s", what.c_str());
+  };
+  const DocumentReduction r = reduce_document(request, tolerance, informed, out_dir, plots);
+  const auto layers = add_layers(md, dm, r.mesh, "reduced");
+
+  Log("Thermal: physics-informed decimation (%s, tolerance %.3g K): %d -> %d faces, verified "
+      "max |dT| %.3g K, noise floor %.3g K, %d new layer(s), results in %s",
+      informed ? "informed" : "uniform", tolerance, dm.mesh.num_faces(), r.mesh.num_faces(),
+      r.max_temperature_difference_K, r.noise_floor_K, int(layers.size()), out_dir.c_str());
+  for (const QString& line : QString::fromStdString(r.summary).split('\n', Qt::SkipEmptyParts))
+    Log("  %s", qUtf8Printable(line));
+  for (const auto& w : r.warnings) Log(GLLogStream::WARNING, ("  plot not written: " + w).c_str());
+  progress(cb, 100, "Thermal: reduced");
+  return true;
+#else
+  throw thermodec::InvalidInput("this build of thermodec has no reduction driver");
 #endif
 }
 

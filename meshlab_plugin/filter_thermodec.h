@@ -17,6 +17,8 @@ class ThermodecFilterPlugin : public QObject, public MeshFilterInterface {
     FP_EXTRACT_EXTERNAL,
     FP_DECIMATE_RATIO,
     FP_SIMULATE,
+    FP_SENSITIVITY,
+    FP_REDUCE,
   };
 
   ThermodecFilterPlugin();
@@ -42,4 +44,6 @@ class ThermodecFilterPlugin : public QObject, public MeshFilterInterface {
   bool extract_external(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
   bool decimate_ratio(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
   bool simulate(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
+  bool sensitivity(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
+  bool reduce(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
 };

@@ -8,15 +8,17 @@
 #     --expect-log REGEX   the run's output must match REGEX (grep -E); repeatable
 #     --expect-fail REGEX  the script must fail (non-zero exit, no OUT.ply) with REGEX in the output
 #     --save-mask "fq fc"  meshlabserver -m mask (default "fq fc": face quality and colour)
+#     --expect-file PATH   the run must have written PATH (non-empty); repeatable
 # check_ply args go to check_ply.py (run with Debian's python3, which has numpy).
 set -euo pipefail
 server=$1 work=$2 input=$3 script=$4 out=$5
 shift 5
-expect_logs=() expect_fail="" mask="fq fc"
+expect_logs=() expect_files=() expect_fail="" mask="fq fc"
 while [ $# -gt 0 ]; do
   case $1 in
     --expect-log) expect_logs+=("$2"); shift 2 ;;
     --expect-fail) expect_fail=$2; shift 2 ;;
+    --expect-file) expect_files+=("$2"); shift 2 ;;
     --save-mask) mask=$2; shift 2 ;;
     --) shift; break ;;
     *) echo "run_meshlabserver.sh: unknown option $1" >&2; exit 2 ;;
@@ -27,6 +29,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$work"
 cd "$work"
 rm -f "$out"
+for f in "${expect_files[@]}"; do rm -f "$f"; done  # a stale file from an earlier run proves nothing
 log=$work/$(basename "$out").log
 # shellcheck disable=SC2086  # the mask is a list of words
 set +e
@@ -63,4 +66,11 @@ if [ "$rc" -ne 0 ] || [ ! -s "$out" ]; then
   tail -20 "$log" >&2
   exit 1
 fi
+for f in "${expect_files[@]}"; do
+  if [ ! -s "$f" ]; then
+    echo "FAIL: $f was not written" >&2
+    exit 1
+  fi
+  echo "wrote $f"
+done
 exec /usr/bin/python3 "$here/check_ply.py" "$out" "$@"
