@@ -17,6 +17,8 @@
 #include <random>
 #include <thread>
 
+#include <sys/resource.h>
+
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/radiation/external_geometry.h"
 #include "thermodec/radiation/face_view_factors.h"
@@ -29,6 +31,15 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// CPU time of the whole process (all threads) [s]. On a machine shared with other jobs the
+// wall-clock rate swings with their load; CPU time charges each loop only for the cycles it
+// actually got, so the ratio below is taken on CPU time.
+double cpu_seconds() {
+  rusage u;
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
 
 // 1 -> 4 midpoint subdivision, attributes copied to the children.
 ThermalModel subdivided(const ThermalModel& m) {
@@ -111,8 +122,14 @@ ThermalModel synthetic(int n) {
 }
 
 // The bare loop: its own Embree scene (robust, high quality, like RayScene) and rays drawn
-// beforehand with the same distribution (uniform on faces, cosine-weighted, lifted by 1e-5).
-double bare_embree_rays_per_second(const Mesh& mesh, std::int64_t num_rays) {
+// beforehand with the same distribution (uniform on faces, cosine-weighted, lifted by 1e-5)
+// and in the same order (side by side, backs of two-sided faces included).
+struct Rate {
+  double wall = 0;  // rays per wall-clock second
+  double cpu = 0;   // rays per CPU second (all threads)
+};
+
+Rate bare_embree_rays_per_second(const Mesh& mesh, const SurfaceSides& sides, std::int64_t num_rays) {
   RTCDevice dev = rtcNewDevice(nullptr);
   RTCScene scene = rtcNewScene(dev);
   rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);
@@ -133,12 +150,13 @@ double bare_embree_rays_per_second(const Mesh& mesh, std::int64_t num_rays) {
   std::vector<float> org(3 * n), dir(3 * n);
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> U(0, 1);
+  // Same order as thermodec traces them: face by face, so both loops see the same coherence.
   for (std::int64_t r = 0; r < n; ++r) {
-    const int f = int(U(rng) * mesh.num_faces()) % mesh.num_faces();
+    const int side = int(r * sides.size() / n);  // the same sides (fronts and backs) as thermodec
+    const int f = sides.face[side];
     const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
-    Eigen::Vector3d nrm = (b - a).cross(c - a);
-    if (nrm.norm() == 0) nrm = Eigen::Vector3d::UnitZ();
-    nrm.normalize();
+    Eigen::Vector3d nrm = (b - a).cross(c - a).normalized();
+    if (sides.is_back[side]) nrm = -nrm;
     const double s = std::sqrt(U(rng)), t = U(rng);
     const Eigen::Vector3d p = a + (b - a) * (s * (1 - t)) + (c - a) * (s * t) + nrm * 1e-5;
     const Eigen::Vector3d tg = nrm.unitOrthogonal(), bt = nrm.cross(tg);
@@ -150,6 +168,7 @@ double bare_embree_rays_per_second(const Mesh& mesh, std::int64_t num_rays) {
     }
   }
   std::vector<int> hit(n);
+  const double c0 = cpu_seconds();
   const auto t0 = Clock::now();
   tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, n, 4096), [&](const tbb::blocked_range<std::int64_t>& r) {
     RTCIntersectContext ctx;
@@ -164,36 +183,38 @@ double bare_embree_rays_per_second(const Mesh& mesh, std::int64_t num_rays) {
       hit[i] = int(rh.hit.primID);
     }
   });
-  const double s = seconds_since(t0);
+  const double s = seconds_since(t0), c = cpu_seconds() - c0;
   rtcReleaseScene(scene);
   rtcReleaseDevice(dev);
-  return n / s;
+  return {n / s, n / c};
 }
 
 void trace_case(const std::string& name, const ThermalModel& model, int rays) {
   RadiationSettings settings{rays, 1};
   const RayScene scene(model.mesh);
   const SurfaceSides sides = surface_sides(model);
-  // Alternate the two measurements twice and keep each one's best, so a neighbour's load
-  // spike hits both alike.
-  double best_td = 0, best_bare = 0;
-  std::int64_t traced = 0;
-  for (int rep = 0; rep < 2; ++rep) {
+  // Alternate the two measurements three times and keep each one's best, so a neighbour's
+  // load spike hits both alike.
+  Rate td, bare;
+  for (int rep = 0; rep < 3; ++rep) {
+    const double c0 = cpu_seconds();
     const auto t0 = Clock::now();
     const FaceViewFactors vf = face_view_factors(scene, sides, settings);
-    const double s = seconds_since(t0);
-    traced = vf.rays_traced;
-    best_td = std::max(best_td, vf.rays_traced / s);
-    best_bare = std::max(best_bare, bare_embree_rays_per_second(model.mesh, vf.rays_traced));
+    const double s = seconds_since(t0), c = cpu_seconds() - c0;
+    td.wall = std::max(td.wall, vf.rays_traced / s);
+    td.cpu = std::max(td.cpu, vf.rays_traced / c);
+    const Rate b = bare_embree_rays_per_second(model.mesh, sides, vf.rays_traced);
+    bare.wall = std::max(bare.wall, b.wall);
+    bare.cpu = std::max(bare.cpu, b.cpu);
   }
   const auto t1 = Clock::now();
   const NodeCouplings c = radiative_couplings(model, settings);
   const double total = seconds_since(t1);
-  fmt::print("{:<24} {:>7} faces {:>6} sides x {:>5} rays: thermodec {:6.2f} Mrays/s, bare Embree {:6.2f} Mrays/s, "
-             "ratio {:.2f}; full couplings {:.2f} s ({} Gebhart sweeps)\n",
-             name, model.mesh.num_faces(), sides.size(), rays, best_td * 1e-6, best_bare * 1e-6, best_td / best_bare,
-             total, c.diagnostics.gebhart_iterations);
-  (void)traced;
+  fmt::print("{:<24} {:>7} faces {:>6} sides x {:>5} rays: thermodec {:6.2f} Mrays/CPU-s ({:6.2f} Mrays/s wall), "
+             "bare Embree {:6.2f} Mrays/CPU-s ({:6.2f} wall), ratio {:.2f} (wall {:.2f}); full couplings {:.2f} s "
+             "({} Gebhart sweeps)\n",
+             name, model.mesh.num_faces(), sides.size(), rays, td.cpu * 1e-6, td.wall * 1e-6, bare.cpu * 1e-6,
+             bare.wall * 1e-6, td.cpu / bare.cpu, td.wall / bare.wall, total, c.diagnostics.gebhart_iterations);
 }
 
 void incremental_case(const std::string& name, const ThermalModel& model, int rays, const std::string& node_name) {

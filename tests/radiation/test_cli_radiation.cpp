@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include <sys/wait.h>
+
 #include "analytic.h"
 
 namespace fs = std::filesystem;
@@ -88,6 +90,12 @@ TEST(ExternalCli, writes_the_external_mesh_and_refuses_to_overwrite_its_input) {
   EXPECT_TRUE(fs::exists(dir / "ext.obj"));
   EXPECT_NE(read(dir / "log").find("plate0"), std::string::npos);
   EXPECT_EQ(run("external " + (dir / "plates.obj").string() + " -o " + (dir / "plates.obj").string(), dir / "log2"), 1);
+  // A model output (.json + .obj beside it) is a valid MODEL for the next step.
+  ASSERT_EQ(run("external " + (dir / "plates.obj").string() + " -o " + (dir / "ext" / "model.json").string(), dir / "log3"), 0)
+      << read(dir / "log3");
+  EXPECT_TRUE(fs::exists(dir / "ext" / "model.obj"));
+  EXPECT_EQ(run("viewfactors " + (dir / "ext" / "model.json").string() + " --rays 200 --json " + (dir / "vf.json").string(),
+                dir / "log4"), 0) << read(dir / "log4");
 }
 
 TEST(SharedModelsRadiation, nasa_models_run_through_viewfactors_and_external) {

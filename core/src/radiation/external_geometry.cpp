@@ -18,7 +18,7 @@ ExternalFaces external_faces(const RayScene& scene, const ExternalSettings& sett
     throw InvalidInput("external: rays per face must be >= 1 (got " + std::to_string(settings.rays_per_face) + ")");
   const Mesh& mesh = scene.mesh();
   const int nf = mesh.num_faces(), R = settings.rays_per_face;
-  const auto sobol = sampling::sobol_4d(R);
+  const auto sobol = sampling::sobol_4d_reversed(R);
   const SurfaceSides sides = surface_sides(mesh);  // identity keys: same face => same rays
   ExternalFaces out;
   out.external = Eigen::VectorXi::Zero(nf);

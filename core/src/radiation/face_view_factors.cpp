@@ -21,8 +21,9 @@ FaceViewFactors trace_all(const RayScene& scene, const SurfaceSides& sides, cons
   if (sides.front_side.size() != scene.mesh().num_faces())
     throw InvalidInput("face_view_factors: the surface sides do not belong to the scene's mesh");
   const int S = sides.size(), R = settings.rays_per_face;
-  const tracing::SobolTable sobol = sampling::sobol_4d(R);
+  const tracing::SobolTable sobol = sampling::sobol_4d_reversed(R);
   if (records) records->resize(std::size_t(S) * R);
+  const tracing::PrimTable prims = tracing::prim_table(scene.impl(), sides);
   SideRows rows(S);
   tbb::enumerable_thread_specific<tracing::Counter> counters([S] { return tracing::Counter(S); });
   tbb::parallel_for(tbb::blocked_range<int>(0, S, 8), [&](const tbb::blocked_range<int>& r) {
@@ -31,7 +32,7 @@ FaceViewFactors trace_all(const RayScene& scene, const SurfaceSides& sides, cons
       const sampling::Emitter e = tracing::side_emitter(scene.mesh(), sides, s, settings.seed);
       std::int64_t back = 0;
       tracing::RayRecord* rec = records ? records->data() + std::size_t(s) * R : nullptr;
-      tracing::trace_emitter(scene.impl(), sides, e, sobol, R, tracing::AllRays{}, [&](int i, int hit, bool back_hit, float t) {
+      tracing::trace_emitter(scene.impl(), prims, e, sobol, R, tracing::AllRays{}, [&](int i, int hit, bool back_hit, float t) {
         c.add(hit, 1);
         back += back_hit;
         if (rec) rec[i] = tracing::RayRecord::of(hit, back_hit, t);

@@ -25,6 +25,7 @@ struct RadiationReference::Impl {
   NodeCouplings couplings;
   std::unordered_map<std::uint64_t, int> side_of_key;
   std::vector<tracing::RayRecord> records;  // #S x R reference hits, empty if over budget
+  tracing::PrimTable prims;                 // hit classification in the reference scene
   Impl(const ThermalModel& m, const RadiationSettings& s) : model(m), settings(s), scene(m.mesh) {}
 };
 
@@ -51,6 +52,7 @@ RadiationReference prepare_radiation(const ThermalModel& reference, const Radiat
   impl->couplings = aggregate_couplings(impl->vf, eps, impl->gebhart, N);
   impl->couplings.diagnostics.untraceable_faces = impl->scene.num_skipped_faces();
   for (int s = 0; s < sides.size(); ++s) impl->side_of_key.emplace(sides.key[s], s);
+  impl->prims = tracing::prim_table(impl->scene.impl(), sides);
   return RadiationReference(std::move(impl));
 }
 
@@ -103,7 +105,8 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
   }
 
   const RayScene scene(candidate.mesh);
-  const tracing::SobolTable sobol = sampling::sobol_4d(R);
+  const tracing::PrimTable prims = tracing::prim_table(scene.impl(), sides);
+  const tracing::SobolTable sobol = sampling::sobol_4d_reversed(R);
   const bool records = !ref.records.empty();
   detail::SideRows rows(S);
   std::atomic<std::int64_t> retraced{0};
@@ -117,7 +120,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
       std::int64_t back = 0;
       const int r = twin[c];
       if (r < 0) {  // new or changed face: all its rays
-        tracing::trace_emitter(scene.impl(), sides, e, sobol, R, tracing::AllRays{}, [&](int, int hit, bool b, float) {
+        tracing::trace_emitter(scene.impl(), prims, e, sobol, R, tracing::AllRays{}, [&](int, int hit, bool b, float) {
           cnt.add(hit, 1);
           back += b;
         });
@@ -153,7 +156,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
         const Eigen::Vector3d gap = (box.min().cast<double>() - face_box.max()).cwiseMax(face_box.min() - box.max().cast<double>()).cwiseMax(0.0);
         const float reach = static_cast<float>(std::max(0.0, gap.norm() - lift) * (1.0 - 1e-5));
         tracing::trace_emitter(
-            scene.impl(), sides, e, sobol, R,
+            scene.impl(), prims, e, sobol, R,
             [&](int i, const float* o, const float* d) {
               const float entry = tracing::ray_box_entry(o, d, box);
               return entry < std::numeric_limits<float>::infinity() && entry <= rec[i].t;
@@ -170,12 +173,12 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
         auto meets = [&](int, const float* o, const float* d) {
           return tracing::ray_box_entry(o, d, box) < std::numeric_limits<float>::infinity();
         };
-        tracing::trace_emitter(ref.scene.impl(), ref.vf.sides, e, sobol, R, meets, [&](int, int hit, bool b, float) {
+        tracing::trace_emitter(ref.scene.impl(), ref.prims, e, sobol, R, meets, [&](int, int hit, bool b, float) {
           cnt.add(to_cand(hit), -1);
           back -= b;
           ++traced;
         });
-        tracing::trace_emitter(scene.impl(), sides, e, sobol, R, meets, [&](int, int hit, bool b, float) {
+        tracing::trace_emitter(scene.impl(), prims, e, sobol, R, meets, [&](int, int hit, bool b, float) {
           cnt.add(hit, 1);
           back += b;
           ++traced;

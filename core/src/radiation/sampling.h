@@ -89,6 +89,16 @@ inline std::vector<std::array<std::uint32_t, 4>> sobol_4d(int n) {
   return pts;
 }
 
+//! The same points with every coordinate bit-reversed: owen_scramble(x, seed) =
+//! reverse_bits(laine_karras(xr, seed)) with xr precomputed, one reversal less per value in
+//! the hot loop (emit() takes this table).
+inline std::vector<std::array<std::uint32_t, 4>> sobol_4d_reversed(int n) {
+  auto pts = sobol_4d(n);
+  for (auto& p : pts)
+    for (auto& x : p) x = reverse_bits(x);
+  return pts;
+}
+
 //! Orthonormal basis (t, b) with n (Duff et al., "Building an Orthonormal Basis, Revisited", JCGT 2017).
 inline void basis(const Eigen::Vector3d& n, Eigen::Vector3d& t, Eigen::Vector3d& b) {
   const double sign = std::copysign(1.0, n.z());
@@ -104,6 +114,9 @@ struct Emitter {
   Eigen::Vector3d n, t, b;    // emitting normal and tangent frame
   double offset = 0.0;        // origin lift along n [m], so rays never hit their own face
   std::uint32_t seed[4] = {0, 0, 0, 0};
+  // Single-precision copies for the hot loop (Embree traces in float anyway): the lifted
+  // corner and the edges/frame.
+  float fa[3], fe1[3], fe2[3], fn[3], ft[3], fb[3];
 };
 
 inline Emitter make_emitter(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, bool back,
@@ -122,34 +135,44 @@ inline Emitter make_emitter(const Eigen::Vector3d& a, const Eigen::Vector3d& b, 
                                e.e1.norm(), e.e2.norm()});
   e.offset = 1e-5 * mag;
   for (int d = 0; d < 4; ++d) e.seed[d] = std::uint32_t(hash_combine(key, 0x5eed0000ull + d) >> 32);
+  const Eigen::Vector3d lifted = e.a + e.n * e.offset;
+  for (int k = 0; k < 3; ++k) {
+    e.fa[k] = float(lifted[k]);
+    e.fe1[k] = float(e.e1[k]);
+    e.fe2[k] = float(e.e2[k]);
+    e.fn[k] = float(e.n[k]);
+    e.ft[k] = float(e.t[k]);
+    e.fb[k] = float(e.b[k]);
+  }
   return e;
 }
 
 //! Ray i of an emitter: origin uniform on the triangle, direction cosine-weighted (Malley) or
 //! uniform on the hemisphere. Writes single-precision origin and unit direction.
-inline void emit(const Emitter& e, const std::array<std::uint32_t, 4>& sobol, bool cosine, float* org, float* dir) {
-  const double u1 = to_unit_float(owen_scramble(sobol[0], e.seed[0]));
-  const double u2 = to_unit_float(owen_scramble(sobol[1], e.seed[1]));
-  const double u3 = to_unit_float(owen_scramble(sobol[2], e.seed[2]));
-  const double u4 = to_unit_float(owen_scramble(sobol[3], e.seed[3]));
+//! `reversed` is a row of sobol_4d_reversed().
+inline void emit(const Emitter& e, const std::array<std::uint32_t, 4>& reversed, bool cosine, float* org, float* dir) {
+  const float u1 = to_unit_float(reverse_bits(laine_karras(reversed[0], e.seed[0])));
+  const float u2 = to_unit_float(reverse_bits(laine_karras(reversed[1], e.seed[1])));
+  const float u3 = to_unit_float(reverse_bits(laine_karras(reversed[2], e.seed[2])));
+  const float u4 = to_unit_float(reverse_bits(laine_karras(reversed[3], e.seed[3])));
   // Area-preserving square -> triangle map (Shirley): low distortion keeps the stratification.
-  const double su = std::sqrt(u1);
-  const Eigen::Vector3d p = e.a + e.e1 * (su * (1.0 - u2)) + e.e2 * (su * u2) + e.n * e.offset;
-  double ct, st;
+  // note: float is enough: the lift (1e-5 x coordinate magnitude) is ~100x the rounding.
+  const float su = std::sqrt(u1);
+  const float w1 = su * (1.0f - u2), w2 = su * u2;
+  float ct, st;
   if (cosine) {
     st = std::sqrt(u3);
-    ct = std::sqrt(std::max(0.0, 1.0 - u3));
+    ct = std::sqrt(std::max(0.0f, 1.0f - u3));
   } else {
-    ct = 1.0 - u3;
-    st = std::sqrt(std::max(0.0, 1.0 - ct * ct));
+    ct = 1.0f - u3;
+    st = std::sqrt(std::max(0.0f, 1.0f - ct * ct));
   }
-  // note: float sincos is plenty (the direction is stored in float) and ~3x cheaper than double.
   float sp, cp;
-  ::sincosf(float(2.0 * M_PI) * float(u4), &sp, &cp);
-  const Eigen::Vector3d d = e.t * (st * cp) + e.b * (st * sp) + e.n * ct;
+  ::sincosf(float(2.0 * M_PI) * u4, &sp, &cp);
+  const float x = st * cp, y = st * sp;
   for (int k = 0; k < 3; ++k) {
-    org[k] = float(p[k]);
-    dir[k] = float(d[k]);
+    org[k] = e.fa[k] + e.fe1[k] * w1 + e.fe2[k] * w2;
+    dir[k] = e.ft[k] * x + e.fb[k] * y + e.fn[k] * ct;
   }
 }
 

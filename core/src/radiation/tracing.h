@@ -15,7 +15,7 @@
 
 namespace thermodec::tracing {
 
-using SobolTable = std::vector<std::array<std::uint32_t, 4>>;
+using SobolTable = std::vector<std::array<std::uint32_t, 4>>;  // sampling::sobol_4d_reversed
 
 //! Emitter of side `s` of `sides` (geometry from `mesh`), seeded by its identity and `seed`.
 inline sampling::Emitter side_emitter(const Mesh& mesh, const SurfaceSides& sides, int s, std::uint64_t seed) {
@@ -44,6 +44,26 @@ inline float ray_box_entry(const float* o, const float* d, const Eigen::AlignedB
   return t0;
 }
 
+//! Per Embree primitive, what the hot loop needs to classify a hit, packed in one cache line
+//! access: unit front normal and the surface sides of its face.
+struct PrimInfo {
+  float n[3];
+  int front;  // side index of the face's front
+  int back;   // side index of its back, -1 if one-sided
+};
+using PrimTable = std::vector<PrimInfo>;
+
+inline PrimTable prim_table(const RayScene::Impl& scene, const SurfaceSides& sides) {
+  PrimTable t(scene.face_of_prim.size());
+  for (std::size_t p = 0; p < t.size(); ++p) {
+    const int f = scene.face_of_prim[p];
+    for (int k = 0; k < 3; ++k) t[p].n[k] = scene.prim_normal[3 * p + k];
+    t[p].front = sides.front_side[f];
+    t[p].back = sides.back_side[f];
+  }
+  return t;
+}
+
 //! Accept-all ray filter.
 struct AllRays {
   bool operator()(int) const { return true; }
@@ -56,7 +76,7 @@ struct AllRays {
 //! (the sides of scene's mesh) or -1 for space (t = +inf), and crossed = the ray passed
 //! through the back of a one-sided face on its way.
 template <class Keep, class OnHit, class Pre = AllRays>
-void trace_emitter(const RayScene::Impl& scene, const SurfaceSides& sides, const sampling::Emitter& e,
+void trace_emitter(const RayScene::Impl& scene, const PrimTable& prims, const sampling::Emitter& e,
                    const SobolTable& sobol, int rays, Keep&& keep, OnHit&& on_hit, Pre&& pre = Pre{}) {
   constexpr int kChunk = 64;
   alignas(16) RTCRayHit buf[kChunk];
@@ -92,10 +112,9 @@ void trace_emitter(const RayScene::Impl& scene, const SurfaceSides& sides, const
       // never gets here; an open one (e.g. a CAD sheet exported one-sided) stays reciprocal.
       for (int pass = 0; pass < 64; ++pass) {
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
-        const unsigned p = rh.hit.primID;
-        const float* nf = &scene.prim_normal[3 * p];
-        const bool from_back = rh.ray.dir_x * nf[0] + rh.ray.dir_y * nf[1] + rh.ray.dir_z * nf[2] > 0.0f;
-        if (!from_back || sides.back_side[scene.face_of_prim[p]] >= 0) break;
+        const PrimInfo& pi = prims[rh.hit.primID];
+        const bool from_back = rh.ray.dir_x * pi.n[0] + rh.ray.dir_y * pi.n[1] + rh.ray.dir_z * pi.n[2] > 0.0f;
+        if (!from_back || pi.back >= 0) break;
         crossed = true;
         const float t = rh.ray.tfar;
         rh.ray.tnear = t + std::max(1e-6f * t, 1e-30f);
@@ -108,13 +127,11 @@ void trace_emitter(const RayScene::Impl& scene, const SurfaceSides& sides, const
         on_hit(index[k], -1, crossed, std::numeric_limits<float>::infinity());
         continue;
       }
-      const unsigned p = rh.hit.primID;
-      const int f = scene.face_of_prim[p];
-      const float* nf = &scene.prim_normal[3 * p];
-      const bool from_back = rh.ray.dir_x * nf[0] + rh.ray.dir_y * nf[1] + rh.ray.dir_z * nf[2] > 0.0f;
-      // from_back here only if 64 crossings were not enough (pathological): counted on the front.
-      on_hit(index[k], from_back && sides.back_side[f] >= 0 ? sides.back_side[f] : sides.front_side[f], crossed,
-             rh.ray.tfar);
+      const PrimInfo& pi = prims[rh.hit.primID];
+      const bool from_back = rh.ray.dir_x * pi.n[0] + rh.ray.dir_y * pi.n[1] + rh.ray.dir_z * pi.n[2] > 0.0f;
+      // from_back on a one-sided face here only if 64 crossings were not enough (pathological):
+      // counted on its front.
+      on_hit(index[k], from_back && pi.back >= 0 ? pi.back : pi.front, crossed, rh.ray.tfar);
     }
   }
 }

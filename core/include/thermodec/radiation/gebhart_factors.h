@@ -28,7 +28,10 @@ struct GebhartFactors {
 //! Solves B = F diag(a) P + F diag(1 - a) B, i.e. (I - F diag(rho)) B = F diag(a) P with
 //! P(t, g) = [group_of_side(t) == g], plus the space column, by a parallel Jacobi (Neumann
 //! series) iteration over sparse F: each sweep absorbs one more reflection, so the error after
-//! k sweeps is at most max(rho)^k. Deterministic for any thread count.
+//! k sweeps is at most max(rho)^k; it stops when no entry changes by more than
+//! tolerance x (1 - max rho). When max(rho) > 0.6 and no warm start is given, a BiCGSTAB solve
+//! per column (Eigen, diagonal preconditioner) provides the start and the sweeps only polish
+//! and certify it. Deterministic for any thread count.
 //!
 //! IR: absorptivity = side emissivity; GR between groups I, J = sum_{s in I} A_s eps_s B(s, J).
 //! Solar: a side receiving direct flux Q_s [W] makes group g absorb
