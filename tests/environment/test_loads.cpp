@@ -1,17 +1,20 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "environment/test_models.h"
 #include "thermodec/environment/external_loads.h"
 #include "thermodec/environment/orbit.h"
 #include "thermodec/mesh/face_geometry.h"
+#include "thermodec/nodes/load_model.h"
 
 using namespace thermodec;
 using namespace thermodec::testing;
 using V3 = Eigen::Vector3d;
 
 namespace {
+std::string fs_sample() { return std::string(THERMODEC_SOURCE_DIR) + "/sample_models/satellite/model.json"; }
 Loads loads_of(const ThermalModel& model, const ExternalLoadSettings& s = {}, bool reflections = true) {
   const RayScene scene(model.mesh);
   const SurfaceSides sides = surface_sides(model);
@@ -147,4 +150,64 @@ TEST(CubeLoads, inertial_attitude_earth_view_from_escaping_rays_matches_closed_f
   for (int n : {2, 3, 4, 5}) EXPECT_NEAR(l.earth_ir_W(n, 0), q * F_side, 0.01 * q * F_side) << n;
   // A quarter orbit later the Earth is along body -Y.
   EXPECT_NEAR(l.earth_ir_W(3, 1), q * F_nadir, 0.01 * q * F_nadir);
+}
+
+TEST(LoadReuse, trial_with_one_node_changed_equals_a_full_recompute_and_reuses_most_sides) {
+  // The reduction driver's case: the sample satellite, then the same craft with only wing_py
+  // changed (its free vertices pulled 10 % towards its root edge). Loads from the reference's
+  // samples for the unaffected sides must equal a full run bit for bit.
+  ThermalModel model = load_model(fs_sample());
+  ExternalLoadSettings s;
+  s.sun_rays_per_face = 64;
+  s.sun_pilot_rays = 16;
+  s.earth_rays_per_face = 512;
+  s.earth_pilot_rays = 64;
+  LoadSamples reference;
+  {
+    const RayScene scene(model.mesh);
+    external_loads(model, scene, surface_sides(model), nullptr, s, {}, &reference);
+  }
+  int node = -1;
+  for (size_t n = 0; n < model.nodes.size(); ++n)
+    if (model.nodes[n].name == "wing_py") node = static_cast<int>(n);
+  ASSERT_GE(node, 0);
+  std::vector<int> uses(model.mesh.num_vertices(), 0), node_uses(model.mesh.num_vertices(), 0);
+  for (int f = 0; f < model.mesh.num_faces(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      ++uses[model.mesh.F(f, c)];
+      if (model.mesh.face_node[f] == node) ++node_uses[model.mesh.F(f, c)];
+    }
+  Eigen::AlignedBox3d changed;
+  Eigen::Vector3d root(0, 0, 0);
+  int shared = 0;
+  for (int v = 0; v < model.mesh.num_vertices(); ++v)
+    if (node_uses[v] && node_uses[v] < uses[v]) root += model.mesh.V.row(v).transpose(), ++shared;
+  ASSERT_GT(shared, 0);
+  root /= shared;
+  ThermalModel trial = model;
+  for (int v = 0; v < model.mesh.num_vertices(); ++v)
+    if (node_uses[v]) {
+      changed.extend(Eigen::Vector3d(model.mesh.V.row(v).transpose()));
+      if (node_uses[v] == uses[v]) trial.mesh.V.row(v) = (root + 0.9 * (model.mesh.V.row(v).transpose() - root)).transpose();
+      changed.extend(Eigen::Vector3d(trial.mesh.V.row(v).transpose()));
+    }
+  const RayScene scene(trial.mesh);
+  const SurfaceSides sides = surface_sides(trial);
+  const Loads full = external_loads(trial, scene, sides, nullptr, s);
+  LoadReuse reuse{&reference, changed};
+  const Loads incremental = external_loads(trial, scene, sides, nullptr, s, {}, nullptr, &reuse);
+  EXPECT_EQ(incremental.solar_W, full.solar_W);
+  EXPECT_EQ(incremental.albedo_W, full.albedo_W);
+  EXPECT_EQ(incremental.earth_ir_W, full.earth_ir_W);
+  // Many shadow evaluations and Earth views are far from the wing (measured: printed below).
+  EXPECT_GT(reuse.reused_sun, reuse.total_sun / 2) << reuse.reused_sun << " of " << reuse.total_sun;
+  EXPECT_GT(reuse.reused_earth, reuse.total_earth / 2) << reuse.reused_earth << " of " << reuse.total_earth;
+  std::printf("reused %ld of %ld shadow evaluations, %d of %d Earth views\n", reuse.reused_sun, reuse.total_sun,
+              reuse.reused_earth, reuse.total_earth);
+  // And the change is real: the node's own loads moved.
+  const Loads before = [&] {
+    const RayScene sc(model.mesh);
+    return external_loads(model, sc, surface_sides(model), nullptr, s);
+  }();
+  EXPECT_NE(before.solar_W.row(node), full.solar_W.row(node));
 }

@@ -90,3 +90,20 @@ TEST(SimulateCli, refuses_to_overwrite_its_input) {
   EXPECT_EQ(run("simulate -q " + (d / "model.json").string() + " --json " + (d / "model.json").string(), d / "log.txt"), 1);
   EXPECT_EQ(slurp(d / "model.json"), slurp(kSatellite));
 }
+
+TEST(SimulateCli, noise_floor_reports_max_difference_between_seeds_and_run_time) {
+  const fs::path d = temp_dir("noise");
+  ASSERT_EQ(run("simulate -q " + kSatellite.string() + " --noise-floor --noise-runs 2 --rays 500 --earth-rays 512 "
+                "--json " + (d / "n.json").string(),
+                d / "out.txt"),
+            0)
+      << slurp(d / "out.txt");
+  const std::string out = slurp(d / "out.txt");
+  EXPECT_NE(out.find("noise floor over 2 seeds (1..2): max |dT| = "), std::string::npos) << out;
+  EXPECT_NE(out.find("run time: "), std::string::npos) << out;
+  const nlohmann::json j = nlohmann::json::parse(slurp(d / "n.json"));
+  const double dT = j.at("noise_floor").at("max_abs_dT_K").get<double>();
+  EXPECT_GT(dT, 0.0);   // different seeds do differ...
+  EXPECT_LT(dT, 0.5);   // ...by Monte Carlo noise only (500 rays per face)
+  EXPECT_EQ(j.at("noise_floor").at("run_time_s").size(), 2u);
+}

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <array>
+#include <unordered_map>
 #include <cmath>
 #include <vector>
 
@@ -92,7 +93,8 @@ RayQuery make_ray(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_f
 // between all P pilot points is missed; it then covers well under 1/P of the face (measured on
 // the sample: P = 16 left 0.6 W seed-to-seed differences on single nodes, P = 64 < 0.2 W).
 Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
-                                const Eigen::Vector3d& toward, int rays, int pilot_rays, std::uint64_t seed) {
+                                const Eigen::Vector3d& toward, int rays, int pilot_rays, std::uint64_t seed,
+                                const std::vector<char>* todo = nullptr) {
   const int ns = sides.size();
   Eigen::VectorXd frac = Eigen::VectorXd::Zero(ns);
   const auto sobol = sampling::sobol_4d(rays);
@@ -102,7 +104,7 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
     std::vector<std::uint8_t> blocked;
     for (int s = range.begin(); s < range.end(); ++s) {
       const Side& g = geo[s];
-      if (g.area <= 0.0 || g.normal.dot(toward) <= 0.0) continue;
+      if (g.area <= 0.0 || g.normal.dot(toward) <= 0.0 || (todo && !(*todo)[s])) continue;
       const auto sd = side_seeds(seed, sides.key[s], 1);
       auto trace = [&](int from, int to) {
         batch.clear();
@@ -158,7 +160,7 @@ struct EarthHits {
 
 EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
                      const Eigen::Vector3d& earth_dir_in, double distance_m, int rays, int pilot_rays,
-                     std::uint64_t seed) {
+                     std::uint64_t seed, const std::vector<char>* todo = nullptr, bool flatten = true) {
   const int ns = sides.size();
   EarthHits out;
   out.rays.resize(ns);
@@ -181,6 +183,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       const Side& g = geo[s];
       if (g.area <= 0.0) continue;
       if (g.normal.dot(earth_dir) <= -sin_half) continue;  // the whole Earth is below its horizon
+      if (todo && !(*todo)[s]) continue;
       const auto sd = side_seeds(seed, sides.key[s], 2);
       batch.clear();
       candidate.clear();
@@ -232,7 +235,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       out.view_factor[s] = f;
     }
   });
-  out.flatten();
+  if (flatten) out.flatten();
   return out;
 }
 
@@ -249,8 +252,9 @@ struct EscapingRays {
   int rays = 0;
 };
 
-EscapingRays escaping_rays(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides, int rays,
-                           std::uint64_t seed) {
+std::vector<std::vector<Eigen::Vector3f>> escaping_directions(const RayScene& scene, const std::vector<Side>& geo,
+                                                             const SurfaceSides& sides, int rays, std::uint64_t seed,
+                                                             const std::vector<char>* todo) {
   const int ns = sides.size();
   const auto sobol = sampling::sobol_4d(rays);
   std::vector<std::vector<Eigen::Vector3f>> per_side(ns);
@@ -259,7 +263,7 @@ EscapingRays escaping_rays(const RayScene& scene, const std::vector<Side>& geo, 
     std::vector<std::uint8_t> blocked;
     for (int s = range.begin(); s < range.end(); ++s) {
       const Side& g = geo[s];
-      if (g.area <= 0.0) continue;
+      if (g.area <= 0.0 || (todo && !(*todo)[s])) continue;
       Eigen::Vector3d t, u;
       orthonormal_frame(g.normal, t, u);
       const auto sd = side_seeds(seed, sides.key[s], 3);
@@ -279,6 +283,11 @@ EscapingRays escaping_rays(const RayScene& scene, const std::vector<Side>& geo, 
         if (!blocked[k]) per_side[s].push_back(dirs[k]);
     }
   });
+  return per_side;
+}
+
+EscapingRays pack_escaping(const std::vector<std::vector<Eigen::Vector3f>>& per_side, int rays) {
+  const int ns = static_cast<int>(per_side.size());
   EscapingRays out;
   out.rays = rays;
   out.begin.assign(ns + 1, 0);
@@ -334,7 +343,8 @@ Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& si
 
 Loads external_loads(const ThermalModel& model, const RayScene& scene, const SurfaceSides& sides,
                      const FaceViewFactors* view_factors, const ExternalLoadSettings& settings,
-                     const std::function<void(const std::string&)>& progress) {
+                     const std::function<void(const std::string&)>& progress, LoadSamples* samples,
+                     LoadReuse* reuse) {
   const Environment& env = model.environment;
   if (settings.sun_rays_per_face < 1) throw InvalidInput("sun_rays_per_face must be >= 1");
   if (settings.earth_pilot_rays < 1) throw InvalidInput("earth_pilot_rays must be >= 1");
@@ -371,6 +381,66 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     states.push_back(st);
   }
 
+  // Reuse: map sides to the reference's by identity; a side is reusable for a ray family only
+  // if the family cannot reach the changed region (conservative sphere tests below).
+  std::vector<int> ref_of(ns, -1);
+  const LoadSamples* ref = reuse ? reuse->reference : nullptr;
+  Eigen::Vector3d change_centre = Eigen::Vector3d::Zero();
+  double change_radius = 0.0;
+  if (ref) {
+    if (ref->sunlit.cols() != steps || static_cast<int>(ref->key.size()) != ref->sunlit.rows())
+      throw InvalidInput("external loads: reference samples are for another environment or step count");
+    std::unordered_map<std::uint64_t, int> index;
+    for (size_t i = 0; i < ref->key.size(); ++i) index.emplace(ref->key[i], static_cast<int>(i));
+    for (int s = 0; s < ns; ++s) {
+      const auto it = index.find(sides.key[s]);
+      if (it != index.end()) ref_of[s] = it->second;
+    }
+    if (!reuse->changed_region.isEmpty()) {
+      change_centre = reuse->changed_region.center();
+      change_radius = 0.5 * reuse->changed_region.diagonal().norm();
+    } else {
+      change_radius = -1.0;  // nothing changed: everything present is reusable
+    }
+  }
+  // Bounding sphere of each side (plus its ray lift) against the changed region's sphere.
+  auto side_sphere = [&](int s, Eigen::Vector3d& c) {
+    const Side& g = geo[s];
+    c = (g.a + g.b + g.c) / 3.0;
+    return std::max({(g.a - c).norm(), (g.b - c).norm(), (g.c - c).norm()}) + 2.0 * g.offset + 1e-9;
+  };
+  auto clear_of_change_along = [&](int s, const Eigen::Vector3d& d) {  // half-line family c + t d
+    if (change_radius < 0.0) return true;
+    Eigen::Vector3d c;
+    const double rho = side_sphere(s, c);
+    const Eigen::Vector3d bc = change_centre - c;
+    const double t = std::max(0.0, bc.dot(d));
+    return (bc - t * d).norm() > rho + change_radius;
+  };
+  auto clear_of_change_in_cone = [&](int s, const Eigen::Vector3d& axis, double half_angle) {
+    if (change_radius < 0.0) return true;
+    Eigen::Vector3d c;
+    const double rho = side_sphere(s, c);
+    const Eigen::Vector3d bc = change_centre - c;
+    const double dist = bc.norm(), reach = rho + change_radius;
+    if (dist <= reach) return false;
+    const double angle = std::acos(std::clamp(bc.dot(axis) / dist, -1.0, 1.0));
+    return angle > half_angle + std::asin(std::min(1.0, reach / dist)) + 1e-9;
+  };
+  auto clear_of_change_in_front = [&](int s) {
+    if (change_radius < 0.0) return true;
+    Eigen::Vector3d c;
+    const double rho = side_sphere(s, c);
+    return (change_centre - c).dot(geo[s].normal) < -(rho + change_radius);
+  };
+
+  if (samples) {
+    samples->key = sides.key;
+    samples->sunlit = Eigen::MatrixXf::Zero(ns, steps);
+    samples->earth.assign(ns, {});
+    samples->earth_view_factor = Eigen::VectorXd::Zero(ns);
+  }
+
   // Solar-band incident power per side and step [W] (direct and albedo), absorbed shares.
   Eigen::MatrixXd incident_direct = Eigen::MatrixXd::Zero(ns, steps);
   Eigen::MatrixXd incident_albedo = Eigen::MatrixXd::Zero(ns, steps);
@@ -380,15 +450,30 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
   if (progress) progress("direct sun: " + std::to_string(steps) + " step(s)");
   Eigen::Vector3d last_dir = Eigen::Vector3d::Zero();
   Eigen::VectorXd lit;
+  std::vector<char> todo(ns, 1);
   for (int k = 0; k < steps; ++k) {
     const OrbitState& st = states[k];
     loads.in_shadow[k] = st.in_shadow;
     if (st.in_shadow || flux == 0.0) continue;
     if (lit.size() == 0 || !same_direction(st.sun_direction_body, last_dir)) {
+      int reused_here = 0;
+      if (ref)
+        for (int s = 0; s < ns; ++s) {
+          todo[s] = !(ref_of[s] >= 0 && clear_of_change_along(s, st.sun_direction_body));
+          reused_here += !todo[s];
+        }
+      if (reuse) {
+        reuse->reused_sun += reused_here;
+        reuse->total_sun += ns;
+      }
       lit = sunlit_fraction(scene, geo, sides, st.sun_direction_body, settings.sun_rays_per_face,
-                            settings.sun_pilot_rays, settings.seed);
+                            settings.sun_pilot_rays, settings.seed, ref ? &todo : nullptr);
+      if (ref)
+        for (int s = 0; s < ns; ++s)
+          if (!todo[s]) lit[s] = ref->sunlit(ref_of[s], k);
       last_dir = st.sun_direction_body;
     }
+    if (samples) samples->sunlit.col(k) = lit.cast<float>();
     for (int s = 0; s < ns; ++s)
       incident_direct(s, k) = flux * geo[s].area * std::max(0.0, geo[s].normal.dot(st.sun_direction_body)) * lit[s];
   }
@@ -400,13 +485,47 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     const double distance = orbit_radius_m(env.altitude_km);
     bool earth_fixed = true;
     for (int k = 1; k < steps; ++k) earth_fixed &= same_direction(states[k].earth_direction_body, states[0].earth_direction_body);
+    if (ref && ref->earth_fixed != earth_fixed)
+      throw InvalidInput("external loads: reference samples are for another attitude");
+    const double half_angle = std::asin(kEarthRadius_m / distance);
+    std::vector<char> earth_todo(ns, 1);
+    if (ref)
+      for (int s = 0; s < ns; ++s) {
+        earth_todo[s] = !(ref_of[s] >= 0 && (earth_fixed ? clear_of_change_in_cone(s, states[0].earth_direction_body.normalized(), half_angle)
+                                                          : clear_of_change_in_front(s)));
+        reuse->reused_earth += !earth_todo[s];
+        reuse->total_earth += 1;
+      }
     EarthHits hits;
     EscapingRays escaping;
-    if (earth_fixed)
+    if (earth_fixed) {
       hits = earth_hits(scene, geo, sides, states[0].earth_direction_body, distance, settings.earth_rays_per_face,
-                        settings.earth_pilot_rays, settings.seed);
-    else
-      escaping = escaping_rays(scene, geo, sides, settings.earth_rays_per_face, settings.seed);
+                        settings.earth_pilot_rays, settings.seed, ref ? &earth_todo : nullptr, /*flatten=*/false);
+      if (ref)
+        for (int s = 0; s < ns; ++s)
+          if (!earth_todo[s]) {
+            hits.rays[s] = ref->earth[ref_of[s]];
+            hits.view_factor[s] = ref->earth_view_factor[ref_of[s]];
+          }
+      if (samples) {
+        samples->earth = hits.rays;
+        samples->earth_view_factor = hits.view_factor;
+      }
+      hits.flatten();
+    } else {
+      auto dirs = escaping_directions(scene, geo, sides, settings.earth_rays_per_face, settings.seed,
+                                      ref ? &earth_todo : nullptr);
+      if (ref)
+        for (int s = 0; s < ns; ++s)
+          if (!earth_todo[s]) {
+            dirs[s].clear();
+            for (const auto& [w, d] : ref->earth[ref_of[s]]) dirs[s].push_back(d);
+          }
+      if (samples)
+        for (int s = 0; s < ns; ++s)
+          for (const auto& d : dirs[s]) samples->earth[s].emplace_back(1.0f / settings.earth_rays_per_face, d);
+      escaping = pack_escaping(dirs, settings.earth_rays_per_face);
+    }
     Eigen::VectorXd view_factor, lit_sum(ns);
     for (int k = 0; k < steps; ++k) {
       const OrbitState& st = states[k];
@@ -437,6 +556,12 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       }
     }
   }
+
+  if (samples) samples->earth_fixed = !orbit || [&] {
+    for (int k = 1; k < steps; ++k)
+      if (!same_direction(states[k].earth_direction_body, states[0].earth_direction_body)) return false;
+    return true;
+  }();
 
   for (int s = 0; s < ns; ++s) {
     const int node = sides.node[s];

@@ -3,25 +3,33 @@
 //! thermal node and time step:
 //!  - direct solar: S A max(0, n.s) x (fraction of the face's sample points that see the sun
 //!    past the spacecraft itself), absorbed with the side's absorptivity; zero in eclipse;
-//!  - albedo: each face side shoots cosine-weighted rays; those reaching the Earth sphere
-//!    unblocked by the spacecraft carry a S max(0, n_earth(hit) . s) (a diffuse Lambertian
-//!    Earth lit by the sun, so the terminator and the lit crescent seen from eclipse are
-//!    resolved); absorbed with the absorptivity;
-//!  - Earth IR: q_IR F_side->Earth (same rays), absorbed with the emissivity;
+//!  - albedo: each face side shoots rays into the cone the Earth subtends (uniform in solid
+//!    angle, weight Omega_cap / (pi N) max(0, n.w)); those not blocked by the spacecraft carry
+//!    a S max(0, n_earth(hit) . s) (a diffuse Lambertian Earth lit by the sun, so the
+//!    terminator and the lit crescent seen from eclipse are resolved); absorbed with the
+//!    absorptivity. When the Earth moves in body axes (sun / inertial attitudes) the rays are
+//!    cosine-weighted over the hemisphere instead, traced once, and intersected with the
+//!    Earth's cone at each step;
+//!  - Earth IR: q_IR F_side->Earth (the sum of the same weights), absorbed with the emissivity;
 //!  - solar-band reflections: the unabsorbed part (1 - alpha) of direct + albedo power is
 //!    reflected diffusely; solar Gebhart factors (radiation/gebhart_factors.h with the
 //!    absorptivities) on the radiative engine's side-to-side view factors give the power each
 //!    node finally absorbs. They depend on geometry only, so they are solved once per model.
 //! Earth-IR reflections between faces are neglected (documented in docs/thermal.md).
 //!
-//! Sampling is stratified and jittered per side from a hash of the global seed and the side's
-//! stable identity (SurfaceSides::key): unchanged faces keep their sample points and rays in a
-//! modified model (correlated sampling), results are independent of thread count.
+//! Sampling: the radiative engine's Owen-scrambled Sobol points, scrambled per side from a
+//! hash of the seed and the side's stable identity (SurfaceSides::key): unchanged faces keep
+//! their sample points and rays in a modified model (correlated sampling), and results are
+//! independent of thread count. Pilots (see the settings) spend the rays where a shadow or a
+//! blocked Earth view makes the integrand discontinuous.
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <Eigen/SparseCore>
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "thermodec/environment/loads.h"
 #include "thermodec/nodes/thermal_model.h"
@@ -41,25 +49,55 @@ struct ExternalLoadSettings {
   //! by the spacecraft (decided by the first earth_pilot_rays rays; unobstructed sides keep
   //! only those, the integrand being smooth there).
   int earth_rays_per_face = 4096;
-  int earth_pilot_rays = 256;
+  int earth_pilot_rays = 256;     //!< see earth_rays_per_face
   int steps_per_orbit = 0;        //!< orbit samples; 0 = model.analysis.steps_per_orbit
   std::uint64_t seed = 1;         //!< sampling seed (combined with each side's identity)
   bool solar_reflections = true;  //!< solar-band diffuse reflections between faces
 };
 
-//! Fraction of each side's hemisphere occupied by the Earth and not blocked by the spacecraft
-//! (F_side->Earth) for an Earth centre at `earth_direction_body * distance_m` from the body
-//! origin, estimated with `rays` cosine-weighted rays per side. Returns #sides.
+//! View factor from each side to the Earth, F_side->Earth = (1/pi) int cos(theta) V dw over
+//! the Earth's cone, V = 0 where the spacecraft blocks the view, for an Earth centre at
+//! `earth_direction_body * distance_m` [m] from the body origin; `rays` cone rays per side
+//! (no pilot). Returns #sides. 	hrow InvalidInput if rays < 1 or distance <= Earth radius.
 Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& sides,
                                    const Eigen::Vector3d& earth_direction_body, double distance_m,
                                    int rays, std::uint64_t seed);
 
+//! What one external_loads run sampled per face side, the geometry-dependent part of the
+//! loads: for a modified model (a trial of the reduction driver) the sides that did not
+//! change and whose rays cannot reach the change reuse it instead of tracing again.
+struct LoadSamples {
+  std::vector<std::uint64_t> key;  //!< #sides identity (SurfaceSides::key)
+  Eigen::MatrixXf sunlit;          //!< #sides x S lit fraction of the side's sun samples
+  //! Per side: Earth rays kept, (weight, Earth normal at the hit) for an Earth fixed in body
+  //! axes, else (1/N, escaping direction).
+  std::vector<std::vector<std::pair<float, Eigen::Vector3f>>> earth;
+  Eigen::VectorXd earth_view_factor;  //!< #sides F_side->Earth (Earth fixed in body axes)
+  bool earth_fixed = true;
+};
+
+//! Reuse request: sides present in `reference` (same key) whose sun rays, Earth rays or
+//! hemisphere cannot reach `changed_region` take their samples from it. `changed_region`
+//! [m, body axes] must bound the changed geometry before AND after the change (what was
+//! removed can have shadowed others). Same environment and settings as the reference run.
+struct LoadReuse {
+  const LoadSamples* reference = nullptr;
+  Eigen::AlignedBox3d changed_region;
+  // out: how much came from the reference: (side, sun direction) shadow evaluations and
+  // sides' Earth rays, reused / total.
+  long reused_sun = 0, total_sun = 0;
+  int reused_earth = 0, total_earth = 0;
+};
+
 //! Loads of `model` (whose mesh is scene.mesh() and whose sides are `sides`) in its
 //! environment. `view_factors` (side-to-side, of the same sides) is needed for solar
 //! reflections; pass nullptr to skip them. `progress` (optional) receives short messages.
+//! `samples` (optional, out) records what was sampled for later reuse; `reuse` (optional)
+//! takes unaffected sides from a reference run: the result is identical to a full run.
 //! \throw InvalidInput on bad settings (rays < 1, steps < 2 for an orbit) or environment.
 Loads external_loads(const ThermalModel& model, const RayScene& scene, const SurfaceSides& sides,
                      const FaceViewFactors* view_factors, const ExternalLoadSettings& settings = {},
-                     const std::function<void(const std::string&)>& progress = {});
+                     const std::function<void(const std::string&)>& progress = {},
+                     LoadSamples* samples = nullptr, LoadReuse* reuse = nullptr);
 
 }  // namespace thermodec
