@@ -1,0 +1,264 @@
+#include "core_calls.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <filesystem>
+#include <map>
+
+#include "thermodec/common/errors.h"
+#include "thermodec/mesh/io.h"
+#include "thermodec/nodes/load_model.h"
+#include "thermodec/common/atomic_write.h"
+#ifdef THERMODEC_FILTER_REDUCE
+#include "thermodec/reduction/reduce_model.h"
+#include "thermodec/reduction/reduction_reference.h"
+#include "thermodec/reduction/sensitivity.h"
+#include "thermodec/report/plot.h"
+#include "thermodec/report/reduction_report.h"
+#endif
+#include "thermodec/thermal/simulate_model.h"
+
+namespace fs = std::filesystem;
+
+namespace thermodec_meshlab {
+namespace {
+
+int index_of_node(const thermodec::ThermalModel& model, const std::string& name) {
+  for (std::size_t i = 0; i < model.nodes.size(); ++i)
+    if (model.nodes[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+// The bare-mesh defaults live in load_model (they are the documented defaults of
+// `thermodec simulate mesh.ply`); going through a temporary PLY keeps them in one place.
+thermodec::ThermalModel default_model(const thermodec::Mesh& mesh) {
+  const fs::path dir = fs::temp_directory_path() /
+                       ("thermodec-meshlab-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path ply = dir / "document.ply";
+  struct Cleanup {
+    fs::path dir;
+    ~Cleanup() {
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+    }
+  } cleanup{dir};
+  thermodec::write_mesh(ply, mesh);
+  return thermodec::load_model(ply);
+}
+
+// Most common value of `value` over the faces of each model node (-1 if it has none).
+std::vector<int> majority_per_node(const thermodec::Mesh& mesh, const Eigen::VectorXi& value,
+                                   int node_count) {
+  std::vector<std::map<int, int>> count(node_count);
+  for (int f = 0; f < mesh.num_faces(); ++f)
+    if (mesh.face_node[f] >= 0 && mesh.face_node[f] < node_count) ++count[mesh.face_node[f]][value[f]];
+  std::vector<int> best(node_count, -1);
+  for (int n = 0; n < node_count; ++n) {
+    int most = 0;
+    for (const auto& [v, c] : count[n])  // ascending value: ties go to the smaller index
+      if (c > most) most = c, best[n] = v;
+  }
+  return best;
+}
+
+// The thermal model of the document (see simulate_document): model_node[i] receives the model
+// node of document node i.
+thermodec::ThermalModel document_model(const thermodec::Mesh& mesh, const std::vector<int>& node_ids,
+                                       bool ids_index_model_nodes, const std::string& model_file,
+                                       int rays_per_face, std::vector<int>& model_node,
+                                       std::string& description) {
+  const int doc_nodes = static_cast<int>(mesh.node_names.size());
+  if (doc_nodes == 0 || mesh.num_faces() == 0)
+    throw thermodec::InvalidInput("no nodes: the document mesh has no faces with a node");
+  for (int f = 0; f < mesh.num_faces(); ++f)
+    if (mesh.face_node[f] < 0 || mesh.face_node[f] >= doc_nodes)
+      throw thermodec::InvalidInput("face " + std::to_string(f) + " has no node");
+
+  thermodec::ThermalModel model;
+  model_node.assign(doc_nodes, -1);
+  if (model_file.empty()) {
+    model = default_model(mesh);
+    for (int i = 0; i < doc_nodes; ++i) {
+      model_node[i] = index_of_node(model, mesh.node_names[i]);
+      if (model_node[i] < 0) model_node[i] = i;  // same order when names were not kept
+    }
+    description = "core defaults (no model file)";
+  } else {
+    model = thermodec::load_model(model_file);
+    const int n_model = static_cast<int>(model.nodes.size());
+    for (int i = 0; i < doc_nodes; ++i) {
+      model_node[i] = index_of_node(model, mesh.node_names[i]);
+      if (model_node[i] < 0 && ids_index_model_nodes && node_ids[i] < n_model) model_node[i] = node_ids[i];
+      if (model_node[i] < 0)
+        throw thermodec::InvalidInput(model_file + ": the model has no node '" + mesh.node_names[i] +
+                                      "' (" + std::to_string(n_model) + " nodes)");
+    }
+    const std::vector<int> front = majority_per_node(model.mesh, model.mesh.face_material, n_model);
+    const std::vector<int> back = majority_per_node(model.mesh, model.mesh.face_back_material, n_model);
+    thermodec::Mesh m = mesh;
+    m.node_names.clear();
+    for (const auto& n : model.nodes) m.node_names.push_back(n.name);
+    m.material_names = model.mesh.material_names;
+    for (int f = 0; f < m.num_faces(); ++f) {
+      const int n = model_node[mesh.face_node[f]];
+      m.face_node[f] = n;
+      m.face_material[f] = front[n] >= 0 ? front[n]
+                           : model.nodes[n].material >= 0 ? model.nodes[n].material
+                                                          : model.default_material;
+      m.face_back_material[f] = back[n];
+    }
+    model.mesh = std::move(m);
+    description = model_file;
+  }
+  if (rays_per_face > 0) model.radiation.rays_per_face = rays_per_face;
+  return model;
+}
+
+#ifdef THERMODEC_FILTER_REDUCE
+// Reduction and sensitivity change the mesh node by node: every model node must be exactly one
+// document node, so that results map back. Returns document node of each model node.
+std::vector<int> one_to_one(const std::vector<int>& model_node, const thermodec::ThermalModel& model) {
+  std::vector<int> doc_node(model.nodes.size(), -1);
+  for (std::size_t i = 0; i < model_node.size(); ++i) {
+    if (doc_node[model_node[i]] >= 0)
+      throw thermodec::InvalidInput("two document nodes are the model node '" + model.nodes[model_node[i]].name + "'");
+    doc_node[model_node[i]] = static_cast<int>(i);
+  }
+  for (std::size_t n = 0; n < doc_node.size(); ++n)
+    if (doc_node[n] < 0)
+      throw thermodec::InvalidInput("the model node '" + model.nodes[n].name + "' has no faces in the document");
+  return doc_node;
+}
+#endif
+
+}  // namespace
+
+NodeTemperatures simulate_document(const thermodec::Mesh& mesh, const std::vector<int>& node_ids,
+                                   bool ids_index_model_nodes, const std::string& model_file,
+                                   int rays_per_face,
+                                   const std::function<void(const std::string&)>& progress) {
+  const int doc_nodes = static_cast<int>(mesh.node_names.size());
+  NodeTemperatures out;
+  out.nodes = mesh.node_names;
+  std::vector<int> model_node;
+  const thermodec::ThermalModel model = document_model(mesh, node_ids, ids_index_model_nodes, model_file,
+                                                       rays_per_face, model_node, out.model_description);
+  out.model_nodes.resize(doc_nodes);
+  for (int i = 0; i < doc_nodes; ++i) out.model_nodes[i] = model.nodes[model_node[i]].name;
+
+  thermodec::ModelSimulationSettings settings;
+  settings.progress = progress;
+  const thermodec::SimulationResult r = thermodec::simulate_model(model, settings);
+  out.transient = r.transient;
+  out.times = static_cast<int>(r.times_s.size());
+  out.orbits = r.orbits;
+  out.periodicity_residual_K = r.periodicity_residual_K;
+  for (int i = 0; i < doc_nodes; ++i) {
+    const auto row = r.temperature_K.row(model_node[i]);
+    out.min_K.push_back(row.minCoeff());
+    out.mean_K.push_back(row.mean());
+    out.max_K.push_back(row.maxCoeff());
+  }
+  return out;
+}
+
+#ifdef THERMODEC_FILTER_REDUCE
+DocumentReduction reduce_document(const DocumentModelRequest& request, double tolerance_K,
+                                  bool informed, const std::string& out_dir, bool plots) {
+  std::vector<int> model_node;
+  std::string description;
+  const thermodec::ThermalModel model =
+      document_model(*request.mesh, request.node_ids, request.ids_index_model_nodes, request.model_file,
+                     request.rays_per_face, model_node, description);
+  const std::vector<int> doc_node = one_to_one(model_node, model);
+
+  thermodec::ReduceSettings settings;
+  settings.tolerance_K = tolerance_K;
+  settings.strategy = informed ? thermodec::ReductionStrategy::informed : thermodec::ReductionStrategy::uniform;
+  settings.progress = request.progress;
+  settings.reference.simulation.progress = nullptr;
+  const thermodec::ReductionRun run = thermodec::reduce_model(model, settings);
+
+  std::vector<fs::path> inputs;
+  if (!request.model_file.empty()) inputs.push_back(request.model_file);
+  DocumentReduction out;
+  out.warnings = thermodec::write_reduction_outputs(run, out_dir, inputs, plots);
+  out.summary = thermodec::reduction_summary(run);
+  out.max_temperature_difference_K = run.max_temperature_difference_K;
+  out.noise_floor_K = run.noise_floor_K;
+  out.mesh = run.reduced.model.mesh;
+  out.mesh.node_names = request.mesh->node_names;
+  for (int f = 0; f < out.mesh.num_faces(); ++f) out.mesh.face_node[f] = doc_node[out.mesh.face_node[f]];
+  return out;
+}
+
+DocumentSensitivity sensitivity_document(const DocumentModelRequest& request, double tolerance_K,
+                                         const std::string& out_dir) {
+  if (!(tolerance_K > 0) || !std::isfinite(tolerance_K))
+    throw thermodec::InvalidInput("tolerance_K must be finite and > 0, got " + std::to_string(tolerance_K));
+  std::vector<int> model_node;
+  std::string description;
+  const thermodec::ThermalModel model =
+      document_model(*request.mesh, request.node_ids, request.ids_index_model_nodes, request.model_file,
+                     request.rays_per_face, model_node, description);
+  const std::vector<int> doc_node = one_to_one(model_node, model);
+
+  // Same sweep as `thermodec reduce --strategy informed` (cap = 2 x tolerance).
+  const thermodec::ReduceSettings defaults;
+  if (request.progress) request.progress("reference simulation");
+  const thermodec::ReductionReference reference(model, defaults.reference);
+  thermodec::SensitivityOptions options = defaults.sensitivity;
+  options.cap_K = defaults.sensitivity_cap_factor * tolerance_K;
+  if (request.progress)
+    options.progress = [&](int done, int total) {
+      request.progress("sensitivity: " + std::to_string(done) + " of " + std::to_string(total) + " nodes");
+    };
+  const int n = static_cast<int>(model.nodes.size());
+  const auto curves = thermodec::sensitivity_analysis(
+      n, [&](const Eigen::VectorXd& r) { return reference.trial(r); }, options);
+
+  DocumentSensitivity out;
+  out.nodes = request.mesh->node_names;
+  const int doc_nodes = static_cast<int>(out.nodes.size());
+  out.ratios.resize(doc_nodes);
+  out.max_abs_dT_K.resize(doc_nodes);
+  out.faces_after.resize(doc_nodes);
+  out.faces_before.assign(doc_nodes, 0);
+  for (int m = 0; m < n; ++m) out.faces_before[doc_node[m]] = reference.faces_per_node()[m];
+  for (const auto& c : curves) {
+    const int d = doc_node[c.node];
+    out.ratios[d] = c.ratios;
+    out.max_abs_dT_K[d] = c.max_abs_dT_K;
+    out.faces_after[d] = c.faces_after;
+  }
+
+  fs::create_directories(out_dir);
+  std::ostringstream csv;
+  csv << "node,faces_before,ratio,faces_after,max_abs_dT_K\n";
+  nlohmann::json jcurves = nlohmann::json::array();
+  for (int d = 0; d < doc_nodes; ++d) {
+    for (std::size_t k = 0; k < out.ratios[d].size(); ++k)
+      csv << out.nodes[d] << ',' << out.faces_before[d] << ',' << out.ratios[d][k] << ','
+          << out.faces_after[d][k] << ',' << out.max_abs_dT_K[d][k] << '\n';
+    jcurves.push_back({{"node", out.nodes[d]}, {"faces_before", out.faces_before[d]}, {"ratios", out.ratios[d]},
+                       {"max_abs_dT_K", out.max_abs_dT_K[d]}, {"faces_after", out.faces_after[d]}});
+  }
+  const fs::path csv_path = fs::path(out_dir) / "sensitivity.csv";
+  thermodec::write_text_atomically(csv_path, csv.str(), {});
+  out.files.push_back(csv_path.string());
+  const fs::path png = fs::path(out_dir) / "sensitivity.png";
+  try {
+    thermodec::plot_png("sensitivity", {{"tolerance_K", tolerance_K}, {"cap_K", options.cap_K}, {"curves", jcurves}}, png);
+    out.files.push_back(png.string());
+  } catch (const thermodec::Error& e) {
+    out.warnings.push_back("sensitivity.png: " + std::string(e.what()));
+  }
+  return out;
+}
+#endif  // THERMODEC_FILTER_REDUCE
+
+}  // namespace thermodec_meshlab

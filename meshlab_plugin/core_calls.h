@@ -1,0 +1,89 @@
+#pragma once
+//! Core calls whose headers need C++17 (std::filesystem, std::optional in the thermal model),
+//! behind an interface the C++14 plugin sources can include: only thermodec::Mesh, strings and
+//! vectors cross it. Compiled as C++17 without any MeshLab header.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "thermodec/mesh/mesh.h"
+
+namespace thermodec_meshlab {
+
+//! Per-node temperatures of one simulation, in the order of the document's nodes.
+struct NodeTemperatures {
+  std::vector<std::string> nodes;            //!< document node names
+  std::vector<std::string> model_nodes;      //!< the model node each one was simulated as
+  std::vector<double> min_K, mean_K, max_K;  //!< over the orbit (steady: all equal) [K]
+  bool transient = false;
+  int times = 0;                             //!< number of time points
+  int orbits = 0;                            //!< transient: orbits simulated
+  double periodicity_residual_K = 0.0;       //!< transient: max |T(P) - T(0)| [K]
+  std::string model_description;             //!< one line: where materials/environment came from
+};
+
+//! Simulates the document's mesh (face_node set for every face; node_names) as
+//! `thermodec simulate` would. With `model_file` empty, the core's bare-mesh defaults apply
+//! (load_model of the mesh alone: default coating, orbit environment, steady analysis).
+//! Otherwise the model file gives materials, nodes (capacitance, power, fixed temperature),
+//! conductances, environment, analysis and radiation settings; its mesh is replaced by the
+//! document's, each document node being the model node of the same name, or, when
+//! `ids_index_model_nodes` and no name matches, the model node at position node_ids[i]
+//! (face quality written by `thermodec convert` is that position). Faces take their node's
+//! most common front and back material in the model (per-face coatings inside a node are not
+//! carried by MeshLab's PLY import). `rays_per_face` > 0 overrides the model's.
+//! \throw thermodec::InvalidInput (unreadable/bad model file, a node the model lacks, ...),
+//! thermodec::IOError, thermodec::SolverError.
+NodeTemperatures simulate_document(const thermodec::Mesh& mesh, const std::vector<int>& node_ids,
+                                   bool ids_index_model_nodes, const std::string& model_file,
+                                   int rays_per_face,
+                                   const std::function<void(const std::string&)>& progress);
+
+//! What the document asks of a reduction or sensitivity run (see simulate_document for how
+//! the model is built from the document and `model_file`).
+struct DocumentModelRequest {
+  const thermodec::Mesh* mesh = nullptr;  //!< document mesh, face_node set for every face
+  std::vector<int> node_ids;
+  bool ids_index_model_nodes = false;
+  std::string model_file;                 //!< empty = core defaults
+  int rays_per_face = 0;                  //!< > 0 overrides the model's
+  std::function<void(const std::string&)> progress;
+};
+
+//! Result of reduce_document.
+struct DocumentReduction {
+  //! The verified reduced mesh; face_node indexes the document's nodes (as the input mesh).
+  thermodec::Mesh mesh;
+  std::string summary;                 //!< thermodec's summary lines (as `thermodec reduce`)
+  std::vector<std::string> warnings;   //!< plots that could not be written
+  double max_temperature_difference_K = 0.0;
+  double noise_floor_K = 0.0;
+};
+
+//! `thermodec reduce` on the document: reduce_model with the tolerance [K] and strategy
+//! (informed = sensitivity-guided, else uniform), then write_reduction_outputs into `out_dir`
+//! (model.json + reduced.obj, report.json, PNG plots when `plots`).
+//! \throw thermodec::InvalidInput (tolerance not positive or below twice the noise floor, two
+//! document nodes mapped to one model node, ...), IOError, SolverError.
+DocumentReduction reduce_document(const DocumentModelRequest& request, double tolerance_K,
+                                  bool informed, const std::string& out_dir, bool plots);
+
+//! Result of sensitivity_document, per document node.
+struct DocumentSensitivity {
+  std::vector<std::string> nodes;
+  std::vector<std::vector<double>> ratios, max_abs_dT_K;  //!< per node, increasing ratio
+  std::vector<std::vector<int>> faces_after;
+  std::vector<int> faces_before;
+  std::vector<std::string> files;     //!< written: sensitivity.csv, sensitivity.png
+  std::vector<std::string> warnings;  //!< plot failures
+};
+
+//! The paper's per-node sensitivity analysis on the document (each node alone decimated by
+//! increasing ratios until the whole model's max |dT| over the orbit exceeds 2 x tolerance_K),
+//! written as `out_dir`/sensitivity.csv (node, faces_before, ratio, faces_after,
+//! max_abs_dT_K) and sensitivity.png.
+//! \throw thermodec::InvalidInput, IOError, SolverError.
+DocumentSensitivity sensitivity_document(const DocumentModelRequest& request, double tolerance_K,
+                                         const std::string& out_dir);
+
+}  // namespace thermodec_meshlab
