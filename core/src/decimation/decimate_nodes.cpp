@@ -227,7 +227,7 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     for (const auto& d : removed_per_node_) {
       if (c.node_faces[d.key] - static_cast<int>(d.value) >= c.node_target[d.key])
         paid = true;
-      else if (!is_exact_for(d.key))
+      else if (!is_exact_for(d.key) || c.node_faces[d.key] - static_cast<int>(d.value) < c.opt.min_faces_per_node)
         return false;
     }
     if (!paid) return false;

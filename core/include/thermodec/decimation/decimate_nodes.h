@@ -51,7 +51,8 @@ struct DecimationOptions {
   //! (within `exact_contour_tolerance`) and all of that node's faces around it are coplanar,
   //! so its surface keeps the same outline, area and normals and only loses a face that
   //! degenerates. Such "free" removals are not charged to that node's budget (see
-  //! NodeDecimationStats::faces_removed_free). At least one node must still pay for the
+  //! NodeDecimationStats::faces_removed_free) but respect min_faces_per_node (and every
+  //! region keeps a face). At least one node must still pay for the
   //! collapse from its own budget. Without this, a node reduced alone (all other ratios 0)
   //! could never coarsen any of its interfaces.
   bool free_exact_contour_collapses = true;
