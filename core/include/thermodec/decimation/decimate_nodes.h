@@ -110,7 +110,8 @@ struct DecimationResult {
 //!        collapses; `reached` says which did. A node may end below its target (even at
 //!        ratio 0) only through geometry-preserving free removals (faces_removed_free).
 //! Deterministic: the same input gives bit-identical output. Thread-safe (no global state).
-//! \throw InvalidInput if a ratio is outside [0, 1], sizes mismatch, or an index is invalid.
+//! \throw InvalidInput if a ratio is outside [0, 1], a tolerance is negative, sizes mismatch,
+//!        or an index is invalid.
 DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_ratio_per_node,
                                 const DecimationOptions& options = {});
 
