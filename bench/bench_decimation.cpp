@@ -227,7 +227,9 @@ int main(int argc, char** argv) {
       const Mesh ml = read_mesh(out, ro);
       std::vector<int> mnode(ml.num_faces()), mcomp(ml.num_faces());
       for (int i = 0; i < ml.num_faces(); ++i) {
-        const int q = ml.face_node[i];
+        // The PLY reader compacts sparse ids and names them "<prefix>_<id>": take the id back.
+        const std::string& label = ml.node_names.at(ml.face_node[i]);
+        const int q = std::stoi(label.substr(label.rfind('_') + 1));
         mnode[i] = q % 1000;
         mcomp[i] = q / 1000 - 1;
       }

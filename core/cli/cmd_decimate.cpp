@@ -79,13 +79,13 @@ void run_decimate(const DecimateArgs& args) {
                            mesh.num_faces(), r.mesh.num_faces(),
                            100.0 * (1.0 - static_cast<double>(r.mesh.num_faces()) / mesh.num_faces()),
                            r.collapses);
-  std::cout << fmt::format("{:<16} {:>8} {:>8} {:>8} {:>14} {:>8}\n", "node", "before", "target", "after",
-                           "area change %", "reached");
+  std::cout << fmt::format("{:<16} {:>8} {:>8} {:>8} {:>6} {:>14} {:>8}\n", "node", "before", "target", "after",
+                           "free", "area change %", "reached");
   for (size_t n = 0; n < r.nodes.size(); ++n) {
     const auto& s = r.nodes[n];
     const std::string name = n < mesh.node_names.size() ? mesh.node_names[n] : "(unassigned)";
-    std::cout << fmt::format("{:<16} {:>8} {:>8} {:>8} {:>14.4f} {:>8}\n", name, s.faces_before, s.target_faces,
-                             s.faces_after, 100.0 * s.relative_area_change(), s.reached ? "yes" : "no");
+    std::cout << fmt::format("{:<16} {:>8} {:>8} {:>8} {:>6} {:>14.4f} {:>8}\n", name, s.faces_before, s.target_faces,
+                             s.faces_after, s.faces_removed_free, 100.0 * s.relative_area_change(), s.reached ? "yes" : "no");
   }
   double worst_volume = 0;
   for (size_t k = 0; k < r.closed_volume_before_m3.size(); ++k)

@@ -94,6 +94,40 @@ void expect_node_preserving(const Mesh& in, const DecimationResult& r, const Dec
   }
 }
 
+// Node `node` of the output has the input's geometry: the same area and area-weighted normal
+// (to `rel` of its area), and each of its faces lies in the plane of the input face it is.
+void expect_same_node_geometry(const Mesh& in, const DecimationResult& r, int node, double rel) {
+  auto sums = [node](const Mesh& m, double& area, Eigen::Vector3d& vector_area) {
+    area = 0;
+    vector_area.setZero();
+    for (int f = 0; f < m.num_faces(); ++f)
+      if (m.face_node[f] == node) {
+        const Eigen::Vector3d p0 = m.V.row(m.F(f, 0)), p1 = m.V.row(m.F(f, 1)), p2 = m.V.row(m.F(f, 2));
+        const Eigen::Vector3d n = 0.5 * (p1 - p0).cross(p2 - p0);
+        area += n.norm();
+        vector_area += n;
+      }
+  };
+  double a0, a1;
+  Eigen::Vector3d n0, n1;
+  sums(in, a0, n0);
+  sums(r.mesh, a1, n1);
+  EXPECT_NEAR(a1, a0, rel * a0) << "node " << node;
+  EXPECT_LE((n1 - n0).norm(), rel * a0) << "node " << node;
+  for (int f = 0; f < r.mesh.num_faces(); ++f) {
+    if (r.mesh.face_node[f] != node) continue;
+    const int g = r.fine_face_of_coarse[f];
+    const Eigen::Vector3d q0 = in.V.row(in.F(g, 0)), q1 = in.V.row(in.F(g, 1)), q2 = in.V.row(in.F(g, 2));
+    const Eigen::Vector3d u = (q1 - q0).cross(q2 - q0).normalized();
+    for (int j = 0; j < 3; ++j) {
+      const Eigen::Vector3d p = r.mesh.V.row(r.mesh.F(f, j));
+      EXPECT_LE(std::abs(u.dot(p - q0)), rel * std::sqrt(a0)) << "face " << f << " left its plane";
+    }
+    const Eigen::Vector3d p0 = r.mesh.V.row(r.mesh.F(f, 0)), p1 = r.mesh.V.row(r.mesh.F(f, 1)), p2 = r.mesh.V.row(r.mesh.F(f, 2));
+    EXPECT_GT((p1 - p0).cross(p2 - p0).dot(u), 0) << "face " << f << " flipped";
+  }
+}
+
 }  // namespace
 
 TEST(DecimateNodes, zero_ratio_returns_the_input_unchanged) {
@@ -211,11 +245,85 @@ TEST(DecimateNodes, two_node_plate_interface_stays_straight_and_shared) {
   EXPECT_LT(r.mesh.num_faces(), plate.num_faces() / 4);
 }
 
-TEST(DecimateNodes, per_node_ratios_leave_untargeted_nodes_alone) {
+TEST(DecimateNodes, per_node_ratios_leave_untargeted_nodes_geometry_alone) {
   const Mesh plate = test::two_node_plate(8);
   const DecimationResult r = decimate_nodes(plate, Eigen::Vector2d(0.8, 0.0));
-  EXPECT_EQ(r.nodes[1].faces_after, r.nodes[1].faces_before);
-  EXPECT_LT(r.nodes[0].faces_after, r.nodes[0].faces_before / 2);
+  // The flat untargeted node may lose faces on the straight interface, never geometry.
+  EXPECT_EQ(r.nodes[1].faces_after, r.nodes[1].faces_before - r.nodes[1].faces_removed_free);
+  expect_same_node_geometry(plate, r, 1, 1e-12);
+  EXPECT_EQ(r.nodes[0].faces_removed_free, 0);
+  EXPECT_LE(r.nodes[0].faces_after, r.nodes[0].target_faces);
+  // Without free exact-contour collapses the untargeted node keeps every face.
+  DecimationOptions strict;
+  strict.free_exact_contour_collapses = false;
+  const DecimationResult s = decimate_nodes(plate, Eigen::Vector2d(0.8, 0.0), strict);
+  EXPECT_EQ(s.nodes[1].faces_after, s.nodes[1].faces_before);
+  EXPECT_EQ(s.nodes[1].faces_removed_free, 0);
+  EXPECT_LT(s.nodes[0].faces_after, s.nodes[0].faces_before / 2);
+}
+
+TEST(DecimateNodes, node_alone_coarsens_a_straight_interface_at_no_cost_to_its_flat_neighbour) {
+  // Two 8 x 8 grids folded at 90 degrees along the x axis (node 0 in z = 0, node 1 in y = 0):
+  // node 0 alone at 0.98 reaches its target (3 of 128 faces), node 1 keeps its exact geometry.
+  MeshBuilder b;
+  b.grid(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0), 8, 0);
+  b.grid(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 0), 8, 1);
+  const Mesh l = b.build(2);
+  const DecimationResult r = decimate_nodes(l, Eigen::Vector2d(0.98, 0.0));
+  EXPECT_EQ(r.nodes[0].target_faces, 3);
+  EXPECT_LE(r.nodes[0].faces_after, 3);
+  EXPECT_GT(r.nodes[1].faces_removed_free, 0);
+  EXPECT_EQ(r.nodes[1].faces_after, r.nodes[1].faces_before - r.nodes[1].faces_removed_free);
+  expect_same_node_geometry(l, r, 1, 1e-12);
+  DecimationOptions strict;
+  strict.free_exact_contour_collapses = false;
+  EXPECT_GT(decimate_nodes(l, Eigen::Vector2d(0.98, 0.0), strict).nodes[0].faces_after, 8);
+}
+
+TEST(DecimateNodes, free_removals_are_refused_when_the_neighbour_is_not_flat_or_the_contour_not_straight) {
+  // Node 1 beside a straight interface but corrugated from x = 0.125 on (heights alternate
+  // 0 / 0.05 along y): the faces around every interface vertex are not coplanar, so node 1
+  // keeps all its faces.
+  {
+    MeshBuilder b;
+    b.grid(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(-1, 0, 0), Eigen::Vector3d(0, -1, 0), 8, 0);
+    const int n = 8;
+    auto p = [&](int i, int j) {  // node 1: x in [0, 1], y in [-1, 0]
+      const double x = double(i) / n, y = -double(j) / n;
+      return b.vertex(Eigen::Vector3d(x, y, i == 0 ? 0.0 : 0.05 * (j % 2)));
+    };
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const int a = p(i, j), c = p(i + 1, j), d = p(i + 1, j + 1), e = p(i, j + 1);
+        b.face(a, e, d, 1);
+        b.face(a, d, c, 1);
+      }
+    const Mesh m = b.build(2);
+    const DecimationResult r = decimate_nodes(m, Eigen::Vector2d(0.98, 0.0));
+    EXPECT_EQ(r.nodes[1].faces_removed_free, 0);
+    EXPECT_EQ(r.nodes[1].faces_after, r.nodes[1].faces_before);
+  }
+  // Both nodes flat in z = 0 but the interface zigzags by 0.5 % of its segments (within the
+  // 2 % contour deviation, far above the exactness tolerance): node 1 keeps all its faces.
+  {
+    MeshBuilder b;
+    const int n = 8;
+    auto p = [&](int i, int j) {  // i = column -n..n, interface at i = 0
+      const double x = double(i) / n + (i == 0 && j % 2 ? 0.005 / n : 0.0);
+      return b.vertex(Eigen::Vector3d(x, double(j) / n, 0));
+    };
+    for (int i = -n; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const int a = p(i, j), c = p(i + 1, j), d = p(i + 1, j + 1), e = p(i, j + 1);
+        b.face(a, c, d, i < 0 ? 0 : 1);
+        b.face(a, d, e, i < 0 ? 0 : 1);
+      }
+    const Mesh m = b.build(2);
+    const DecimationResult r = decimate_nodes(m, Eigen::Vector2d(0.98, 0.0));
+    EXPECT_EQ(r.nodes[1].faces_removed_free, 0);
+    EXPECT_EQ(r.nodes[1].faces_after, r.nodes[1].faces_before);
+    EXPECT_LT(r.nodes[0].faces_after, r.nodes[0].faces_before / 2);
+  }
 }
 
 TEST(DecimateNodes, non_conforming_input_decimates_without_crashing) {

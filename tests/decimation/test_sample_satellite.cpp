@@ -3,12 +3,15 @@
 // face changes node, interfaces stay watertight, reruns are identical; and the CLI commands.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
+
+#include <Eigen/Geometry>
 
 #include "thermodec/decimation/decimate_nodes.h"
 #include "thermodec/mesh/io.h"
@@ -105,6 +108,73 @@ TEST(SampleSatellite, half_global_reduction_keeps_node_areas_volume_and_interfac
 
 TEST(SampleSatellite, dense_half_global_reduction_keeps_node_areas_volume_and_interfaces) {
   check_half_reduction(sample("model_dense.json"));
+}
+
+// Issue 6: the sensitivity analysis reduces one node alone (all other ratios 0). The flat
+// 60-face panel body_px must coarsen its four straight box edges (its neighbours are flat
+// panels, so they lose faces there without any change of shape), not stop at 20 faces.
+TEST(SampleSatellite, body_px_alone_reaches_four_faces_and_leaves_every_other_node_unchanged) {
+  if (!fs::exists(sample("model.json"))) GTEST_SKIP();
+  const Mesh in = load_model(sample("model.json")).mesh;
+  const int n = static_cast<int>(in.node_names.size());
+  const int px = static_cast<int>(std::find(in.node_names.begin(), in.node_names.end(), "body_px") - in.node_names.begin());
+  ASSERT_LT(px, n);
+  Eigen::VectorXd ratios = Eigen::VectorXd::Zero(n);
+  ratios[px] = 0.95;
+  const DecimationResult r = decimate_nodes(in, ratios);
+  EXPECT_LE(r.nodes[px].faces_after, 4);
+  // Per node: area and area-weighted normal (what view factors and absorbed fluxes see) of the
+  // output mesh itself, compared with the input's.
+  auto per_node = [n](const Mesh& m, std::vector<double>& area, std::vector<Eigen::Vector3d>& vec, std::vector<int>& faces) {
+    area.assign(n, 0.0);
+    vec.assign(n, Eigen::Vector3d::Zero());
+    faces.assign(n, 0);
+    for (int f = 0; f < m.num_faces(); ++f) {
+      const Eigen::Vector3d p0 = m.V.row(m.F(f, 0)), p1 = m.V.row(m.F(f, 1)), p2 = m.V.row(m.F(f, 2));
+      const Eigen::Vector3d a = 0.5 * (p1 - p0).cross(p2 - p0);
+      area[m.face_node[f]] += a.norm();
+      vec[m.face_node[f]] += a;
+      ++faces[m.face_node[f]];
+    }
+  };
+  std::vector<double> a0, a1;
+  std::vector<Eigen::Vector3d> v0, v1;
+  std::vector<int> f0, f1;
+  per_node(in, a0, v0, f0);
+  per_node(r.mesh, a1, v1, f1);
+  int free_total = 0;
+  for (int k = 0; k < n; ++k) {
+    EXPECT_EQ(f1[k], r.nodes[k].faces_after) << in.node_names[k];
+    if (k == px) continue;
+    EXPECT_NEAR(a1[k], a0[k], 1e-9 * a0[k]) << in.node_names[k];
+    EXPECT_LE((v1[k] - v0[k]).norm(), 1e-9 * a0[k]) << in.node_names[k];
+    EXPECT_EQ(r.nodes[k].faces_before - r.nodes[k].faces_after, r.nodes[k].faces_removed_free) << in.node_names[k];
+    free_total += r.nodes[k].faces_removed_free;
+  }
+  EXPECT_GT(free_total, 0);
+  EXPECT_EQ(r.nodes[px].faces_removed_free, 0);
+  // Other nodes' faces stay in the planes of the input faces they are, never flipped.
+  for (int f = 0; f < r.mesh.num_faces(); ++f) {
+    if (r.mesh.face_node[f] == px) continue;
+    const int g = r.fine_face_of_coarse[f];
+    const Eigen::Vector3d q0 = in.V.row(in.F(g, 0)), q1 = in.V.row(in.F(g, 1)), q2 = in.V.row(in.F(g, 2));
+    const Eigen::Vector3d u = (q1 - q0).cross(q2 - q0).normalized();
+    const Eigen::Vector3d p0 = r.mesh.V.row(r.mesh.F(f, 0)), p1 = r.mesh.V.row(r.mesh.F(f, 1)), p2 = r.mesh.V.row(r.mesh.F(f, 2));
+    for (const Eigen::Vector3d& p : {p0, p1, p2}) EXPECT_LE(std::abs(u.dot(p - q0)), 1e-9) << "face " << f;
+    EXPECT_GT((p1 - p0).cross(p2 - p0).dot(u), 0) << "face " << f;
+  }
+  // The closed body box keeps its volume; reruns are identical.
+  for (size_t k = 0; k < r.closed_volume_before_m3.size(); ++k)
+    EXPECT_NEAR(r.closed_volume_after_m3[k], r.closed_volume_before_m3[k], 1e-9 * std::abs(r.closed_volume_before_m3[k]));
+  const DecimationResult again = decimate_nodes(in, ratios);
+  EXPECT_TRUE(again.mesh.V == r.mesh.V && again.mesh.F == r.mesh.F && again.coarse_face_of_fine == r.coarse_face_of_fine);
+  // The budgets alone (no free removals) stop body_px early: the issue this fixes.
+  DecimationOptions strict;
+  strict.free_exact_contour_collapses = false;
+  const DecimationResult s = decimate_nodes(in, ratios, strict);
+  EXPECT_GT(s.nodes[px].faces_after, 10);
+  for (int k = 0; k < n; ++k)
+    if (k != px) EXPECT_EQ(s.nodes[k].faces_after, s.nodes[k].faces_before);
 }
 
 TEST(SampleSatellite, repair_finds_nothing_to_change_on_the_conforming_sample) {

@@ -63,6 +63,7 @@ struct Context : vcg::BaseParameterClass {
   std::vector<int> face_region, region_node, region_faces, face_component;
   std::vector<uint8_t> vclass;
   std::vector<int> node_faces, node_target;
+  std::vector<int> node_free_removed;  // faces lost to exact contour collapses past the budget
   std::vector<double> node_area, node_area0;
   std::vector<double> comp_volume, comp_volume0;
   std::vector<char> comp_closed;
@@ -71,6 +72,9 @@ struct Context : vcg::BaseParameterClass {
   std::vector<VVertex*> scratch_v[3];
   std::vector<std::pair<VVertex*, VVertex*>> scratch_e[2];
   void* heap = nullptr;          // vcg's heap, for re-queuing re-evaluated collapses
+  // vcg's stopping face count (sum of the targets); free removals lower it by what they took,
+  // since they do not bring any node closer to its target.
+  int* target_simplices = nullptr;
 
   int vi(const VVertex* v) const { return static_cast<int>(v - &m->vert[0]); }
   int fi(const VFace* f) const { return static_cast<int>(f - &m->face[0]); }
@@ -157,13 +161,18 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     VVertex* a = pos.V(0);
     VVertex* b = pos.V(1);
     evaluated_at_ = c.clock;
-    // A collapse removes the faces on its edge; if one of their nodes is at its target the
-    // collapse can never run (budgets only shrink), so do not even queue it.
-    for (vcg::face::VFIterator<VFace> it(a); !it.End(); ++it)
-      if (it.V1() == b || it.V2() == b) {
-        const int node = c.region_node[c.face_region[c.fi(it.F())]];
-        if (c.node_faces[node] <= c.node_target[node]) return _priority;
-      }
+    // A collapse removes the faces on its edge. If none of their nodes has budget left it can
+    // never run (budgets only shrink), so do not even queue it; nor if one has none and free
+    // exact-contour removals are off. Otherwise evaluate() decides exactness per node.
+    {
+      int spent = 0, with_budget = 0;
+      for (vcg::face::VFIterator<VFace> it(a); !it.End(); ++it)
+        if (it.V1() == b || it.V2() == b) {
+          const int node = c.region_node[c.face_region[c.fi(it.F())]];
+          ++(c.node_faces[node] <= c.node_target[node] ? spent : with_budget);
+        }
+      if (with_budget == 0 || (spent > 0 && !c.opt.free_exact_contour_collapses)) return _priority;
+    }
     const uint8_t ca = c.vclass[c.vi(a)], cb = c.vclass[c.vi(b)];
     if (ca == kFree && cb == kFree) {
       evaluate(c, a, b, /*optimal=*/true);
@@ -212,8 +221,16 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
       std::push_heap(heap.begin(), heap.end());
       return false;
     }
-    for (const auto& d : removed_per_node_)
-      if (c.node_faces[d.key] - static_cast<int>(d.value) < c.node_target[d.key]) return false;
+    // Budgets: each node pays for its removed faces, except one whose geometry the collapse
+    // leaves unchanged (exact_per_node_); somebody must pay, or the collapse serves no one.
+    bool paid = false;
+    for (const auto& d : removed_per_node_) {
+      if (c.node_faces[d.key] - static_cast<int>(d.value) >= c.node_target[d.key])
+        paid = true;
+      else if (!is_exact_for(d.key) || c.node_faces[d.key] - static_cast<int>(d.value) < c.opt.min_faces_per_node)
+        return false;
+    }
+    if (!paid) return false;
     for (const auto& d : removed_per_region_)
       if (c.region_faces[d.key] - static_cast<int>(d.value) < 1) return false;
     for (const auto& d : area_delta_) {
@@ -239,7 +256,14 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     std::vector<int> removed_faces;
     for (vcg::face::VFIterator<VFace> it(gone); !it.End(); ++it)
       if (it.V1() == kept || it.V2() == kept) removed_faces.push_back(c.fi(it.F()));
-    for (const auto& d : removed_per_node_) c.node_faces[d.key] -= static_cast<int>(d.value);
+    for (const auto& d : removed_per_node_) {
+      const int k = static_cast<int>(d.value);
+      if (c.node_faces[d.key] - k < c.node_target[d.key]) {
+        c.node_free_removed[d.key] += k;
+        if (c.target_simplices != nullptr) *c.target_simplices -= k;
+      }
+      c.node_faces[d.key] -= k;
+    }
     for (const auto& d : removed_per_region_) c.region_faces[d.key] -= static_cast<int>(d.value);
     for (const auto& d : area_delta_) c.node_area[d.key] += d.value;
     for (const auto& d : volume_delta_) c.comp_volume[d.key] += d.value;
@@ -309,6 +333,12 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   static float HeapSimplexRatio(vcg::BaseParameterClass*) { return 8.0f; }
 
  private:
+  bool is_exact_for(int node) const {
+    for (const auto& d : exact_per_node_)
+      if (d.key == node) return d.value > 0;
+    return false;
+  }
+
   // Does the edge (a, b) separate two regions, or bound the surface (1 face or > 2 faces)?
   static bool is_contour_edge(const Context& c, VVertex* a, VVertex* b) {
     int count = 0, region0 = -1;
@@ -349,6 +379,7 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     removed_per_region_.clear();
     area_delta_.clear();
     volume_delta_.clear();
+    exact_per_node_.clear();
 
     const Vec3 pg = to_eigen(gone->cP()), pk = to_eigen(kept->cP());
 
@@ -360,6 +391,7 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
       if (it.V1() != gone && it.V2() != gone) star_.push_back(it.F());
 
     double boundary_cost = 0;
+    bool straight = false;  // gone lies on a straight contour (free_exact_contour_collapses)
     if (optimal) {
       // Lindstrom-Turk placement: volume preservation, then volume optimisation, then shape.
       Constraints k;
@@ -404,13 +436,33 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
         const double t = std::clamp((pg - pk).dot(seg) / len2, 0.0, 1.0);
         const double dev = (pg - (pk + t * seg)).norm();
         if (dev > c.opt.max_contour_deviation * std::sqrt(len2)) return;
+        straight = c.opt.free_exact_contour_collapses && dev <= c.opt.exact_contour_tolerance * std::sqrt(len2);
         // LT boundary preservation: squared swept area of the contour, times a length^2.
         const double swept = 0.5 * (pg - pk).cross(pw - pk).norm();
         boundary_cost = swept * swept * len2;
       }
     }
 
-    // Validity (no flips, no degenerate faces) and cost.
+    // Validity (no flips, no degenerate faces) and cost. On a straight contour, also whether
+    // each node's faces around `gone` are coplanar and keep their total area: then moving
+    // `gone` onto `kept` (in the same plane, on the same line) re-triangulates the same
+    // polygon and that node's geometry is unchanged.
+    struct NodePlane {
+      int node;
+      Vec3 normal;
+      bool coplanar;
+      double area_before, area_after;
+    };
+    std::array<NodePlane, 4> planes;
+    int nplanes = 0;
+    auto plane_of = [&](int node, const Vec3& n0) -> NodePlane* {
+      for (int i = 0; i < nplanes; ++i)
+        if (planes[i].node == node) return &planes[i];
+      if (nplanes == 4) return nullptr;
+      const double len = n0.norm();
+      planes[nplanes] = {node, len > 0 ? Vec3(n0 / len) : Vec3::Zero(), len > 0, 0.0, 0.0};
+      return &planes[nplanes++];
+    };
     double vol_cost = 0, vol_change = 0, shape = 0, mean_area2 = 0;
     for (VFace* f : star_) {
       const int fidx = c.fi(f);
@@ -429,6 +481,17 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
       const Vec3 n0 = (p[1] - p[0]).cross(p[2] - p[0]);
       const double a0 = 0.5 * n0.norm();
       mean_area2 += a0;
+      NodePlane* plane = nullptr;
+      if (straight && has_gone) {
+        plane = plane_of(node, n0);
+        if (plane == nullptr) {
+          straight = false;
+        } else {
+          const double len = n0.norm();
+          if (!(len > 0) || (n0 / len - plane->normal).norm() > c.opt.exact_contour_tolerance) plane->coplanar = false;
+          plane->area_before += a0;
+        }
+      }
       // LT volume terms: tetrahedron between the new vertex and the old face.
       const double tet = n0.dot(x_ - p[0]) / 6.0;
       vol_cost += tet * tet;
@@ -445,6 +508,7 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
       if (n1sq <= c.degenerate_area2) return;
       if (n0.dot(n1) < c.cos_normal * std::sqrt(n0.squaredNorm() * n1sq)) return;
       area_delta_.add(node, 0.5 * std::sqrt(n1sq) - a0);
+      if (plane != nullptr) plane->area_after += 0.5 * std::sqrt(n1sq);
       volume_delta_.add(c.face_component[fidx],
                 (q[0].dot(q[1].cross(q[2])) - p[0].dot(p[1].cross(p[2]))) / 6.0);
       for (int j = 0; j < 3; ++j)
@@ -454,6 +518,13 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     if (removed_per_node_.overflow || removed_per_region_.overflow || area_delta_.overflow ||
         volume_delta_.overflow)
       return;
+    if (straight)
+      for (int i = 0; i < nplanes; ++i) {
+        const NodePlane& p = planes[i];
+        const bool exact = p.coplanar && std::abs(p.area_after - p.area_before) <=
+                                             c.opt.exact_contour_tolerance * p.area_before;
+        exact_per_node_.add(p.node, exact ? 1.0 : 0.0);
+      }
     mean_area2 /= static_cast<double>(star_.size());
     mean_area2 *= mean_area2;
     const double cost = vol_cost + vol_change * vol_change + boundary_cost +
@@ -531,6 +602,7 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   int evaluated_at_ = 0;
   Vec3 x_ = Vec3::Zero();
   Deltas removed_per_node_, removed_per_region_, area_delta_, volume_delta_;
+  Deltas exact_per_node_;  // node -> 1 if this collapse leaves its geometry unchanged
 };
 
 void check_input(const Mesh& mesh) {
@@ -576,7 +648,8 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
   if (!(options.unassigned_ratio >= 0 && options.unassigned_ratio <= 1))
     throw InvalidInput("decimate: unassigned_ratio must be in [0, 1]");
   if (!(options.max_relative_area_change >= 0) || !(options.max_relative_volume_change >= 0) ||
-      !(options.max_contour_deviation >= 0) || options.min_faces_per_node < 1)
+      !(options.max_contour_deviation >= 0) || !(options.exact_contour_tolerance >= 0) ||
+      options.min_faces_per_node < 1)
     throw InvalidInput("decimate: tolerances must be >= 0 and min_faces_per_node >= 1");
 
   const int groups = num_nodes + (has_unassigned ? 1 : 0);
@@ -715,6 +788,7 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     c.node_area0[group_of(f)] += 0.5 * (p1 - p0).cross(p2 - p0).norm();
   }
   c.node_area = c.node_area0;
+  c.node_free_removed.assign(groups, 0);
   c.node_target.resize(groups);
   int total_target = 0;
   for (int g = 0; g < groups; ++g) {
@@ -751,6 +825,7 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     c.heap = &opt.h;
     opt.Init<NodeCollapse>();
     opt.SetTargetSimplices(total_target);
+    c.target_simplices = &opt.nTargetSimplices;
     opt.DoOptimization();
     collapses = opt.nPerformedOps;
   }
@@ -803,6 +878,7 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
   for (int g = 0; g < groups; ++g) {
     res.nodes[g].area_before_m2 = c.node_area0[g];
     res.nodes[g].target_faces = c.node_target[g];
+    res.nodes[g].faces_removed_free = c.node_free_removed[g];
   }
   for (int f = 0; f < nf; ++f) ++res.nodes[group_of(f)].faces_before;
   for (int i = 0; i < nf_out; ++i) {

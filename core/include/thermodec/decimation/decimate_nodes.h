@@ -12,6 +12,9 @@
 //!    lie on the same single contour, the removed vertex stays where the contour was (its
 //!    neighbours keep their positions) and it deviates from the new contour segment by at most
 //!    `max_contour_deviation` of that segment's length;
+//!  - per-node face budgets: a collapse runs only if every node it takes faces from can pay
+//!    for them, except nodes whose geometry it leaves exactly unchanged (straight contour,
+//!    coplanar faces: `free_exact_contour_collapses`);
 //!  - vertices where >= 3 regions (or a region and an open boundary and another region) meet,
 //!    non-manifold vertices and the ends of non-manifold edges never move or disappear;
 //!  - the link condition (Dey-Edelsbrunner) keeps the topology, a normal-deviation test
@@ -42,6 +45,22 @@ struct DecimationOptions {
   double unassigned_ratio = 0.0;
   //! Every node keeps at least this many faces.
   int min_faces_per_node = 1;
+  //! Coarsening an interface removes one face on each side of it. When on, a collapse may take
+  //! a face from a node that has no budget left (its target is reached, or its ratio is 0)
+  //! provided that node's geometry is unchanged: the removed vertex lies on a straight contour
+  //! (within `exact_contour_tolerance`) and all of that node's faces around it are coplanar,
+  //! so its surface keeps the same outline, area and normals and only loses a face that
+  //! degenerates. Such "free" removals are not charged to that node's budget (see
+  //! NodeDecimationStats::faces_removed_free) but respect min_faces_per_node (and every
+  //! region keeps a face). At least one node must still pay for the
+  //! collapse from its own budget. Without this, a node reduced alone (all other ratios 0)
+  //! could never coarsen any of its interfaces.
+  bool free_exact_contour_collapses = true;
+  //! "Exact" for free_exact_contour_collapses, dimensionless: the removed vertex deviates from
+  //! the new contour segment by at most this fraction of the segment's length, every face of
+  //! the unpaying node around it has a unit normal within this distance (~ radians) of the
+  //! others', and that node's area around the vertex changes by at most this fraction.
+  double exact_contour_tolerance = 1e-6;
 };
 
 //! What decimation did to one node (index = node index; the last entry is the unassigned
@@ -53,6 +72,12 @@ struct NodeDecimationStats {
   double area_before_m2 = 0.0;
   double area_after_m2 = 0.0;
   bool reached = false;          //!< faces_after <= target_faces
+  //! Faces this node lost "for free", after its budget was spent (or at ratio 0), to
+  //! neighbours' collapses on straight contours that leave its geometry unchanged
+  //! (DecimationOptions::free_exact_contour_collapses). Included in faces_after, which is
+  //! therefore lower than faces_before for such a node even at ratio 0, and can be lower than
+  //! target_faces.
+  int faces_removed_free = 0;
   double relative_area_change() const {
     return area_before_m2 > 0 ? (area_after_m2 - area_before_m2) / area_before_m2 : 0.0;
   }
@@ -82,9 +107,11 @@ struct DecimationResult {
 //! \param target_ratio_per_node #N fraction of each node's faces to REMOVE (0 = keep all,
 //!        0.9 = keep 10 %), N >= number of nodes referenced by face_node (node_names.size()
 //!        when larger). A node reaches its target unless the constraints forbid further
-//!        collapses; `reached` says which did.
+//!        collapses; `reached` says which did. A node may end below its target (even at
+//!        ratio 0) only through geometry-preserving free removals (faces_removed_free).
 //! Deterministic: the same input gives bit-identical output. Thread-safe (no global state).
-//! \throw InvalidInput if a ratio is outside [0, 1], sizes mismatch, or an index is invalid.
+//! \throw InvalidInput if a ratio is outside [0, 1], a tolerance is negative, sizes mismatch,
+//!        or an index is invalid.
 DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_ratio_per_node,
                                 const DecimationOptions& options = {});
 
