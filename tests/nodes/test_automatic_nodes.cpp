@@ -294,7 +294,7 @@ TEST(SampleSatellite, obj_groups_are_the_thirteen_thermal_nodes) {
     EXPECT_EQ(materials, (std::set<std::string>{"white_paint", "mli_kapton", "osr", "solar_cell", "black_paint"}));
     EXPECT_GE(mesh.face_material.minCoeff(), 0);
   }
-  EXPECT_EQ(read_mesh(dir / "satellite.obj").num_faces(), 1018);
+  EXPECT_EQ(read_mesh(dir / "satellite.obj").num_faces(), 882);
   EXPECT_EQ(read_mesh(dir / "satellite_dense.obj").num_faces(), 19696);
 }
 

@@ -52,7 +52,7 @@ TEST(CmdNodes, writes_grouped_mesh_and_prints_one_line_per_node) {
   ASSERT_EQ(run_cli("nodes \"" + kSatellite.string() + "\" -o \"" + out.string() + "\" --max-nodes 12", dir), 0)
       << slurp(dir / "stderr.txt");
   const Mesh mesh = read_mesh(out);
-  EXPECT_EQ(mesh.num_faces(), 1018);
+  EXPECT_EQ(mesh.num_faces(), 882);
   ASSERT_EQ(mesh.node_names.size(), 12u);
   EXPECT_EQ(mesh.node_names.front(), "node_000");
   EXPECT_EQ(mesh.node_names.back(), "node_011");
@@ -60,7 +60,7 @@ TEST(CmdNodes, writes_grouped_mesh_and_prints_one_line_per_node) {
   // Coatings survive the regrouping.
   EXPECT_EQ(mesh.material_names.size(), 5u);
   const std::string printed = slurp(dir / "stdout.txt");
-  EXPECT_NE(printed.find("1018 faces -> 12 nodes"), std::string::npos) << printed;
+  EXPECT_NE(printed.find("882 faces -> 12 nodes"), std::string::npos) << printed;
   EXPECT_NE(printed.find("node_011"), std::string::npos) << printed;
 }
 
@@ -102,7 +102,7 @@ TEST(CmdNodes, model_file_input_keeps_coatings_and_protects_its_mesh) {
   ASSERT_EQ(run_cli("nodes \"" + model.string() + "\" -o \"" + out.string() + "\"", dir), 0)
       << slurp(dir / "stderr.txt");
   const Mesh mesh = read_mesh(out);
-  EXPECT_EQ(mesh.num_faces(), 1018);
+  EXPECT_EQ(mesh.num_faces(), 882);
   EXPECT_GE(mesh.face_material.minCoeff(), 0);
   EXPECT_GT(mesh.face_back_material.maxCoeff(), -1);  // wings, yokes and dish stay two-sided
   EXPECT_EQ(run_cli("nodes \"" + model.string() + "\" -o \"" + kSatellite.string() + "\"", dir), 1);
