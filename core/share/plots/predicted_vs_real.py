@@ -17,7 +17,7 @@ if "tolerance_K" in data:
     ax.axhline(data["tolerance_K"], color="tab:red", lw=1, ls=":", label="tolerance")
 ax.set_xlim(0, hi)
 ax.set_ylim(0, hi)
-ax.set_xlabel("predicted max |dT| [K]")
+ax.set_xlabel("target max |dT| the curves predicted for [K]")
 ax.set_ylabel("real (simulated) max |dT| [K]")
 ax.set_title("Prediction vs simulation")
 ax.grid(True, alpha=0.3)
