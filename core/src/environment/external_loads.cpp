@@ -175,6 +175,38 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   const double cap_over_pi = 2.0 * (1.0 - cos_half);  // Omega_cap / pi
   Eigen::Vector3d et, eu;
   orthonormal_frame(earth_dir, et, eu);
+  // Which sides may have their view of the Earth blocked at all: some other face's bounding
+  // sphere meets the set of rays leaving the side's bounding sphere inside the Earth's cone
+  // and in front of the side. The pilot alone would call a side unobstructed when a small
+  // blocker slips between its pilot rays, a seed-dependent (heavy-tailed) error; with this
+  // conservative geometric test such sides always trace all their rays.
+  std::vector<Eigen::Vector3d> centre_of(ns);
+  std::vector<double> radius_of(ns, 0.0);
+  for (int s = 0; s < ns; ++s) {
+    const Side& g = geo[s];
+    centre_of[s] = (g.a + g.b + g.c) / 3.0;
+    radius_of[s] = std::max({(g.a - centre_of[s]).norm(), (g.b - centre_of[s]).norm(), (g.c - centre_of[s]).norm()}) +
+                   2.0 * g.offset + 1e-9;
+  }
+  const double half_angle = std::asin(sin_half);
+  std::vector<char> may_be_blocked(ns, 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
+    for (int s = range.begin(); s < range.end(); ++s) {
+      if (geo[s].area <= 0.0 || (todo && !(*todo)[s])) continue;
+      for (int t = 0; t < ns && !may_be_blocked[s]; ++t) {
+        if (sides.face[t] == sides.face[s] || geo[t].area <= 0.0) continue;
+        const Eigen::Vector3d v = centre_of[t] - centre_of[s];
+        const double reach = radius_of[s] + radius_of[t], dist = v.norm();
+        if (v.dot(geo[s].normal) < -reach) continue;  // wholly behind the side
+        if (dist <= reach) {
+          may_be_blocked[s] = 1;
+          continue;
+        }
+        const double angle = std::acos(std::clamp(v.dot(earth_dir) / dist, -1.0, 1.0));
+        if (angle <= half_angle + std::asin(std::min(1.0, reach / dist)) + 1e-9) may_be_blocked[s] = 1;
+      }
+    }
+  });
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
     std::vector<RayQuery> batch;
     std::vector<std::uint8_t> blocked;
@@ -206,8 +238,9 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
           candidate.emplace_back(float(cos_t), ((o + t_hit * d - centre).normalized()).cast<float>());
         }
       };
-      // Pilot: a side none of whose first `pilot` rays is blocked sees the Earth unobstructed
-      // and keeps those (the integrand is then smooth and the Sobol estimate accurate); a side
+      // Pilot: a side none of whose first `pilot` rays is blocked and that no face can block
+      // (may_be_blocked) sees the Earth unobstructed and keeps those (its view factor is the
+      // closed form, the pilot rays serve the albedo lighting); a side
       // all of whose pilot rays are blocked (e.g. an internal wall) sees none of it; only sides
       // with both trace all `rays`, where the visibility edge needs them.
       add_rays(0, pilot);
@@ -215,7 +248,8 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       scene.occluded(batch, blocked);
       int used = pilot, n_blocked = 0;
       for (auto b : blocked) n_blocked += b != 0;
-      const bool mixed = n_blocked > 0 && n_blocked < static_cast<int>(blocked.size());
+      const bool mixed = (n_blocked > 0 && n_blocked < static_cast<int>(blocked.size())) ||
+                         (n_blocked == 0 && may_be_blocked[s]);
       if (mixed && rays > pilot) {
         const size_t first_new = batch.size();
         add_rays(pilot, rays);

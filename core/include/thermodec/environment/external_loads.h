@@ -44,14 +44,14 @@ struct ExternalLoadSettings {
   int sun_rays_per_face = 256;    //!< shadow sample points per face side
   //! The first sun_pilot_rays points decide fully lit / fully shadowed sides; only the others
   //! trace all sun_rays_per_face (>= sun_rays_per_face disables the shortcut).
-  int sun_pilot_rays = 64;
+  int sun_pilot_rays = 256;
   //! Minimum shadow sample points for a node's partly shadowed sides: a node with n faces
   //! gives each such side max(sun_rays_per_face, ceil(sun_min_rays_per_node / n)); 0 = off.
   int sun_min_rays_per_node = 50000;
   //! Rays per face side towards the Earth for sides whose view of the Earth is partly blocked
   //! by the spacecraft (decided by the first earth_pilot_rays rays; unobstructed sides keep
   //! only those, the integrand being smooth there).
-  int earth_rays_per_face = 4096;
+  int earth_rays_per_face = 1024;
   int earth_pilot_rays = 256;     //!< see earth_rays_per_face
   //! Minimum Earth rays for a node's partly blocked sides: a node with n faces gives each
   //! such side max(earth_rays_per_face, ceil(earth_min_rays_per_node / n)) (small nodes are
