@@ -1,9 +1,11 @@
 // Where the Monte Carlo noise of an orbit simulation comes from, and what it costs.
 // For seeds 1 and 2 it swaps one stage's seed at a time (IR view factors / couplings, sun
 // shadow samples, Earth rays) and prints the max |dT| each causes, with stage timings.
-// Usage: bench_thermal_noise [MODEL] [rays_per_face] [sun_rays] [earth_rays]
+// Usage: bench_thermal_noise [MODEL] [rays_per_face] [sun_rays] [earth_rays] [earth_min_rays_per_node]
+//        [min_rays_per_node] [sun_min_rays_per_node]
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "thermodec/environment/external_loads.h"
@@ -23,6 +25,9 @@ int main(int argc, char** argv) {
   ExternalLoadSettings ls;
   if (argc > 3) ls.sun_rays_per_face = std::stoi(argv[3]);
   if (argc > 4) ls.earth_rays_per_face = std::stoi(argv[4]);
+  if (argc > 5) ls.earth_min_rays_per_node = std::stoi(argv[5]);
+  if (argc > 6) model.radiation.min_rays_per_node = std::stoi(argv[6]);
+  if (argc > 7) ls.sun_min_rays_per_node = std::stoi(argv[7]);
   const int N = static_cast<int>(model.nodes.size());
   const RayScene scene(model.mesh);
   const SurfaceSides sides = surface_sides(model);
@@ -42,8 +47,10 @@ int main(int argc, char** argv) {
     *t_gb = since(t0);
     return s;
   };
+  // Second seed: BENCH_SEED2 (default 2); the first is 1.
+  const std::uint64_t s2 = std::getenv("BENCH_SEED2") ? std::stoull(std::getenv("BENCH_SEED2")) : 2;
   double t_vf, t_gb;
-  const Stage a = couple(1, &t_vf, &t_gb), b = couple(2, &t_vf, &t_gb);
+  const Stage a = couple(1, &t_vf, &t_gb), b = couple(s2, &t_vf, &t_gb);
   auto loads = [&](const FaceViewFactors& vf, std::uint64_t sun_seed, std::uint64_t earth_seed, double* t) {
     ExternalLoadSettings s = ls;
     // Different seeds for sun and Earth sampling: combine them into one (only for this bench).
@@ -55,7 +62,7 @@ int main(int argc, char** argv) {
   };
   double t_loads;
   const Loads la = loads(a.vf, 1, 1, &t_loads);
-  const Loads lb = loads(a.vf, 2, 2, &t_loads);
+  const Loads lb = loads(a.vf, s2, s2, &t_loads);
   const Loads lvf = loads(b.vf, 1, 1, &t_loads);
   auto t0 = Clock::now();
   const SimulationResult ra = simulate(model, a.nc, la);
@@ -63,7 +70,7 @@ int main(int argc, char** argv) {
   const auto d_couplings = compare_results(ra, simulate(model, b.nc, la));
   const auto d_loads = compare_results(ra, simulate(model, a.nc, lb));
   const auto d_reflect = compare_results(ra, simulate(model, a.nc, lvf));
-  const auto d_all = compare_results(ra, simulate(model, b.nc, lvf.period_s ? loads(b.vf, 2, 2, &t_loads) : lb));
+  const auto d_all = compare_results(ra, simulate(model, b.nc, lvf.period_s ? loads(b.vf, s2, s2, &t_loads) : lb));
   std::printf("%s: %d faces, %d sides, %d nodes, rays/face %d, sun rays %d, earth rays %d\n", path.c_str(),
               model.mesh.num_faces(), sides.size(), N, model.radiation.rays_per_face, ls.sun_rays_per_face,
               ls.earth_rays_per_face);
@@ -73,6 +80,16 @@ int main(int argc, char** argv) {
               "solar-reflection view factors only %.4f K (%s); everything %.4f K (%s)\n",
               d_couplings.max_abs_K, d_couplings.node.c_str(), d_loads.max_abs_K, d_loads.node.c_str(),
               d_reflect.max_abs_K, d_reflect.node.c_str(), d_all.max_abs_K, d_all.node.c_str());
+  {  // which load of the sampling stage: swap one load family from seed 2 into seed 1
+    Loads ls_sun = la, ls_earth = la;
+    ls_sun.solar_W = lb.solar_W;
+    ls_earth.albedo_W = lb.albedo_W;
+    ls_earth.earth_ir_W = lb.earth_ir_W;
+    const auto d_sun = compare_results(ra, simulate(model, a.nc, ls_sun));
+    const auto d_earth = compare_results(ra, simulate(model, a.nc, ls_earth));
+    std::printf("  of which direct sun (shadow samples) %.4f K (%s), albedo + Earth IR %.4f K (%s)\n", d_sun.max_abs_K,
+                d_sun.node.c_str(), d_earth.max_abs_K, d_earth.node.c_str());
+  }
   const Eigen::MatrixXd dl = (la.total_W() - lb.total_W()).cwiseAbs();
   Eigen::Index i, k;
   dl.maxCoeff(&i, &k);

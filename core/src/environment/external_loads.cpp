@@ -93,12 +93,11 @@ RayQuery make_ray(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_f
 // between all P pilot points is missed; it then covers well under 1/P of the face (measured on
 // the sample: P = 16 left 0.6 W seed-to-seed differences on single nodes, P = 64 < 0.2 W).
 Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
-                                const Eigen::Vector3d& toward, int rays, int pilot_rays, std::uint64_t seed,
-                                const std::vector<char>* todo = nullptr) {
+                                const Eigen::Vector3d& toward, const Eigen::VectorXi& side_rays, int pilot_rays,
+                                std::uint64_t seed, const std::vector<char>* todo = nullptr) {
   const int ns = sides.size();
   Eigen::VectorXd frac = Eigen::VectorXd::Zero(ns);
-  const auto sobol = sampling::sobol_4d(rays);
-  const int pilot = std::max(1, std::min(rays, pilot_rays));
+  const auto sobol = sampling::sobol_4d(ns ? std::max(side_rays.maxCoeff(), pilot_rays) : 1);
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
     std::vector<RayQuery> batch;
     std::vector<std::uint8_t> blocked;
@@ -106,6 +105,7 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
       const Side& g = geo[s];
       if (g.area <= 0.0 || g.normal.dot(toward) <= 0.0 || (todo && !(*todo)[s])) continue;
       const auto sd = side_seeds(seed, sides.key[s], 1);
+      const int rays = side_rays[s], pilot = std::max(1, std::min(rays, pilot_rays));
       auto trace = [&](int from, int to) {
         batch.clear();
         for (int k = from; k < to; ++k) {
@@ -158,15 +158,15 @@ struct EarthHits {
   bool empty() const { return begin.empty(); }
 };
 
+// `rays` = #sides rays for a side whose view is partly blocked (the pilot decides).
 EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
-                     const Eigen::Vector3d& earth_dir_in, double distance_m, int rays, int pilot_rays,
-                     std::uint64_t seed, const std::vector<char>* todo = nullptr, bool flatten = true) {
+                     const Eigen::Vector3d& earth_dir_in, double distance_m, const Eigen::VectorXi& side_rays,
+                     int pilot_rays, std::uint64_t seed, const std::vector<char>* todo = nullptr, bool flatten = true) {
   const int ns = sides.size();
   EarthHits out;
   out.rays.resize(ns);
   out.view_factor = Eigen::VectorXd::Zero(ns);
-  const auto sobol = sampling::sobol_4d(rays);
-  const int pilot = std::max(1, std::min(rays, pilot_rays));
+  const auto sobol = sampling::sobol_4d(ns ? std::max(side_rays.maxCoeff(), pilot_rays) : 1);
   const Eigen::Vector3d earth_dir = earth_dir_in.normalized();
   const Eigen::Vector3d centre = earth_dir * distance_m;
   const double R2 = kEarthRadius_m * kEarthRadius_m;
@@ -175,6 +175,38 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   const double cap_over_pi = 2.0 * (1.0 - cos_half);  // Omega_cap / pi
   Eigen::Vector3d et, eu;
   orthonormal_frame(earth_dir, et, eu);
+  // Which sides may have their view of the Earth blocked at all: some other face's bounding
+  // sphere meets the set of rays leaving the side's bounding sphere inside the Earth's cone
+  // and in front of the side. The pilot alone would call a side unobstructed when a small
+  // blocker slips between its pilot rays, a seed-dependent (heavy-tailed) error; with this
+  // conservative geometric test such sides always trace all their rays.
+  std::vector<Eigen::Vector3d> centre_of(ns);
+  std::vector<double> radius_of(ns, 0.0);
+  for (int s = 0; s < ns; ++s) {
+    const Side& g = geo[s];
+    centre_of[s] = (g.a + g.b + g.c) / 3.0;
+    radius_of[s] = std::max({(g.a - centre_of[s]).norm(), (g.b - centre_of[s]).norm(), (g.c - centre_of[s]).norm()}) +
+                   2.0 * g.offset + 1e-9;
+  }
+  const double half_angle = std::asin(sin_half);
+  std::vector<char> may_be_blocked(ns, 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
+    for (int s = range.begin(); s < range.end(); ++s) {
+      if (geo[s].area <= 0.0 || (todo && !(*todo)[s])) continue;
+      for (int t = 0; t < ns && !may_be_blocked[s]; ++t) {
+        if (sides.face[t] == sides.face[s] || geo[t].area <= 0.0) continue;
+        const Eigen::Vector3d v = centre_of[t] - centre_of[s];
+        const double reach = radius_of[s] + radius_of[t], dist = v.norm();
+        if (v.dot(geo[s].normal) < -reach) continue;  // wholly behind the side
+        if (dist <= reach) {
+          may_be_blocked[s] = 1;
+          continue;
+        }
+        const double angle = std::acos(std::clamp(v.dot(earth_dir) / dist, -1.0, 1.0));
+        if (angle <= half_angle + std::asin(std::min(1.0, reach / dist)) + 1e-9) may_be_blocked[s] = 1;
+      }
+    }
+  });
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
     std::vector<RayQuery> batch;
     std::vector<std::uint8_t> blocked;
@@ -185,6 +217,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       if (g.normal.dot(earth_dir) <= -sin_half) continue;  // the whole Earth is below its horizon
       if (todo && !(*todo)[s]) continue;
       const auto sd = side_seeds(seed, sides.key[s], 2);
+      const int rays = side_rays[s], pilot = std::max(1, std::min(rays, pilot_rays));
       batch.clear();
       candidate.clear();
       auto add_rays = [&](int from, int to) {
@@ -205,8 +238,9 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
           candidate.emplace_back(float(cos_t), ((o + t_hit * d - centre).normalized()).cast<float>());
         }
       };
-      // Pilot: a side none of whose first `pilot` rays is blocked sees the Earth unobstructed
-      // and keeps those (the integrand is then smooth and the Sobol estimate accurate); a side
+      // Pilot: a side none of whose first `pilot` rays is blocked and that no face can block
+      // (may_be_blocked) sees the Earth unobstructed and keeps those (its view factor is the
+      // closed form, the pilot rays serve the albedo lighting); a side
       // all of whose pilot rays are blocked (e.g. an internal wall) sees none of it; only sides
       // with both trace all `rays`, where the visibility edge needs them.
       add_rays(0, pilot);
@@ -214,7 +248,8 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       scene.occluded(batch, blocked);
       int used = pilot, n_blocked = 0;
       for (auto b : blocked) n_blocked += b != 0;
-      const bool mixed = n_blocked > 0 && n_blocked < static_cast<int>(blocked.size());
+      const bool mixed = (n_blocked > 0 && n_blocked < static_cast<int>(blocked.size())) ||
+                         (n_blocked == 0 && may_be_blocked[s]);
       if (mixed && rays > pilot) {
         const size_t first_new = batch.size();
         add_rays(pilot, rays);
@@ -224,7 +259,15 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
         blocked.insert(blocked.end(), more.begin(), more.end());
         used = rays;
       }
-      const double weight = cap_over_pi / used;
+      // Ratio estimator: the unobstructed view factor has a closed form, only the blocked
+      // share is left to the rays, F = F_open x (sum over unblocked rays of cos theta) / (sum
+      // over all rays of cos theta). An unobstructed side is then exact and a partly blocked
+      // one only carries the (correlated, hence much smaller) error of the ratio. The albedo
+      // weights are scaled alike.
+      double all = 0.0;
+      for (size_t k = 0; k < batch.size(); ++k) all += candidate[k].first;
+      const double f_open = unobstructed_earth_view_factor(g.normal.dot(earth_dir), distance_m);
+      const double weight = all > 0.0 ? f_open / all : cap_over_pi / used;
       auto& keep = out.rays[s];
       double f = 0.0;
       for (size_t k = 0; k < batch.size(); ++k)
@@ -331,13 +374,31 @@ bool same_direction(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return
 
 }  // namespace
 
+double unobstructed_earth_view_factor(double cos_angle, double distance_m) {
+  // Differential plane element to a sphere (Howell's catalog, configuration B-?: "plane
+  // element to sphere, element tilted"): cos(phi) / H^2 while the whole sphere is above the
+  // element's horizon, the horizon-cut formula in between, 0 when it is all below.
+  const double H = distance_m / kEarthRadius_m;
+  if (!(H > 1.0)) throw InvalidInput("Earth view factor: distance must exceed the Earth radius");
+  const double c = std::clamp(cos_angle, -1.0, 1.0);
+  if (c >= 1.0 / H) return c / (H * H);
+  if (c <= -1.0 / H) return 0.0;
+  const double sn = std::sqrt(std::max(0.0, 1.0 - c * c));
+  const double x = std::sqrt(H * H - 1.0);
+  const double f = 0.5 - std::asin(std::min(1.0, x / (H * sn))) / kPi +
+                   (c * std::acos(std::clamp(-x * c / sn, -1.0, 1.0)) - x * std::sqrt(std::max(0.0, 1.0 - H * H * c * c))) /
+                       (kPi * H * H);
+  return std::max(0.0, f);
+}
+
 Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& sides,
                                    const Eigen::Vector3d& earth_direction_body, double distance_m, int rays,
                                    std::uint64_t seed) {
   if (rays < 1) throw InvalidInput("earth_rays_per_face must be >= 1");
   if (!(distance_m > kEarthRadius_m)) throw InvalidInput("Earth view factors: distance must exceed the Earth radius");
   const auto geo = side_geometry(scene.mesh(), sides);
-  const EarthHits hits = earth_hits(scene, geo, sides, earth_direction_body, distance_m, rays, rays, seed);
+  const EarthHits hits = earth_hits(scene, geo, sides, earth_direction_body, distance_m,
+                                    Eigen::VectorXi::Constant(sides.size(), rays), rays, seed);
   return hits.view_factor;
 }
 
@@ -385,6 +446,15 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
   // if the family cannot reach the changed region (conservative sphere tests below).
   std::vector<int> ref_of(ns, -1);
   const LoadSamples* ref = reuse ? reuse->reference : nullptr;
+  // Sample counts per side (small nodes get more): a side whose count differs from its
+  // reference twin's (its node gained or lost faces) draws other samples and is not reused.
+  const Eigen::VectorXi sun_rays = rays_per_side_of_node(sides, settings.sun_rays_per_face, settings.sun_min_rays_per_node);
+  const Eigen::VectorXi earth_rays =
+      rays_per_side_of_node(sides, settings.earth_rays_per_face, settings.earth_min_rays_per_node);
+  auto same_counts = [&](int s) {
+    return ref_of[s] >= 0 && ref->sun_rays.size() == static_cast<Eigen::Index>(ref->key.size()) &&
+           ref->sun_rays[ref_of[s]] == sun_rays[s] && ref->earth_rays[ref_of[s]] == earth_rays[s];
+  };
   Eigen::Vector3d change_centre = Eigen::Vector3d::Zero();
   double change_radius = 0.0;
   if (ref) {
@@ -436,7 +506,9 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
 
   if (samples) {
     samples->key = sides.key;
-    samples->sunlit = Eigen::MatrixXf::Zero(ns, steps);
+    samples->sunlit = Eigen::MatrixXd::Zero(ns, steps);
+    samples->sun_rays = sun_rays;
+    samples->earth_rays = earth_rays;
     samples->earth.assign(ns, {});
     samples->earth_view_factor = Eigen::VectorXd::Zero(ns);
   }
@@ -459,21 +531,20 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       int reused_here = 0;
       if (ref)
         for (int s = 0; s < ns; ++s) {
-          todo[s] = !(ref_of[s] >= 0 && clear_of_change_along(s, st.sun_direction_body));
+          todo[s] = !(same_counts(s) && clear_of_change_along(s, st.sun_direction_body));
           reused_here += !todo[s];
         }
       if (reuse) {
         reuse->reused_sun += reused_here;
         reuse->total_sun += ns;
       }
-      lit = sunlit_fraction(scene, geo, sides, st.sun_direction_body, settings.sun_rays_per_face,
-                            settings.sun_pilot_rays, settings.seed, ref ? &todo : nullptr);
+      lit = sunlit_fraction(scene, geo, sides, st.sun_direction_body, sun_rays, settings.sun_pilot_rays, settings.seed, ref ? &todo : nullptr);
       if (ref)
         for (int s = 0; s < ns; ++s)
           if (!todo[s]) lit[s] = ref->sunlit(ref_of[s], k);
       last_dir = st.sun_direction_body;
     }
-    if (samples) samples->sunlit.col(k) = lit.cast<float>();
+    if (samples) samples->sunlit.col(k) = lit;
     for (int s = 0; s < ns; ++s)
       incident_direct(s, k) = flux * geo[s].area * std::max(0.0, geo[s].normal.dot(st.sun_direction_body)) * lit[s];
   }
@@ -491,7 +562,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     std::vector<char> earth_todo(ns, 1);
     if (ref)
       for (int s = 0; s < ns; ++s) {
-        earth_todo[s] = !(ref_of[s] >= 0 && (earth_fixed ? clear_of_change_in_cone(s, states[0].earth_direction_body.normalized(), half_angle)
+        earth_todo[s] = !(same_counts(s) && (earth_fixed ? clear_of_change_in_cone(s, states[0].earth_direction_body.normalized(), half_angle)
                                                           : clear_of_change_in_front(s)));
         reuse->reused_earth += !earth_todo[s];
         reuse->total_earth += 1;
@@ -499,8 +570,8 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     EarthHits hits;
     EscapingRays escaping;
     if (earth_fixed) {
-      hits = earth_hits(scene, geo, sides, states[0].earth_direction_body, distance, settings.earth_rays_per_face,
-                        settings.earth_pilot_rays, settings.seed, ref ? &earth_todo : nullptr, /*flatten=*/false);
+      hits = earth_hits(scene, geo, sides, states[0].earth_direction_body, distance,
+                        earth_rays, settings.earth_pilot_rays, settings.seed, ref ? &earth_todo : nullptr, /*flatten=*/false);
       if (ref)
         for (int s = 0; s < ns; ++s)
           if (!earth_todo[s]) {

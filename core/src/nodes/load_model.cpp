@@ -290,8 +290,10 @@ void parse_analysis(const json& j, const Keys& k, Analysis& a) {
 void parse_radiation(const json& j, const Keys& k, RadiationSettings& r) {
   const std::string key = "radiation";
   k.require_object(j, key);
-  k.only_keys(j, key, {"rays_per_face", "seed"});
+  k.only_keys(j, key, {"rays_per_face", "min_rays_per_node", "seed"});
   if (j.contains("rays_per_face")) r.rays_per_face = static_cast<int>(k.integer(j, key, "rays_per_face", 1, 100000000));
+  if (j.contains("min_rays_per_node"))
+    r.min_rays_per_node = static_cast<int>(k.integer(j, key, "min_rays_per_node", 0, 1000000000));
   if (j.contains("seed")) {
     const json& s = j.at("seed");
     if (!s.is_number_unsigned() && !(s.is_number_integer() && s.get<long long>() >= 0))
@@ -512,7 +514,9 @@ void save_model(const ThermalModel& model, const fs::path& json_path, const fs::
     j["analysis"] = {{"type", "steady"}};
   else
     j["analysis"] = {{"type", "transient_orbit"}, {"steps_per_orbit", model.analysis.steps_per_orbit}, {"orbits", model.analysis.orbits}};
-  j["radiation"] = {{"rays_per_face", model.radiation.rays_per_face}, {"seed", model.radiation.seed}};
+  j["radiation"] = {{"rays_per_face", model.radiation.rays_per_face},
+                    {"min_rays_per_node", model.radiation.min_rays_per_node},
+                    {"seed", model.radiation.seed}};
 
   MeshWriteOptions mesh_options;
   mesh_options.protected_inputs = {json_path};

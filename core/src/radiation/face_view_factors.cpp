@@ -13,16 +13,27 @@
 
 namespace thermodec {
 
-namespace detail {
-FaceViewFactors trace_all(const RayScene& scene, const SurfaceSides& sides, const RadiationSettings& settings,
-                          std::vector<tracing::RayRecord>* records) {
+Eigen::VectorXi side_ray_counts(const SurfaceSides& sides, const RadiationSettings& settings) {
   if (settings.rays_per_face < 1)
     throw InvalidInput("radiation.rays_per_face must be >= 1 (got " + std::to_string(settings.rays_per_face) + ")");
+  if (settings.min_rays_per_node < 0)
+    throw InvalidInput("radiation.min_rays_per_node must be >= 0 (got " + std::to_string(settings.min_rays_per_node) + ")");
+  // The statistical error of a node's couplings falls with its total rays: a 6-face node at
+  // a fixed rays_per_face is ~30x noisier (in variance) than a 200-face one. Topping small
+  // nodes up to a common total costs little (few faces) and evens the error out.
+  return rays_per_side_of_node(sides, settings.rays_per_face, settings.min_rays_per_node);
+}
+
+namespace detail {
+FaceViewFactors trace_all(const RayScene& scene, const SurfaceSides& sides, const RadiationSettings& settings,
+                          std::vector<tracing::RayRecord>* records, std::vector<std::int64_t>* record_begin) {
   if (sides.front_side.size() != scene.mesh().num_faces())
     throw InvalidInput("face_view_factors: the surface sides do not belong to the scene's mesh");
-  const int S = sides.size(), R = settings.rays_per_face;
-  const tracing::SobolTable sobol = sampling::sobol_4d_reversed(R);
-  if (records) records->resize(std::size_t(S) * R);
+  const int S = sides.size();
+  const Eigen::VectorXi rays = side_ray_counts(sides, settings);
+  const tracing::SobolTable sobol = sampling::sobol_4d_reversed(S ? rays.maxCoeff() : 0);
+  std::vector<std::int64_t> begin = record_offsets(rays);
+  if (records) records->resize(begin.back());
   const tracing::PrimTable prims = tracing::prim_table(scene.impl(), sides);
   SideRows rows(S);
   tbb::enumerable_thread_specific<tracing::Counter> counters([S] { return tracing::Counter(S); });
@@ -31,8 +42,8 @@ FaceViewFactors trace_all(const RayScene& scene, const SurfaceSides& sides, cons
     for (int s = r.begin(); s != r.end(); ++s) {
       const sampling::Emitter e = tracing::side_emitter(scene.mesh(), sides, s, settings.seed);
       std::int64_t back = 0;
-      tracing::RayRecord* rec = records ? records->data() + std::size_t(s) * R : nullptr;
-      tracing::trace_emitter(scene.impl(), prims, e, sobol, R, tracing::AllRays{}, [&](int i, int hit, bool back_hit, float t) {
+      tracing::RayRecord* rec = records ? records->data() + begin[s] : nullptr;
+      tracing::trace_emitter(scene.impl(), prims, e, sobol, rays[s], tracing::AllRays{}, [&](int i, int hit, bool back_hit, float t) {
         c.add(hit, 1);
         back += back_hit;
         if (rec) rec[i] = tracing::RayRecord::of(hit, back_hit, t);
@@ -40,12 +51,13 @@ FaceViewFactors trace_all(const RayScene& scene, const SurfaceSides& sides, cons
       rows.take(s, c, back);
     }
   });
-  return assemble(sides, rows, R);
+  if (record_begin) *record_begin = std::move(begin);
+  return assemble(sides, rows, settings.rays_per_face, rays);
 }
 }  // namespace detail
 
 FaceViewFactors face_view_factors(const RayScene& scene, const SurfaceSides& sides, const RadiationSettings& settings) {
-  return detail::trace_all(scene, sides, settings, nullptr);
+  return detail::trace_all(scene, sides, settings, nullptr, nullptr);
 }
 
 FaceViewFactors face_view_factors(const RayScene& scene, const RadiationSettings& settings) {

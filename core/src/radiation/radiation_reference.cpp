@@ -24,7 +24,8 @@ struct RadiationReference::Impl {
   GebhartFactors gebhart;
   NodeCouplings couplings;
   std::unordered_map<std::uint64_t, int> side_of_key;
-  std::vector<tracing::RayRecord> records;  // #S x R reference hits, empty if over budget
+  std::vector<tracing::RayRecord> records;  // all reference rays' hits, empty if over budget
+  std::vector<std::int64_t> record_begin;   // side s owns records[record_begin[s], record_begin[s + 1])
   tracing::PrimTable prims;                 // hit classification in the reference scene
   Impl(const ThermalModel& m, const RadiationSettings& s) : model(m), settings(s), scene(m.mesh) {}
 };
@@ -44,9 +45,9 @@ RadiationReference prepare_radiation(const ThermalModel& reference, const Radiat
   auto impl = std::make_unique<RadiationReference::Impl>(reference, settings);
   const int N = static_cast<int>(reference.nodes.size());
   const SurfaceSides sides = surface_sides(impl->model);
-  const bool keep = double(sides.size()) * std::max(settings.rays_per_face, 0) * sizeof(tracing::RayRecord) <=
-                    double(max_record_bytes);
-  impl->vf = detail::trace_all(impl->scene, sides, settings, keep ? &impl->records : nullptr);
+  const Eigen::VectorXi rays = side_ray_counts(sides, settings);
+  const bool keep = double(rays.cast<double>().sum()) * sizeof(tracing::RayRecord) <= double(max_record_bytes);
+  impl->vf = detail::trace_all(impl->scene, sides, settings, keep ? &impl->records : nullptr, &impl->record_begin);
   const Eigen::VectorXd eps = side_emissivity(impl->model, sides);
   impl->gebhart = gebhart_factors(impl->vf, eps, node_groups(sides, N), N + 1);
   impl->couplings = aggregate_couplings(impl->vf, eps, impl->gebhart, N);
@@ -68,13 +69,16 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
   const RadiationSettings& settings = ref.settings;
   const int N = static_cast<int>(candidate.nodes.size());
   const SurfaceSides sides = surface_sides(candidate);
-  const int S = sides.size(), Sr = ref.vf.sides.size(), R = settings.rays_per_face;
+  const int S = sides.size(), Sr = ref.vf.sides.size();
+  const Eigen::VectorXi rays = side_ray_counts(sides, settings);
+  const Eigen::VectorXi& ref_rays = ref.vf.side_rays;
 
-  // Twins by identity: same vertex coordinates, side and sidedness => same rays.
+  // Twins by identity: same vertex coordinates, side, sidedness and ray count => same rays
+  // (a side of a node whose side count changed emits a different number: traced afresh).
   std::vector<int> twin(S, -1), cand_of_ref(Sr, -1);
   for (int c = 0; c < S; ++c) {
     const auto it = ref.side_of_key.find(sides.key[c]);
-    if (it != ref.side_of_key.end() && cand_of_ref[it->second] < 0) {
+    if (it != ref.side_of_key.end() && cand_of_ref[it->second] < 0 && ref_rays[it->second] == rays[c]) {
       twin[c] = it->second;
       cand_of_ref[it->second] = c;
     }
@@ -93,7 +97,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
       ++st.removed_sides;
       extend_by_face(st.changed_box, ref.model.mesh, ref.vf.sides.face[r]);
     }
-  st.rays_total = std::int64_t(S) * R;
+  st.rays_total = rays.cast<std::int64_t>().sum();
   // The filter box in float, padded by far more than the rounding of float coordinates, so a
   // ray that reaches a changed face can never be judged to miss the box.
   Eigen::AlignedBox3f box;
@@ -106,7 +110,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
 
   const RayScene scene(candidate.mesh);
   const tracing::PrimTable prims = tracing::prim_table(scene.impl(), sides);
-  const tracing::SobolTable sobol = sampling::sobol_4d_reversed(R);
+  const tracing::SobolTable sobol = sampling::sobol_4d_reversed(S ? rays.maxCoeff() : 0);
   const bool records = !ref.records.empty();
   detail::SideRows rows(S);
   std::atomic<std::int64_t> retraced{0};
@@ -118,7 +122,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
     for (int c = range.begin(); c != range.end(); ++c) {
       const sampling::Emitter e = tracing::side_emitter(candidate.mesh, sides, c, settings.seed);
       std::int64_t back = 0;
-      const int r = twin[c];
+      const int r = twin[c], R = rays[c];
       if (r < 0) {  // new or changed face: all its rays
         tracing::trace_emitter(scene.impl(), prims, e, sobol, R, tracing::AllRays{}, [&](int, int hit, bool b, float) {
           cnt.add(hit, 1);
@@ -146,7 +150,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
       if (box_in_front && records) {
         // A ray whose reference hit comes before it enters the box hits the same face in the
         // candidate (the faces in front of the box did not change, the new ones are inside).
-        const tracing::RayRecord* rec = ref.records.data() + std::size_t(r) * R;
+        const tracing::RayRecord* rec = ref.records.data() + ref.record_begin[r];
         // No ray can enter the box before travelling the distance between the face's bounding
         // box (grown by the origin lift) and the changed box: a reference hit closer than
         // that is kept without even generating the ray.
@@ -191,7 +195,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
   if (bookkeeping_failures.load() != 0)
     throw Error("radiative_couplings_incremental: " + std::to_string(bookkeeping_failures.load()) +
                 " sides kept hits on removed faces (changed-region filter failed); this is a bug");
-  FaceViewFactors vf = detail::assemble(sides, rows, R);
+  FaceViewFactors vf = detail::assemble(sides, rows, settings.rays_per_face, rays);
   st.rays_retraced = retraced.load();
   vf.rays_traced = st.rays_retraced;
 

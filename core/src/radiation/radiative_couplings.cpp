@@ -38,7 +38,10 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
   if (gebhart.B.rows() != S || gebhart.B.cols() != C)
     throw InvalidInput("aggregate_couplings: Gebhart factors must be solved with node_groups(sides, " +
                        std::to_string(N) + ") and " + std::to_string(N + 1) + " groups");
-  const double R = vf.rays_per_side;
+  if (vf.side_rays.size() != 0 && vf.side_rays.size() != S)
+    throw InvalidInput("aggregate_couplings: side_rays must have one count per side");
+  // Rays emitted by side s (sides of small nodes emit more, see side_ray_counts).
+  auto rays_of = [&](int s) -> double { return vf.side_rays.size() ? vf.side_rays[s] : vf.rays_per_side; };
   const SurfaceSides& sd = vf.sides;
   const Eigen::VectorXi group = node_groups(sd, N);
   const Eigen::VectorXd& A = sd.area_m2;
@@ -63,6 +66,7 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
       continue;
     }
     area[i] += A[s];
+    const double R = rays_of(s);
     floor_vf[i] += A[s] * A[s] / (R * R);  // "one ray" resolution: no estimate is exact
     row.setZero();
     for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(vf.F, s); it; ++it) row[group[it.col()]] += it.value();
@@ -118,13 +122,13 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
       for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(vf.F, s); it; ++it)
         v.noalias() += it.value() * Y.row(it.col()).cwiseAbs2();
       v[SP] += vf.to_space[s];
-      v = (v - B.row(s).cwiseAbs2()).cwiseMax(0.0);
+      v = (v - B.row(s).cwiseAbs2()).cwiseMax(0.0) / rays_of(s);
     }
   });
   Eigen::MatrixXd W = Eigen::MatrixXd::Zero(S, N);  // W(s, i) = A_s^2 Y(s, i)^2
   for (int s = 0; s < S; ++s)
     for (int i = 0; i < N; ++i) W(s, i) = A[s] * A[s] * Y(s, i) * Y(s, i);
-  const Eigen::MatrixXd VG = (W.transpose() * V) / R;  // N x C
+  const Eigen::MatrixXd VG = W.transpose() * V;  // N x C (V already per side's ray count)
   Eigen::MatrixXd GR = Eigen::MatrixXd::Zero(N, C);
   Eigen::VectorXd emit = Eigen::VectorXd::Zero(N), floor_gr = Eigen::VectorXd::Zero(N);
   for (int s = 0; s < S; ++s) {
@@ -132,6 +136,7 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
     if (i == U) continue;
     GR.row(i) += (A[s] * emissivity[s]) * B.row(s);
     emit[i] += A[s] * emissivity[s];
+    const double R = rays_of(s);
     floor_gr[i] += (A[s] * emissivity[s]) * (A[s] * emissivity[s]) / (R * R);
   }
   const Eigen::VectorXd ymax = Y.colwise().maxCoeff().transpose();

@@ -1,6 +1,9 @@
 #include "thermodec/radiation/surface_sides.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <string>
+#include <vector>
 #include <unordered_map>
 
 #include "sampling.h"
@@ -91,6 +94,25 @@ Eigen::VectorXd side_emissivity(const ThermalModel& model, const SurfaceSides& s
 }
 Eigen::VectorXd side_absorptivity(const ThermalModel& model, const SurfaceSides& sides) {
   return side_property(model, sides, false);
+}
+
+Eigen::VectorXi rays_per_side_of_node(const SurfaceSides& sides, int rays_per_side, int min_rays_per_node) {
+  const int ns = sides.size();
+  int num_nodes = 0;
+  for (int s = 0; s < ns; ++s) num_nodes = std::max(num_nodes, sides.node[s] + 1);
+  std::vector<std::int64_t> count(num_nodes, 0);
+  // Faces, not sides: each side of a two-sided face is a surface of its own that the
+  // minimum applies to (a two-sided node's fronts get it, and so do its backs).
+  for (int s = 0; s < ns; ++s)
+    if (sides.node[s] >= 0 && !sides.is_back[s]) ++count[sides.node[s]];
+  Eigen::VectorXi rays(ns);
+  for (int s = 0; s < ns; ++s) {
+    std::int64_t r = rays_per_side;
+    const int n = sides.node[s];
+    if (n >= 0 && min_rays_per_node > 0 && count[n] > 0) r = std::max<std::int64_t>(r, (min_rays_per_node + count[n] - 1) / count[n]);
+    rays[s] = static_cast<int>(r);
+  }
+  return rays;
 }
 
 }  // namespace thermodec

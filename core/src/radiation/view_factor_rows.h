@@ -39,20 +39,29 @@ struct SideRows {
   }
 };
 
-inline FaceViewFactors assemble(const SurfaceSides& sides, const SideRows& rows, int R) {
+//! Start of each side's rays in a side-major array of all rays (#S + 1, last = total).
+inline std::vector<std::int64_t> record_offsets(const Eigen::VectorXi& rays) {
+  std::vector<std::int64_t> begin(rays.size() + 1, 0);
+  for (Eigen::Index s = 0; s < rays.size(); ++s) begin[s + 1] = begin[s] + rays[s];
+  return begin;
+}
+
+//! `rays` = #S rays each side emitted, `base` = RadiationSettings::rays_per_face.
+inline FaceViewFactors assemble(const SurfaceSides& sides, const SideRows& rows, int base, const Eigen::VectorXi& rays) {
   const int S = sides.size();
   FaceViewFactors vf;
   vf.sides = sides;
-  vf.rays_per_side = R;
-  vf.rays_traced = std::int64_t(S) * R;
+  vf.rays_per_side = base;
+  vf.side_rays = rays;
+  vf.rays_traced = rays.cast<std::int64_t>().sum();
   vf.F.resize(S, S);
   Eigen::VectorXi nnz(S);
   for (int s = 0; s < S; ++s) nnz[s] = static_cast<int>(rows.hits[s].size());
   vf.F.reserve(nnz);
   vf.to_space.resize(S);
   vf.back_hits_per_side.resize(S);
-  const double inv = 1.0 / R;
   for (int s = 0; s < S; ++s) {
+    const double inv = 1.0 / rays[s];
     for (const auto& [t, n] : rows.hits[s]) vf.F.insert(s, t) = n * inv;
     vf.to_space[s] = rows.space[s] * inv;
     vf.back_hits_on_one_sided += rows.back_hits[s];
@@ -62,9 +71,9 @@ inline FaceViewFactors assemble(const SurfaceSides& sides, const SideRows& rows,
   return vf;
 }
 
-//! All rays of all sides (the full computation); `records`, if non-null, is resized to
-//! #S x R and receives every ray's hit, in side-major ray order.
+//! All rays of all sides (the full computation); `records`, if non-null, receives every ray's
+//! hit, in side-major ray order, side s starting at (*record_begin)[s] (record_offsets).
 FaceViewFactors trace_all(const RayScene& scene, const SurfaceSides& sides, const RadiationSettings& settings,
-                          std::vector<tracing::RayRecord>* records);
+                          std::vector<tracing::RayRecord>* records, std::vector<std::int64_t>* record_begin);
 
 }  // namespace thermodec::detail

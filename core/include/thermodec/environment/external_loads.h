@@ -44,12 +44,20 @@ struct ExternalLoadSettings {
   int sun_rays_per_face = 256;    //!< shadow sample points per face side
   //! The first sun_pilot_rays points decide fully lit / fully shadowed sides; only the others
   //! trace all sun_rays_per_face (>= sun_rays_per_face disables the shortcut).
-  int sun_pilot_rays = 64;
+  int sun_pilot_rays = 256;
+  //! Minimum shadow sample points for a node's partly shadowed sides: a node with n faces
+  //! gives each such side max(sun_rays_per_face, ceil(sun_min_rays_per_node / n)); 0 = off.
+  int sun_min_rays_per_node = 50000;
   //! Rays per face side towards the Earth for sides whose view of the Earth is partly blocked
   //! by the spacecraft (decided by the first earth_pilot_rays rays; unobstructed sides keep
   //! only those, the integrand being smooth there).
-  int earth_rays_per_face = 4096;
+  int earth_rays_per_face = 1024;
   int earth_pilot_rays = 256;     //!< see earth_rays_per_face
+  //! Minimum Earth rays for a node's partly blocked sides: a node with n faces gives each
+  //! such side max(earth_rays_per_face, ceil(earth_min_rays_per_node / n)) (small nodes are
+  //! otherwise the noisiest); 0 = earth_rays_per_face for all. Earth fixed in body axes
+  //! (nadir attitude) only.
+  int earth_min_rays_per_node = 400000;
   int steps_per_orbit = 0;        //!< orbit samples; 0 = model.analysis.steps_per_orbit
   std::uint64_t seed = 1;         //!< sampling seed (combined with each side's identity)
   bool solar_reflections = true;  //!< solar-band diffuse reflections between faces
@@ -63,17 +71,25 @@ Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& si
                                    const Eigen::Vector3d& earth_direction_body, double distance_m,
                                    int rays, std::uint64_t seed);
 
+//! View factor from a small plane element to the whole Earth seen unobstructed, for
+//! cos_angle = cosine between the element's normal and the direction to the Earth's centre,
+//! at `distance_m` [m] from the centre: cos/H^2 (H = distance / Earth radius) while the Earth
+//! is all above the element's horizon, the horizon-cut closed form in between, 0 below.
+//! \throw InvalidInput if distance_m <= Earth radius.
+double unobstructed_earth_view_factor(double cos_angle, double distance_m);
+
 //! What one external_loads run sampled per face side, the geometry-dependent part of the
 //! loads: for a modified model (a trial of the reduction driver) the sides that did not
 //! change and whose rays cannot reach the change reuse it instead of tracing again.
 struct LoadSamples {
   std::vector<std::uint64_t> key;  //!< #sides identity (SurfaceSides::key)
-  Eigen::MatrixXf sunlit;          //!< #sides x S lit fraction of the side's sun samples
+  Eigen::MatrixXd sunlit;          //!< #sides x S lit fraction of the side's sun samples
   //! Per side: Earth rays kept, (weight, Earth normal at the hit) for an Earth fixed in body
   //! axes, else (1/N, escaping direction).
   std::vector<std::vector<std::pair<float, Eigen::Vector3f>>> earth;
   Eigen::VectorXd earth_view_factor;  //!< #sides F_side->Earth (Earth fixed in body axes)
   bool earth_fixed = true;
+  Eigen::VectorXi sun_rays, earth_rays;  //!< #sides sample counts used (see the *_min_rays_per_node)
 };
 
 //! Reuse request: sides present in `reference` (same key) whose sun rays, Earth rays or

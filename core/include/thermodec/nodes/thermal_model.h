@@ -63,8 +63,14 @@ struct Analysis {
 
 //! Monte Carlo settings of the radiative engine.
 struct RadiationSettings {
-  int rays_per_face = 4000;
+  int rays_per_face = 4000;  //!< rays per face side (at least; see min_rays_per_node)
   std::uint64_t seed = 1;
+  //! Minimum rays a node's faces emit in total (per side family: fronts, and backs if
+  //! two-sided): a node with n faces gives each side max(rays_per_face,
+  //! ceil(min_rays_per_node / n)) rays, so small nodes (a few faces) are estimated nearly as
+  //! well as big ones. 0 = rays_per_face for every side. A side's count changes only when its
+  //! own node's face count does (correlated sampling stays intact).
+  int min_rays_per_node = 1000000;
 };
 
 struct ThermalModel {

@@ -10,20 +10,29 @@
 
 namespace thermodec {
 
-//! Sparse side-to-side view factors. Every side emits `rays_per_side` rays: origins uniform on
-//! the triangle, directions cosine-weighted over its hemisphere, from a per-side
-//! Owen-scrambled 4-D Sobol sequence seeded by the side's identity and RadiationSettings::seed.
+//! Sparse side-to-side view factors. Side s emits side_rays[s] rays (side_ray_counts()):
+//! origins uniform on the triangle, directions cosine-weighted over its hemisphere, the first
+//! side_rays[s] points of a per-side Owen-scrambled 4-D Sobol sequence seeded by the side's
+//! identity and RadiationSettings::seed (so a side's rays depend only on its identity, the
+//! seed and its ray count).
 struct FaceViewFactors {
   SurfaceSides sides;
   //! #S x #S: F(s, t) = fraction of the rays of side s whose first hit is side t [-]. The
   //! back of a one-sided face neither emits nor absorbs: rays pass through it (see docs).
   Eigen::SparseMatrix<double, Eigen::RowMajor> F;
   Eigen::VectorXd to_space;  //!< #S fraction of rays escaping to infinity [-]
-  int rays_per_side = 0;
+  int rays_per_side = 0;      //!< RadiationSettings::rays_per_face (the fewest any side emits)
+  //! #S rays emitted by each side; empty = rays_per_side for all (hand-built results).
+  Eigen::VectorXi side_rays;
   std::int64_t rays_traced = 0;
   std::int64_t back_hits_on_one_sided = 0;  //!< rays that passed through the back of a one-sided face
   Eigen::VectorXi back_hits_per_side;        //!< #S the same, per emitting side
 };
+
+//! Rays each side emits: max(rays_per_face, ceil(min_rays_per_node / n)) for a side of a node
+//! with n sides in `sides`, rays_per_face for sides without a node. Returns #S.
+//! \throw InvalidInput if settings.rays_per_face < 1 or min_rays_per_node < 0.
+Eigen::VectorXi side_ray_counts(const SurfaceSides& sides, const RadiationSettings& settings);
 
 //! Traces all sides of `sides` (which must be the sides of scene.mesh()) in parallel (TBB).
 //! The result is bit-identical for any thread count.

@@ -38,4 +38,11 @@ SurfaceSides surface_sides(const ThermalModel& model);
 Eigen::VectorXd side_emissivity(const ThermalModel& model, const SurfaceSides& sides);
 Eigen::VectorXd side_absorptivity(const ThermalModel& model, const SurfaceSides& sides);
 
+//! Rays per side when the fronts of a node with n faces must get at least min_rays_per_node
+//! in total (and so must its backs if two-sided): max(rays_per_side, ceil(min_rays_per_node /
+//! n)); sides without a node get rays_per_side.
+//! A side's count thus changes only when its own node's side count does. Returns #S
+//! (min_rays_per_node <= 0: rays_per_side for all).
+Eigen::VectorXi rays_per_side_of_node(const SurfaceSides& sides, int rays_per_side, int min_rays_per_node);
+
 }  // namespace thermodec
