@@ -57,7 +57,7 @@ struct ExternalLoadSettings {
   //! such side max(earth_rays_per_face, ceil(earth_min_rays_per_node / n)) (small nodes are
   //! otherwise the noisiest); 0 = earth_rays_per_face for all. Earth fixed in body axes
   //! (nadir attitude) only.
-  int earth_min_rays_per_node = 400000;
+  int earth_min_rays_per_node = 200000;
   int steps_per_orbit = 0;        //!< orbit samples; 0 = model.analysis.steps_per_orbit
   std::uint64_t seed = 1;         //!< sampling seed (combined with each side's identity)
   bool solar_reflections = true;  //!< solar-band diffuse reflections between faces

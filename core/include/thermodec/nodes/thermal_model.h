@@ -70,7 +70,7 @@ struct RadiationSettings {
   //! ceil(min_rays_per_node / n)) rays, so small nodes (a few faces) are estimated nearly as
   //! well as big ones. 0 = rays_per_face for every side. A side's count changes only when its
   //! own node's face count does (correlated sampling stays intact).
-  int min_rays_per_node = 1000000;
+  int min_rays_per_node = 250000;
 };
 
 struct ThermalModel {
