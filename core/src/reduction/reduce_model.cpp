@@ -46,7 +46,8 @@ ReductionRun reduce_model(const ThermalModel& model, const ReduceSettings& setti
                            tol, run.noise_floor_K, 2.0 * run.noise_floor_K));
 
   say("reference: preparing reusable rays and simulation");
-  const ReductionReference ref(model, settings.reference);
+  // note: the noise floor's first run is the reference simulation itself (same seed and settings).
+  const ReductionReference ref(model, settings.reference, &noise.first);
   run.reference = ref.result();
   run.reference_mesh = model.mesh;
   const int n = static_cast<int>(model.nodes.size());

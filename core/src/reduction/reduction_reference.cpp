@@ -43,7 +43,8 @@ TrialResult trial_result(const SimulationResult& reference, const SimulationResu
   return t;
 }
 
-ReductionReference::ReductionReference(const ThermalModel& model, const ReductionReferenceSettings& settings)
+ReductionReference::ReductionReference(const ThermalModel& model, const ReductionReferenceSettings& settings,
+                                       const SimulationResult* reference_result)
     : impl_(std::make_unique<Impl>()) {
   impl_->model = model;
   impl_->settings = settings;
@@ -59,8 +60,7 @@ ReductionReference::ReductionReference(const ThermalModel& model, const Reductio
   for (int k = 0; k < n; ++k)
     if (impl_->faces_per_node[k] == 0)
       throw InvalidInput("node '" + model.nodes[k].name + "' has no faces in the mesh");
-  ModelSimulationSettings sim = settings.simulation;  // the caller's progress for the reference
-  impl_->result = simulate_model(model, sim);
+  impl_->result = reference_result ? *reference_result : simulate_model(model, settings.simulation);
   impl_->radiation = std::make_unique<RadiationReference>(prepare_radiation(model, model.radiation));
   {
     // Record the reference's load samples (the loads themselves equal those of the reference

@@ -31,8 +31,11 @@ struct Candidate {
 class ReductionReference {
  public:
   //! Simulates `model` fully (the reference) and prepares the reusable radiative state.
+  //! `reference_result`, if given, must be simulate_model(model, settings.simulation) (e.g. the
+  //! first run of a noise-floor measurement) and is used instead of simulating again.
   //! \throw InvalidInput / SolverError from the stages.
-  ReductionReference(const ThermalModel& model, const ReductionReferenceSettings& settings);
+  ReductionReference(const ThermalModel& model, const ReductionReferenceSettings& settings,
+                     const SimulationResult* reference_result = nullptr);
   ~ReductionReference();
   ReductionReference(const ReductionReference&) = delete;
   ReductionReference& operator=(const ReductionReference&) = delete;
