@@ -4,6 +4,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <atomic>
 #include <limits>
 #include <string>
@@ -61,6 +62,44 @@ namespace {
 void extend_by_face(Eigen::AlignedBox3d& box, const Mesh& mesh, int f) {
   for (int k = 0; k < 3; ++k) box.extend(Eigen::Vector3d(mesh.V.row(mesh.F(f, k))));
 }
+
+// The faces flagged in `a` and in `b`, as one triangle soup (same float coordinates as their
+// own scenes, so Embree computes the same hits on them).
+Mesh changed_faces(const Mesh& a, const std::vector<char>& in_a, const Mesh& b, const std::vector<char>& in_b) {
+  const auto count = [](const std::vector<char>& v) { return static_cast<int>(std::count(v.begin(), v.end(), 1)); };
+  const int n = count(in_a) + count(in_b);
+  Mesh m;
+  m.V.resize(3 * n, 3);
+  m.F.resize(n, 3);
+  m.face_node = Eigen::VectorXi::Zero(n);
+  m.face_material = Eigen::VectorXi::Constant(n, -1);
+  m.face_back_material = Eigen::VectorXi::Constant(n, -1);
+  int k = 0;
+  for (const auto& [mesh, flag] : {std::pair<const Mesh*, const std::vector<char>*>{&a, &in_a}, {&b, &in_b}})
+    for (int f = 0; f < mesh->num_faces(); ++f)
+      if ((*flag)[f]) {
+        for (int j = 0; j < 3; ++j) {
+          m.V.row(3 * k + j) = mesh->V.row(mesh->F(f, j));
+          m.F(k, j) = 3 * k + j;
+        }
+        ++k;
+      }
+  return m;
+}
+
+// True if the segment origin + t dir, t in [0, t_max], meets a face of `scene`.
+bool segment_meets(const RayScene::Impl& scene, const float* o, const float* d, float t_max) {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRay ray;
+  ray.org_x = o[0]; ray.org_y = o[1]; ray.org_z = o[2];
+  ray.dir_x = d[0]; ray.dir_y = d[1]; ray.dir_z = d[2];
+  ray.tnear = 0.0f;
+  ray.tfar = t_max;
+  ray.time = 0.0f; ray.mask = 0xFFFFFFFFu; ray.id = 0; ray.flags = 0;
+  rtcOccluded1(scene.scene, &ctx, &ray);
+  return ray.tfar < 0.0f;
+}
 }  // namespace
 
 NodeCouplings radiative_couplings_incremental(const RadiationReference& reference, const ThermalModel& candidate,
@@ -73,30 +112,40 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
   const Eigen::VectorXi rays = side_ray_counts(sides, settings);
   const Eigen::VectorXi& ref_rays = ref.vf.side_rays;
 
-  // Twins by identity: same vertex coordinates, side, sidedness and ray count => same rays
-  // (a side of a node whose side count changed emits a different number: traced afresh).
-  std::vector<int> twin(S, -1), cand_of_ref(Sr, -1);
+  // Twins by identity: same vertex coordinates, side and sidedness => same geometry
+  // (geo_twin); with the same ray count too => same rays (twin). A side of a node whose face
+  // count changed emits a different number of rays: traced afresh, but it is still the same
+  // surface for the rays of other sides that hit it.
+  std::vector<int> twin(S, -1), geo_twin(S, -1), cand_of_ref(Sr, -1);
   for (int c = 0; c < S; ++c) {
     const auto it = ref.side_of_key.find(sides.key[c]);
-    if (it != ref.side_of_key.end() && cand_of_ref[it->second] < 0 && ref_rays[it->second] == rays[c]) {
-      twin[c] = it->second;
+    if (it != ref.side_of_key.end() && cand_of_ref[it->second] < 0) {
+      geo_twin[c] = it->second;
       cand_of_ref[it->second] = c;
+      if (ref_rays[it->second] == rays[c]) twin[c] = it->second;
     }
   }
+  // The changed geometry: candidate faces with a side new to the reference and reference faces
+  // with a side gone from the candidate. Its box filters rays cheaply; the faces themselves
+  // (a small Embree scene) decide exactly which rays can see a difference.
   IncrementalStats st;
+  std::vector<char> added_face(candidate.mesh.num_faces(), 0), removed_face(ref.model.mesh.num_faces(), 0);
   for (int c = 0; c < S; ++c) {
-    if (twin[c] < 0) {
-      ++st.changed_sides;
+    (twin[c] < 0 ? st.changed_sides : st.reused_sides) += 1;
+    if (geo_twin[c] < 0 && !added_face[sides.face[c]]) {
+      added_face[sides.face[c]] = 1;
       extend_by_face(st.changed_box, candidate.mesh, sides.face[c]);
-    } else {
-      ++st.reused_sides;
     }
   }
   for (int r = 0; r < Sr; ++r)
     if (cand_of_ref[r] < 0) {
       ++st.removed_sides;
-      extend_by_face(st.changed_box, ref.model.mesh, ref.vf.sides.face[r]);
+      if (!removed_face[ref.vf.sides.face[r]]) {
+        removed_face[ref.vf.sides.face[r]] = 1;
+        extend_by_face(st.changed_box, ref.model.mesh, ref.vf.sides.face[r]);
+      }
     }
+  const RayScene changed_scene(changed_faces(ref.model.mesh, removed_face, candidate.mesh, added_face));
   st.rays_total = rays.cast<std::int64_t>().sum();
   // The filter box in float, padded by far more than the rounding of float coordinates, so a
   // ray that reaches a changed face can never be judged to miss the box.
@@ -108,6 +157,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
                               (st.changed_box.max().array() + pad).cast<float>().matrix());
   }
 
+  const RayScene::Impl& changed = changed_scene.impl();
   const RayScene scene(candidate.mesh);
   const tracing::PrimTable prims = tracing::prim_table(scene.impl(), sides);
   const tracing::SobolTable sobol = sampling::sobol_4d_reversed(S ? rays.maxCoeff() : 0);
@@ -163,7 +213,10 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
             scene.impl(), prims, e, sobol, R,
             [&](int i, const float* o, const float* d) {
               const float entry = tracing::ray_box_entry(o, d, box);
-              return entry < std::numeric_limits<float>::infinity() && entry <= rec[i].t;
+              if (!(entry < std::numeric_limits<float>::infinity() && entry <= rec[i].t)) return false;
+              // Exact test: a ray that meets no removed or added face up to (just past) its
+              // reference hit keeps that hit (every face it could reach first is unchanged).
+              return segment_meets(changed, o, d, rec[i].t * (1.0f + 1e-5f));
             },
             [&](int i, int hit, bool b, float) {
               cnt.add(to_cand(rec[i].side()), -1);
@@ -175,7 +228,8 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
             [&](int i) { return rec[i].t >= reach; });
       } else if (box_in_front) {
         auto meets = [&](int, const float* o, const float* d) {
-          return tracing::ray_box_entry(o, d, box) < std::numeric_limits<float>::infinity();
+          return tracing::ray_box_entry(o, d, box) < std::numeric_limits<float>::infinity() &&
+                 segment_meets(changed, o, d, std::numeric_limits<float>::infinity());
         };
         tracing::trace_emitter(ref.scene.impl(), ref.prims, e, sobol, R, meets, [&](int, int hit, bool b, float) {
           cnt.add(to_cand(hit), -1);

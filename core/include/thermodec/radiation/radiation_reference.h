@@ -6,9 +6,10 @@
 //! hit counts per face, Gebhart solution). radiative_couplings_incremental() then finds which
 //! faces of a candidate changed (by their stable identity: vertex coordinates + side, so no
 //! list of changed nodes is needed), traces all rays of the changed faces, and for unchanged
-//! faces re-traces only the rays that can meet the changed region (the bounding box of the
-//! removed and the added faces), in the reference scene (to subtract them) and in the
-//! candidate scene (to add them). Every other ray would hit the same face in both models, so
+//! faces re-traces only the rays that meet the changed geometry (the removed and the added
+//! faces: a bounding-box test first, then an exact segment test against a small Embree scene
+//! of those faces, up to the ray's reference hit), in the candidate scene (and, without ray
+//! records, in the reference scene to subtract them). Every other ray would hit the same face in both models, so
 //! its reference count is reused as is. The view factors are therefore *identical* to a full
 //! recompute of the candidate with the same settings (same rays, same hits), and the Gebhart
 //! solve is warm-started from the reference solution.
