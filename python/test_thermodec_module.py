@@ -27,6 +27,12 @@ class MeshCrossesAsNumpy(unittest.TestCase):
         self.assertEqual(model.nodes[0].power_W, 5.0)
         self.assertIsNone(model.nodes[0].fixed_temperature_K)
 
+    def test_radiation_settings_expose_the_per_node_ray_budget(self):
+        model = thermodec.ThermalModel()
+        self.assertEqual(model.radiation.min_rays_per_node, 250000)
+        model.radiation.min_rays_per_node = 0
+        self.assertEqual(model.radiation.min_rays_per_node, 0)
+
     def test_errors_form_a_hierarchy(self):
         self.assertTrue(issubclass(thermodec.InvalidInput, thermodec.Error))
         self.assertTrue(issubclass(thermodec.IOError, thermodec.Error))

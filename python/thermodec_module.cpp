@@ -193,8 +193,10 @@ void bind_model(py::module_& m) {
 
   py::class_<RadiationSettings>(m, "RadiationSettings")
       .def(py::init<>())
-      .def_readwrite("rays_per_face", &RadiationSettings::rays_per_face)
-      .def_readwrite("seed", &RadiationSettings::seed);
+      .def_readwrite("rays_per_face", &RadiationSettings::rays_per_face, "rays per face side (at least)")
+      .def_readwrite("seed", &RadiationSettings::seed)
+      .def_readwrite("min_rays_per_node", &RadiationSettings::min_rays_per_node,
+                     "minimum rays a node's faces emit in total (small nodes get more per face); 0 = off");
 
   py::class_<ThermalModel>(m, "ThermalModel", "Shared mesh + nodes, materials, links, environment (SI).")
       .def(py::init<>())
