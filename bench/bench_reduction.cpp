@@ -21,6 +21,14 @@ int main(int argc, char** argv) {
   const double t_ref = std::chrono::duration<double>(Clock::now() - t0).count();
   std::printf("%s: %d faces, %d nodes; reference simulation + reusable state %.2f s\n", path.c_str(),
               model.mesh.num_faces(), n, t_ref);
+  {
+    t0 = Clock::now();
+    const TrialNoiseFloor tn = ref.trial_noise_floor();
+    std::printf("trial noise floor (one node's samples redrawn at a time): max |dT| %.4f K (node %s redrawn, at %s, t = %.0f s) in %.2f s\n",
+                tn.worst.max_abs_K, model.nodes[tn.worst_resampled_node].name.c_str(), tn.worst.node.c_str(),
+                tn.worst.time_s, std::chrono::duration<double>(Clock::now() - t0).count());
+    for (int k = 0; k < n; ++k) std::printf("  %-12s %.4f K\n", model.nodes[k].name.c_str(), tn.node_max_abs_dT_K[k]);
+  }
   double inc_s = 0.0, full_s = 0.0, max_gap = 0.0;
   for (int i = 0; i < trials; ++i) {
     Eigen::VectorXd r = Eigen::VectorXd::Zero(n);

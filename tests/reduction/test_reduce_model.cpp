@@ -10,6 +10,7 @@
 
 #include "thermodec/common/errors.h"
 #include "thermodec/nodes/load_model.h"
+#include "thermodec/radiation/surface_sides.h"
 #include "thermodec/reduction/reduce_model.h"
 #include "thermodec/report/reduction_report.h"
 #include "thermodec/thermal/simulate_model.h"
@@ -110,6 +111,34 @@ TEST(ReductionReference, incremental_trials_match_full_recompute) {
   const TrialResult full = ref.verify(one);
   EXPECT_LT(inc.node_faces_after[6], 72);
   EXPECT_NEAR(inc.max_abs_dT_K, full.max_abs_dT_K, 1e-6);
+}
+
+TEST(ReductionReference, trial_noise_floor_redraws_one_node_at_a_time_as_a_full_run_would) {
+  ThermalModel model = small_model();
+  ReductionReferenceSettings rs;
+  rs.simulation.loads.earth_rays_per_face = 16;
+  rs.simulation.loads.sun_rays_per_face = 256;
+  const ReductionReference ref(model, rs);
+  const TrialNoiseFloor tn = ref.trial_noise_floor(7);
+  ASSERT_EQ(tn.node_max_abs_dT_K.size(), 7);
+  EXPECT_GT(tn.worst.max_abs_K, 0.0);  // redrawn samples: Monte Carlo noise, but small
+  EXPECT_LT(tn.worst.max_abs_K, 0.5);
+  EXPECT_EQ(tn.worst.max_abs_K, tn.node_max_abs_dT_K.maxCoeff());
+  // The incremental evaluation equals a full simulation of the salted model.
+  const int k = tn.worst_resampled_node;
+  ThermalModel salted = model;
+  salted.nodes[k].sampling_salt = 7;
+  const double full = compare_results(ref.result(), simulate_model(salted, rs.simulation)).max_abs_K;
+  EXPECT_NEAR(tn.node_max_abs_dT_K[k], full, 1e-6);
+}
+
+TEST(SurfaceSides, sampling_salt_changes_the_identity_of_its_node_sides_only) {
+  ThermalModel model = small_model();
+  const SurfaceSides a = surface_sides(model);
+  model.nodes[6].sampling_salt = 3;
+  const SurfaceSides b = surface_sides(model);
+  ASSERT_EQ(a.size(), b.size());
+  for (int s = 0; s < a.size(); ++s) EXPECT_EQ(a.key[s] != b.key[s], a.node[s] == 6) << "side " << s;
 }
 
 TEST(ReduceModel, informed_result_is_verified_within_tolerance_by_an_independent_simulation) {

@@ -68,6 +68,8 @@ SurfaceSides surface_sides(const ThermalModel& model) {
       throw InvalidInput("face " + std::to_string(f) + (s.is_back[i] ? " (back)" : "") + " has material " +
                          std::to_string(m) + " but the model has " + std::to_string(nm) + " materials");
     s.material[i] = m;
+    if (s.node[i] >= 0 && model.nodes[s.node[i]].sampling_salt != 0)
+      s.key[i] = sampling::hash_combine(s.key[i], model.nodes[s.node[i]].sampling_salt);
   }
   return s;
 }

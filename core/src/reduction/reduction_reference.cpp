@@ -1,6 +1,7 @@
 #include "thermodec/reduction/reduction_reference.h"
 
 #include <atomic>
+#include <tbb/parallel_for.h>
 #include <map>
 #include <vector>
 
@@ -90,6 +91,29 @@ Eigen::VectorXd ReductionReference::max_ratio_per_node() const {
   return r;
 }
 
+namespace {
+// Simulates `cand` (the reference model with another mesh or other sampling salts): fully, or
+// reusing the reference's rays and load samples. Same chain as simulate_model; incrementally,
+// the IR couplings reuse the reference's rays and the loads are sampled with the same per-side
+// seeds, so unchanged faces see unchanged rays.
+SimulationResult simulate_candidate(const ThermalModel& cand, const RadiationReference& radiation,
+                                    const LoadSamples& load_samples, const ModelSimulationSettings& settings, bool full) {
+  if (full) return simulate_model(cand, settings);
+  FaceViewFactors vf;
+  IncrementalStats stats;
+  const NodeCouplings couplings = radiative_couplings_incremental(radiation, cand, &stats, &vf);
+  const RayScene scene(cand.mesh);
+  ExternalLoadSettings load_settings = settings.loads;
+  load_settings.seed = cand.radiation.seed;
+  LoadReuse reuse;
+  reuse.reference = &load_samples;
+  reuse.changed_region = stats.changed_box;
+  const Loads loads = external_loads(cand, scene, vf.sides, load_settings.solar_reflections ? &vf : nullptr,
+                                     load_settings, {}, nullptr, stats.changed_box.isEmpty() ? nullptr : &reuse);
+  return simulate(cand, couplings, loads, settings.solver);
+}
+}  // namespace
+
 Candidate ReductionReference::candidate(const Eigen::VectorXd& ratios, bool full) const {
   const Impl& s = *impl_;
   if (ratios.size() != static_cast<Eigen::Index>(s.model.nodes.size()))
@@ -98,27 +122,31 @@ Candidate ReductionReference::candidate(const Eigen::VectorXd& ratios, bool full
   c.decimation = decimate_nodes(s.model.mesh, ratios, s.settings.decimation);
   c.model = s.model;
   c.model.mesh = c.decimation.mesh;
-  if (full) {
-    c.result = simulate_model(c.model, s.settings.simulation);
-  } else {
-    // Same chain as simulate_model, but the IR couplings reuse the reference's rays and the
-    // loads are sampled with the same per-side seeds, so unchanged faces see unchanged rays.
-    FaceViewFactors vf;
-    IncrementalStats stats;
-    const NodeCouplings couplings = radiative_couplings_incremental(*s.radiation, c.model, &stats, &vf);
-    const RayScene scene(c.model.mesh);
-    ExternalLoadSettings load_settings = s.settings.simulation.loads;
-    load_settings.seed = c.model.radiation.seed;
-    LoadReuse reuse;
-    reuse.reference = &s.load_samples;
-    reuse.changed_region = stats.changed_box;
-    const Loads loads = external_loads(c.model, scene, vf.sides, load_settings.solar_reflections ? &vf : nullptr,
-                                       load_settings, {}, nullptr, stats.changed_box.isEmpty() ? nullptr : &reuse);
-    c.result = simulate(c.model, couplings, loads, s.settings.simulation.solver);
-  }
+  c.result = simulate_candidate(c.model, *s.radiation, s.load_samples, s.settings.simulation, full);
   c.difference = compare_results(s.result, c.result);
   c.trial = trial_result(s.result, c.result, c.decimation);
   return c;
+}
+
+TrialNoiseFloor ReductionReference::trial_noise_floor(std::uint64_t salt) const {
+  const Impl& s = *impl_;
+  const int n = static_cast<int>(s.model.nodes.size());
+  if (salt == 0) throw InvalidInput("trial_noise_floor: the salt must be non-zero");
+  TrialNoiseFloor out;
+  out.node_max_abs_dT_K = Eigen::VectorXd::Zero(n);
+  std::vector<TemperatureDifference> diff(n);
+  tbb::parallel_for(0, n, [&](int k) {
+    ThermalModel cand = s.model;
+    cand.nodes[k].sampling_salt = salt;
+    diff[k] = compare_results(s.result, simulate_candidate(cand, *s.radiation, s.load_samples, s.settings.simulation, false));
+    out.node_max_abs_dT_K[k] = diff[k].max_abs_K;
+  });
+  for (int k = 0; k < n; ++k)
+    if (diff[k].max_abs_K >= out.worst.max_abs_K) {
+      out.worst = diff[k];
+      out.worst_resampled_node = k;
+    }
+  return out;
 }
 
 TrialResult ReductionReference::trial(const Eigen::VectorXd& ratios) const {

@@ -27,6 +27,11 @@ struct Node {
   double capacitance_J_per_K = 0.0;         //!< heat capacity C [J/K]; 0 = arithmetic (massless) node
   double power_W = 0.0;                     //!< internal dissipation Q [W]
   std::optional<double> fixed_temperature_K;  //!< boundary node held at this temperature [K]
+  //! Mixed into the sampling seeds of the node's faces (rays, sun and Earth samples); 0 in
+  //! every normal run. Changing it redraws this node's samples only, with the same geometry:
+  //! how the trial noise floor (reduction/reduction_reference.h) measures the Monte Carlo
+  //! noise a reduction trial sees. Not stored in model files.
+  std::uint64_t sampling_salt = 0;
 };
 
 //! Conductive link GL between two nodes [W/K].

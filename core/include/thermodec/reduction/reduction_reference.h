@@ -28,6 +28,17 @@ struct Candidate {
   TrialResult trial;
 };
 
+//! The Monte Carlo noise a reduction trial sees. A trial redraws the samples (rays, sun and
+//! Earth points) of the faces it changed and keeps every other one (correlated sampling), so
+//! its noise is that of redrawing one node's samples, not of a new seed everywhere: for each
+//! node, the reference with only that node's samples redrawn (Node::sampling_salt, same
+//! geometry) against the reference.
+struct TrialNoiseFloor {
+  Eigen::VectorXd node_max_abs_dT_K;  //!< #nodes: max |dT| [K] when node k's samples are redrawn
+  TemperatureDifference worst;        //!< the largest of them (node and time where it occurs)
+  int worst_resampled_node = -1;      //!< whose samples were redrawn in `worst`
+};
+
 class ReductionReference {
  public:
   //! Simulates `model` fully (the reference) and prepares the reusable radiative state.
@@ -54,6 +65,11 @@ class ReductionReference {
   TrialResult verify(const Eigen::VectorXd& ratio_per_node) const;
   //! The candidate itself (decimated model + its result), incremental or full.
   Candidate candidate(const Eigen::VectorXd& ratio_per_node, bool full) const;
+
+  //! Redraws each node's samples in turn (salt `salt`, incremental evaluation, nodes in
+  //! parallel) and compares with the reference. Costs about one trial per node.
+  //! \throw InvalidInput if salt == 0.
+  TrialNoiseFloor trial_noise_floor(std::uint64_t salt = 1) const;
 
   //! Trials evaluated so far (memoised repeats not counted) and their wall time [s].
   int trials_evaluated() const;
