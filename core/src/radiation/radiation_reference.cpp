@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <limits>
 #include <string>
 #include <unordered_map>
@@ -27,6 +28,7 @@ struct RadiationReference::Impl {
   std::unordered_map<std::uint64_t, int> side_of_key;
   std::vector<tracing::RayRecord> records;  // all reference rays' hits, empty if over budget
   std::vector<std::int64_t> record_begin;   // side s owns records[record_begin[s], record_begin[s + 1])
+  std::vector<std::uint32_t> record_dir;    // each recorded ray's direction, octahedral 2 x 16 bits
   tracing::PrimTable prims;                 // hit classification in the reference scene
   Impl(const ThermalModel& m, const RadiationSettings& s) : model(m), settings(s), scene(m.mesh) {}
 };
@@ -41,14 +43,35 @@ const FaceViewFactors& RadiationReference::face_view_factors() const { return im
 const GebhartFactors& RadiationReference::gebhart() const { return impl_->gebhart; }
 const NodeCouplings& RadiationReference::couplings() const { return impl_->couplings; }
 
+namespace {
+std::uint32_t oct_encode(const float* d);
+}  // namespace
+
 RadiationReference prepare_radiation(const ThermalModel& reference, const RadiationSettings& settings,
                                      std::size_t max_record_bytes) {
   auto impl = std::make_unique<RadiationReference::Impl>(reference, settings);
   const int N = static_cast<int>(reference.nodes.size());
   const SurfaceSides sides = surface_sides(impl->model);
   const Eigen::VectorXi rays = side_ray_counts(sides, settings);
-  const bool keep = double(rays.cast<double>().sum()) * sizeof(tracing::RayRecord) <= double(max_record_bytes);
+  const bool keep = double(rays.cast<double>().sum()) * (sizeof(tracing::RayRecord) + sizeof(std::uint32_t)) <=
+                    double(max_record_bytes);
   impl->vf = detail::trace_all(impl->scene, sides, settings, keep ? &impl->records : nullptr, &impl->record_begin);
+  if (keep) {
+    // Directions, compressed, so that a candidate can skip most rays without generating them.
+    impl->record_dir.resize(impl->records.size());
+    const tracing::SobolTable sobol = sampling::sobol_4d_reversed(sides.size() ? rays.maxCoeff() : 0);
+    tbb::parallel_for(tbb::blocked_range<int>(0, sides.size(), 8), [&](const tbb::blocked_range<int>& range) {
+      for (int s = range.begin(); s != range.end(); ++s) {
+        const sampling::Emitter e = tracing::side_emitter(impl->model.mesh, sides, s, settings.seed);
+        std::uint32_t* out = impl->record_dir.data() + impl->record_begin[s];
+        for (int i = 0; i < rays[s]; ++i) {
+          float org[3], dir[3];
+          sampling::emit(e, sobol[i], true, org, dir);
+          out[i] = oct_encode(dir);
+        }
+      }
+    });
+  }
   const Eigen::VectorXd eps = side_emissivity(impl->model, sides);
   impl->gebhart = gebhart_factors(impl->vf, eps, node_groups(sides, N), N + 1);
   impl->couplings = aggregate_couplings(impl->vf, eps, impl->gebhart, N);
@@ -59,6 +82,38 @@ RadiationReference prepare_radiation(const ThermalModel& reference, const Radiat
 }
 
 namespace {
+// Unit direction <-> 2 x 16-bit octahedral code (Cigolle et al., JCGT 2014). The decoded
+// direction is within kOctAngle [rad] of the original (the grid step is 3e-5; generous bound).
+constexpr float kOctAngle = 1e-3f;
+
+std::uint32_t oct_encode(const float* d) {
+  const float l1 = std::abs(d[0]) + std::abs(d[1]) + std::abs(d[2]);
+  float u = d[0] / l1, v = d[1] / l1;
+  if (d[2] < 0.0f) {
+    const float pu = (1.0f - std::abs(v)) * (u >= 0.0f ? 1.0f : -1.0f);
+    const float pv = (1.0f - std::abs(u)) * (v >= 0.0f ? 1.0f : -1.0f);
+    u = pu;
+    v = pv;
+  }
+  auto q = [](float x) { return static_cast<std::uint32_t>(std::lround((std::clamp(x, -1.0f, 1.0f) * 0.5f + 0.5f) * 65535.0f)); };
+  return q(u) | (q(v) << 16);
+}
+
+void oct_decode(std::uint32_t code, float* d) {
+  float u = float(code & 0xFFFFu) / 65535.0f * 2.0f - 1.0f, v = float(code >> 16) / 65535.0f * 2.0f - 1.0f;
+  const float z = 1.0f - std::abs(u) - std::abs(v);
+  if (z < 0.0f) {
+    const float pu = (1.0f - std::abs(v)) * (u >= 0.0f ? 1.0f : -1.0f);
+    const float pv = (1.0f - std::abs(u)) * (v >= 0.0f ? 1.0f : -1.0f);
+    u = pu;
+    v = pv;
+  }
+  const float n = std::sqrt(u * u + v * v + z * z);
+  d[0] = u / n;
+  d[1] = v / n;
+  d[2] = z / n;
+}
+
 void extend_by_face(Eigen::AlignedBox3d& box, const Mesh& mesh, int f) {
   for (int k = 0; k < 3; ++k) box.extend(Eigen::Vector3d(mesh.V.row(mesh.F(f, k))));
 }
@@ -209,6 +264,23 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
         const double lift = 2.0 * e.offset + 1e-6 * (face_box.max().cwiseAbs().maxCoeff() + 1.0);
         const Eigen::Vector3d gap = (box.min().cast<double>() - face_box.max()).cwiseMax(face_box.min() - box.max().cast<double>()).cwiseMax(0.0);
         const float reach = static_cast<float>(std::max(0.0, gap.norm() - lift) * (1.0 - 1e-5));
+        // Every origin of this side lies within `radius` of `centre`; a ray longer than `far`
+        // is past the box. A ray whose compressed direction, widened by its error, cannot bring
+        // its segment into the box is kept without being generated.
+        const Eigen::Vector3d centre_d = face_box.center();
+        const float radius = static_cast<float>(0.5 * face_box.diagonal().norm() + lift);
+        const float centre[3] = {float(centre_d.x()), float(centre_d.y()), float(centre_d.z())};
+        const float far = static_cast<float>((centre_d - st.changed_box.center()).norm() +
+                                             0.5 * box.diagonal().cast<double>().norm()) + radius;
+        const std::uint32_t* rdir = ref.record_dir.data() + ref.record_begin[r];
+        auto may_enter = [&](int i) {
+          float d[3];
+          oct_decode(rdir[i], d);
+          const float len = std::min(rec[i].t, far);
+          const float pad = radius + len * kOctAngle + 1e-6f * far;
+          const Eigen::AlignedBox3f grown(box.min().array() - pad, box.max().array() + pad);
+          return tracing::ray_box_entry(centre, d, grown) <= len;
+        };
         tracing::trace_emitter(
             scene.impl(), prims, e, sobol, R,
             [&](int i, const float* o, const float* d) {
@@ -225,7 +297,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
               back += b;
               ++traced;
             },
-            [&](int i) { return rec[i].t >= reach; });
+            [&](int i) { return rec[i].t >= reach && may_enter(i); });
       } else if (box_in_front) {
         auto meets = [&](int, const float* o, const float* d) {
           return tracing::ray_box_entry(o, d, box) < std::numeric_limits<float>::infinity() &&
