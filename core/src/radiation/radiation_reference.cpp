@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -29,6 +30,11 @@ struct RadiationReference::Impl {
   std::vector<tracing::RayRecord> records;  // all reference rays' hits, empty if over budget
   std::vector<std::int64_t> record_begin;   // side s owns records[record_begin[s], record_begin[s + 1])
   std::vector<std::uint32_t> record_dir;    // each recorded ray's direction, octahedral 2 x 16 bits
+  // Side s's rays grouped by direction cell (kCells octahedral cells): ray_order[record_begin[s]
+  // + k] lists its ray indices cell by cell, cell c owning [cell_begin[s * (kCells + 1) + c],
+  // cell_begin[s * (kCells + 1) + c + 1]) relative to record_begin[s].
+  std::vector<std::uint32_t> ray_order;
+  std::vector<std::int32_t> cell_begin;
   tracing::PrimTable prims;                 // hit classification in the reference scene
   Impl(const ThermalModel& m, const RadiationSettings& s) : model(m), settings(s), scene(m.mesh) {}
 };
@@ -45,6 +51,11 @@ const NodeCouplings& RadiationReference::couplings() const { return impl_->coupl
 
 namespace {
 std::uint32_t oct_encode(const float* d);
+constexpr int kCellBits = 3, kCellsPerAxis = 1 << kCellBits, kCells = kCellsPerAxis * kCellsPerAxis;
+// Direction cell of an octahedral code: the top kCellBits bits of each coordinate.
+inline int oct_cell(std::uint32_t code) {
+  return static_cast<int>(((code & 0xFFFFu) >> (16 - kCellBits)) | ((code >> (32 - kCellBits)) << kCellBits));
+}
 }  // namespace
 
 RadiationReference prepare_radiation(const ThermalModel& reference, const RadiationSettings& settings,
@@ -68,6 +79,24 @@ RadiationReference prepare_radiation(const ThermalModel& reference, const Radiat
           float org[3], dir[3];
           sampling::emit(e, sobol[i], true, org, dir);
           out[i] = oct_encode(dir);
+        }
+      }
+    });
+    const int S = sides.size();
+    impl->ray_order.resize(impl->records.size());
+    impl->cell_begin.assign(std::size_t(S) * (kCells + 1), 0);
+    tbb::parallel_for(tbb::blocked_range<int>(0, S, 8), [&](const tbb::blocked_range<int>& range) {
+      std::vector<int> count(kCells);
+      for (int s = range.begin(); s != range.end(); ++s) {
+        const std::int64_t b = impl->record_begin[s];
+        std::fill(count.begin(), count.end(), 0);
+        for (int i = 0; i < rays[s]; ++i) ++count[oct_cell(impl->record_dir[b + i])];
+        std::int32_t* cb = impl->cell_begin.data() + std::size_t(s) * (kCells + 1);
+        for (int c = 0; c < kCells; ++c) cb[c + 1] = cb[c] + count[c];
+        std::fill(count.begin(), count.end(), 0);
+        for (int i = 0; i < rays[s]; ++i) {
+          const int c = oct_cell(impl->record_dir[b + i]);
+          impl->ray_order[b + cb[c] + count[c]++] = static_cast<std::uint32_t>(i);
         }
       }
     });
@@ -112,6 +141,43 @@ void oct_decode(std::uint32_t code, float* d) {
   d[0] = u / n;
   d[1] = v / n;
   d[2] = z / n;
+}
+
+// Per direction cell: centre direction and an angular radius [rad] covering every direction
+// whose code falls in the cell (its boundary sampled finely, plus a margin for the bulge of
+// the octahedral map between samples and for the code's own error).
+struct CellCone {
+  Eigen::Vector3f axis;
+  float cos_radius;
+};
+const std::array<CellCone, kCells>& cell_cones() {
+  static const std::array<CellCone, kCells> cones = [] {
+    std::array<CellCone, kCells> out;
+    auto dir = [](double u, double v) {
+      float d[3];
+      const auto q = [](double x) { return static_cast<std::uint32_t>(std::lround(std::clamp(x, 0.0, 1.0) * 65535.0)); };
+      oct_decode(q(u) | (q(v) << 16), d);
+      return Eigen::Vector3f(d[0], d[1], d[2]);
+    };
+    const double w = 1.0 / kCellsPerAxis;
+    for (int cv = 0; cv < kCellsPerAxis; ++cv)
+      for (int cu = 0; cu < kCellsPerAxis; ++cu) {
+        const double u0 = cu * w, v0 = cv * w;
+        Eigen::Vector3f axis = dir(u0 + 0.5 * w, v0 + 0.5 * w);
+        float worst = 1.0f;
+        constexpr int kSamples = 64;
+        for (int k = 0; k <= kSamples; ++k) {
+          const double t = double(k) / kSamples;
+          for (const auto& [u, v] : {std::pair{u0 + t * w, v0}, std::pair{u0 + t * w, v0 + w}, std::pair{u0, v0 + t * w},
+                                     std::pair{u0 + w, v0 + t * w}})
+            worst = std::min(worst, axis.dot(dir(u, v)));
+        }
+        const float radius = std::acos(std::clamp(worst, -1.0f, 1.0f)) * 1.1f + 0.02f;
+        out[cu + kCellsPerAxis * cv] = {axis, std::cos(std::min(radius, 3.14159265f))};
+      }
+    return out;
+  }();
+  return cones;
 }
 
 void extend_by_face(Eigen::AlignedBox3d& box, const Mesh& mesh, int f) {
@@ -223,6 +289,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
   tbb::enumerable_thread_specific<tracing::Counter> counters([S] { return tracing::Counter(S); });
   tbb::parallel_for(tbb::blocked_range<int>(0, S, 8), [&](const tbb::blocked_range<int>& range) {
     tracing::Counter& cnt = counters.local();
+    std::vector<std::uint32_t> subset;
     std::int64_t traced = 0;
     for (int c = range.begin(); c != range.end(); ++c) {
       const sampling::Emitter e = tracing::side_emitter(candidate.mesh, sides, c, settings.seed);
@@ -281,8 +348,31 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
           const Eigen::AlignedBox3f grown(box.min().array() - pad, box.max().array() + pad);
           return tracing::ray_box_entry(centre, d, grown) <= len;
         };
+        // Only the direction cells whose cone, cast from the side's bounding sphere, can meet the
+        // box's bounding sphere hold rays worth looking at.
+        const std::uint32_t* order = ref.ray_order.data() + ref.record_begin[r];
+        const std::int32_t* cb = ref.cell_begin.data() + std::size_t(r) * (kCells + 1);
+        subset.clear();
+        {
+          const Eigen::Vector3f to_box = (st.changed_box.center() - centre_d).cast<float>();
+          const float dist = to_box.norm();
+          const float reach_r = radius + 0.5f * box.diagonal().norm();
+          const auto& cones = cell_cones();
+          for (int cell = 0; cell < kCells; ++cell) {
+            if (cb[cell + 1] == cb[cell]) continue;
+            bool pass = dist <= reach_r;
+            if (!pass) {
+              // angle(axis, to_box) <= cone radius + asin(reach_r / dist)
+              const float cos_a = cones[cell].axis.dot(to_box) / dist;
+              const float a = std::acos(std::clamp(cos_a, -1.0f, 1.0f));
+              const float lim = std::acos(cones[cell].cos_radius) + std::asin(std::min(1.0f, reach_r / dist)) + 1e-4f;
+              pass = a <= lim;
+            }
+            if (pass) subset.insert(subset.end(), order + cb[cell], order + cb[cell + 1]);
+          }
+        }
         tracing::trace_emitter(
-            scene.impl(), prims, e, sobol, R,
+            scene.impl(), prims, e, sobol, static_cast<int>(subset.size()),
             [&](int i, const float* o, const float* d) {
               const float entry = tracing::ray_box_entry(o, d, box);
               if (!(entry < std::numeric_limits<float>::infinity() && entry <= rec[i].t)) return false;
@@ -297,7 +387,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
               back += b;
               ++traced;
             },
-            [&](int i) { return rec[i].t >= reach && may_enter(i); });
+            [&](int i) { return rec[i].t >= reach && may_enter(i); }, subset.data());
       } else if (box_in_front) {
         auto meets = [&](int, const float* o, const float* d) {
           return tracing::ray_box_entry(o, d, box) < std::numeric_limits<float>::infinity() &&

@@ -70,24 +70,27 @@ struct AllRays {
   bool operator()(int, const float*, const float*) const { return true; }
 };
 
-//! Traces the rays i in [0, rays) of emitter `e` accepted by pre(i) and then by
+//! Traces the rays i in [0, rays) (or i = order[k], k in [0, rays), if `order` is given) of
+//! emitter `e` accepted by pre(i) and then by
 //! keep(i, origin, direction) in
 //! `scene`, calling on_hit(i, side, crossed, t) in ray order, with side = hit side of `sides`
 //! (the sides of scene's mesh) or -1 for space (t = +inf), and crossed = the ray passed
 //! through the back of a one-sided face on its way.
 template <class Keep, class OnHit, class Pre = AllRays>
 void trace_emitter(const RayScene::Impl& scene, const PrimTable& prims, const sampling::Emitter& e,
-                   const SobolTable& sobol, int rays, Keep&& keep, OnHit&& on_hit, Pre&& pre = Pre{}) {
+                   const SobolTable& sobol, int rays, Keep&& keep, OnHit&& on_hit, Pre&& pre = Pre{},
+                   const std::uint32_t* order = nullptr) {
   constexpr int kChunk = 64;
   alignas(16) RTCRayHit buf[kChunk];
   int index[kChunk];
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
-  int i = 0;
-  while (i < rays) {
+  int k = 0;
+  while (k < rays) {
     int n = 0;
-    for (; i < rays && n < kChunk; ++i) {
+    for (; k < rays && n < kChunk; ++k) {
+      const int i = order ? static_cast<int>(order[k]) : k;
       if (!pre(i)) continue;  // decided without generating the ray
       float org[3], dir[3];
       sampling::emit(e, sobol[i], true, org, dir);
@@ -104,8 +107,8 @@ void trace_emitter(const RayScene::Impl& scene, const PrimTable& prims, const sa
     }
     if (n == 0) continue;
     rtcIntersect1M(scene.scene, &ctx, buf, static_cast<unsigned>(n), sizeof(RTCRayHit));
-    for (int k = 0; k < n; ++k) {
-      RTCRayHit& rh = buf[k];
+    for (int m = 0; m < n; ++m) {
+      RTCRayHit& rh = buf[m];
       bool crossed = false;
       // The back of a one-sided face neither emits nor absorbs (Mesh::face_back_material):
       // a ray reaching it passes through and goes on. A closed, consistently oriented model
@@ -124,14 +127,14 @@ void trace_emitter(const RayScene::Impl& scene, const PrimTable& prims, const sa
         rtcIntersect1(scene.scene, &ctx, &rh);
       }
       if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
-        on_hit(index[k], -1, crossed, std::numeric_limits<float>::infinity());
+        on_hit(index[m], -1, crossed, std::numeric_limits<float>::infinity());
         continue;
       }
       const PrimInfo& pi = prims[rh.hit.primID];
       const bool from_back = rh.ray.dir_x * pi.n[0] + rh.ray.dir_y * pi.n[1] + rh.ray.dir_z * pi.n[2] > 0.0f;
       // from_back on a one-sided face here only if 64 crossings were not enough (pathological):
       // counted on its front.
-      on_hit(index[k], from_back && pi.back >= 0 ? pi.back : pi.front, crossed, rh.ray.tfar);
+      on_hit(index[m], from_back && pi.back >= 0 ? pi.back : pi.front, crossed, rh.ray.tfar);
     }
   }
 }
