@@ -195,50 +195,71 @@ TEST(CubeLoads, inertial_attitude_earth_view_from_escaping_rays_matches_closed_f
   EXPECT_NEAR(l.earth_ir_W(3, 1), q * F_nadir, 0.01 * q * F_nadir);
 }
 
-TEST(LoadReuse, trial_with_one_node_changed_equals_a_full_recompute_and_reuses_most_sides) {
-  // The reduction driver's case: the sample satellite, then the same craft with only wing_py
-  // changed (its free vertices pulled 10 % towards its root edge). Loads from the reference's
-  // samples for the unaffected sides must equal a full run bit for bit.
-  ThermalModel model = load_model(fs_sample());
+namespace {
+// The reduction driver's case: the sample satellite (reference samples recorded), then the
+// same craft with only node `name` changed (its free vertices pulled 10 % towards its shared
+// ones); the changed region bounds the node before and after.
+struct ReuseCase {
+  ThermalModel model, trial;
+  int node = -1;
+  Eigen::AlignedBox3d changed;
+  LoadSamples reference;
+};
+ReuseCase reuse_case(const std::string& name, const ExternalLoadSettings& s, Attitude attitude = Attitude::nadir) {
+  ReuseCase c;
+  c.model = load_model(fs_sample());
+  c.model.environment.attitude = attitude;
+  {
+    const RayScene scene(c.model.mesh);
+    external_loads(c.model, scene, surface_sides(c.model), nullptr, s, {}, &c.reference);
+  }
+  const Mesh& mesh = c.model.mesh;
+  for (size_t n = 0; n < c.model.nodes.size(); ++n)
+    if (c.model.nodes[n].name == name) c.node = static_cast<int>(n);
+  std::vector<int> uses(mesh.num_vertices(), 0), node_uses(mesh.num_vertices(), 0);
+  for (int f = 0; f < mesh.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      ++uses[mesh.F(f, k)];
+      if (mesh.face_node[f] == c.node) ++node_uses[mesh.F(f, k)];
+    }
+  Eigen::Vector3d root(0, 0, 0);
+  int shared = 0;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (node_uses[v] && node_uses[v] < uses[v]) root += mesh.V.row(v).transpose(), ++shared;
+  if (shared > 0) root /= shared;
+  c.trial = c.model;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (node_uses[v]) {
+      c.changed.extend(Eigen::Vector3d(mesh.V.row(v).transpose()));
+      if (node_uses[v] == uses[v]) c.trial.mesh.V.row(v) = (root + 0.9 * (mesh.V.row(v).transpose() - root)).transpose();
+      c.changed.extend(Eigen::Vector3d(c.trial.mesh.V.row(v).transpose()));
+    }
+  return c;
+}
+ExternalLoadSettings small_budgets() {
   ExternalLoadSettings s;
   s.sun_rays_per_face = 64;
   s.sun_pilot_rays = 16;
   s.earth_rays_per_face = 512;
   s.earth_pilot_rays = 64;
-  LoadSamples reference;
-  {
-    const RayScene scene(model.mesh);
-    external_loads(model, scene, surface_sides(model), nullptr, s, {}, &reference);
-  }
-  int node = -1;
-  for (size_t n = 0; n < model.nodes.size(); ++n)
-    if (model.nodes[n].name == "wing_py") node = static_cast<int>(n);
-  ASSERT_GE(node, 0);
-  std::vector<int> uses(model.mesh.num_vertices(), 0), node_uses(model.mesh.num_vertices(), 0);
-  for (int f = 0; f < model.mesh.num_faces(); ++f)
-    for (int c = 0; c < 3; ++c) {
-      ++uses[model.mesh.F(f, c)];
-      if (model.mesh.face_node[f] == node) ++node_uses[model.mesh.F(f, c)];
-    }
-  Eigen::AlignedBox3d changed;
-  Eigen::Vector3d root(0, 0, 0);
-  int shared = 0;
-  for (int v = 0; v < model.mesh.num_vertices(); ++v)
-    if (node_uses[v] && node_uses[v] < uses[v]) root += model.mesh.V.row(v).transpose(), ++shared;
-  ASSERT_GT(shared, 0);
-  root /= shared;
-  ThermalModel trial = model;
-  for (int v = 0; v < model.mesh.num_vertices(); ++v)
-    if (node_uses[v]) {
-      changed.extend(Eigen::Vector3d(model.mesh.V.row(v).transpose()));
-      if (node_uses[v] == uses[v]) trial.mesh.V.row(v) = (root + 0.9 * (model.mesh.V.row(v).transpose() - root)).transpose();
-      changed.extend(Eigen::Vector3d(trial.mesh.V.row(v).transpose()));
-    }
-  const RayScene scene(trial.mesh);
-  const SurfaceSides sides = surface_sides(trial);
-  const Loads full = external_loads(trial, scene, sides, nullptr, s);
-  LoadReuse reuse{&reference, changed};
-  const Loads incremental = external_loads(trial, scene, sides, nullptr, s, {}, nullptr, &reuse);
+  s.sun_min_rays_per_node = 5000;
+  s.earth_min_rays_per_node = 20000;
+  return s;
+}
+}  // namespace
+
+TEST(LoadReuse, trial_with_one_node_changed_equals_a_full_recompute_and_reuses_most_sides) {
+  // Loads from the reference's samples for the unaffected sides and rays must equal a full
+  // run bit for bit.
+  const ExternalLoadSettings s = small_budgets();
+  ReuseCase c = reuse_case("wing_py", s);
+  ASSERT_GE(c.node, 0);
+  ASSERT_TRUE(c.reference.per_ray);
+  const RayScene scene(c.trial.mesh);
+  const SurfaceSides sides = surface_sides(c.trial);
+  const Loads full = external_loads(c.trial, scene, sides, nullptr, s);
+  LoadReuse reuse{&c.reference, c.changed};
+  const Loads incremental = external_loads(c.trial, scene, sides, nullptr, s, {}, nullptr, &reuse);
   EXPECT_EQ(incremental.solar_W, full.solar_W);
   EXPECT_EQ(incremental.albedo_W, full.albedo_W);
   EXPECT_EQ(incremental.earth_ir_W, full.earth_ir_W);
@@ -246,12 +267,75 @@ TEST(LoadReuse, trial_with_one_node_changed_equals_a_full_recompute_and_reuses_m
   EXPECT_GT(reuse.reused_sun, reuse.total_sun / 2) << reuse.reused_sun << " of " << reuse.total_sun;
   // (the wing's own 400 sides are about a third of the craft's Earth views: never reusable)
   EXPECT_GT(reuse.reused_earth, reuse.total_earth / 3) << reuse.reused_earth << " of " << reuse.total_earth;
-  std::printf("reused %ld of %ld shadow evaluations, %d of %d Earth views\n", reuse.reused_sun, reuse.total_sun,
-              reuse.reused_earth, reuse.total_earth);
+  // On the other sides, single rays are reused and the ones crossing the wing traced again.
+  EXPECT_GT(reuse.reused_earth_rays, 0);
+  EXPECT_GT(reuse.traced_earth_rays, 0);
+  EXPECT_GT(reuse.reused_sun_rays, 0);
+  EXPECT_GT(reuse.traced_sun_rays, 0);
+  std::printf("reused %ld of %ld shadow evaluations, %d of %d Earth views; rays reused / traced: sun %ld / %ld, "
+              "Earth %ld / %ld\n",
+              reuse.reused_sun, reuse.total_sun, reuse.reused_earth, reuse.total_earth, reuse.reused_sun_rays,
+              reuse.traced_sun_rays, reuse.reused_earth_rays, reuse.traced_earth_rays);
   // And the change is real: the node's own loads moved.
   const Loads before = [&] {
-    const RayScene sc(model.mesh);
-    return external_loads(model, sc, surface_sides(model), nullptr, s);
+    const RayScene sc(c.model.mesh);
+    return external_loads(c.model, sc, surface_sides(c.model), nullptr, s);
   }();
-  EXPECT_NE(before.solar_W.row(node), full.solar_W.row(node));
+  EXPECT_NE(before.solar_W.row(c.node), full.solar_W.row(c.node));
+}
+
+TEST(LoadReuse, rays_shadowed_by_a_shrunk_body_panel_are_traced_again_and_match_a_full_recompute) {
+  // body_pz shrinks: rays it blocked in the reference now pass (or meet something further),
+  // exactly the rays the per-ray records must not reuse. Sun and Earth both see it (nadir: +Z
+  // faces the Earth), and no Earth view of its neighbours is reusable whole.
+  const ExternalLoadSettings s = small_budgets();
+  ReuseCase c = reuse_case("body_pz", s);
+  ASSERT_GE(c.node, 0);
+  const RayScene scene(c.trial.mesh);
+  const SurfaceSides sides = surface_sides(c.trial);
+  const Loads full = external_loads(c.trial, scene, sides, nullptr, s);
+  LoadReuse reuse{&c.reference, c.changed};
+  const Loads incremental = external_loads(c.trial, scene, sides, nullptr, s, {}, nullptr, &reuse);
+  EXPECT_EQ(incremental.solar_W, full.solar_W);
+  EXPECT_EQ(incremental.albedo_W, full.albedo_W);
+  EXPECT_EQ(incremental.earth_ir_W, full.earth_ir_W);
+  EXPECT_GT(reuse.reused_earth_rays, reuse.traced_earth_rays) << "most rays miss the panel";
+  EXPECT_GT(reuse.traced_earth_rays, 0);
+}
+
+TEST(LoadReuse, over_the_record_budget_trials_fall_back_to_side_tests_with_the_same_result) {
+  ExternalLoadSettings s = small_budgets();
+  s.ray_record_budget_bytes = 1000;  // far too small for the sample
+  ReuseCase c = reuse_case("wing_my", s);
+  EXPECT_FALSE(c.reference.per_ray);
+  EXPECT_TRUE(c.reference.earth_records.empty());
+  for (const auto& r : c.reference.sun_records) EXPECT_TRUE(r.empty());
+  const RayScene scene(c.trial.mesh);
+  const SurfaceSides sides = surface_sides(c.trial);
+  const Loads full = external_loads(c.trial, scene, sides, nullptr, s);
+  LoadReuse reuse{&c.reference, c.changed};
+  const Loads incremental = external_loads(c.trial, scene, sides, nullptr, s, {}, nullptr, &reuse);
+  EXPECT_EQ(incremental.solar_W, full.solar_W);
+  EXPECT_EQ(incremental.albedo_W, full.albedo_W);
+  EXPECT_EQ(incremental.earth_ir_W, full.earth_ir_W);
+  EXPECT_EQ(reuse.reused_sun_rays + reuse.reused_earth_rays, 0);
+  EXPECT_GT(reuse.reused_sun, 0);  // the side tests still work
+}
+
+TEST(LoadReuse, inertial_attitude_reuses_hemisphere_rays_and_matches_a_full_recompute) {
+  // The Earth moves in body axes: escaping hemisphere rays are recorded and reused per ray.
+  ExternalLoadSettings s = small_budgets();
+  s.earth_rays_per_face = 256;
+  ReuseCase c = reuse_case("dish", s, Attitude::inertial);
+  ASSERT_TRUE(c.reference.per_ray);
+  const RayScene scene(c.trial.mesh);
+  const SurfaceSides sides = surface_sides(c.trial);
+  const Loads full = external_loads(c.trial, scene, sides, nullptr, s);
+  LoadReuse reuse{&c.reference, c.changed};
+  const Loads incremental = external_loads(c.trial, scene, sides, nullptr, s, {}, nullptr, &reuse);
+  EXPECT_EQ(incremental.solar_W, full.solar_W);
+  EXPECT_EQ(incremental.albedo_W, full.albedo_W);
+  EXPECT_EQ(incremental.earth_ir_W, full.earth_ir_W);
+  EXPECT_GT(reuse.reused_earth_rays, 0);
+  EXPECT_GT(reuse.traced_earth_rays, 0);
 }

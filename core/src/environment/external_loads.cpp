@@ -9,36 +9,41 @@
 
 #include <algorithm>
 #include <array>
-#include <unordered_map>
+#include <atomic>
 #include <cmath>
+#include <limits>
+#include <unordered_map>
 #include <vector>
+#include <chrono>
+#include <cstdio>
 
 #include "thermodec/common/errors.h"
 #include "thermodec/environment/orbit.h"
 // The radiative engine's Owen-scrambled Sobol sampler (private to the core library): the same
 // sequences and side seeding as the view factors, so loads get the same variance properties.
 #include "../radiation/sampling.h"
+#include "../radiation/ray_scene_impl.h"
+#include "../radiation/tracing.h"
 
 namespace thermodec {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-// Area-preserving square -> triangle map (barycentric (1 - sqrt u, sqrt u (1 - v), sqrt u v)).
-Eigen::Vector3d on_triangle(const Eigen::Vector2d& uv, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                            const Eigen::Vector3d& c) {
-  const double su = std::sqrt(uv.x());
-  return (1.0 - su) * a + su * (1.0 - uv.y()) * b + su * uv.y() * c;
-}
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr int kChunk = 256;  // rays per Embree stream call: fits in L1 and amortises the call
 
 struct Side {
   Eigen::Vector3d a, b, c, normal;
   double area = 0.0;
   double offset = 0.0;  // ray-origin lift along the normal [m]
+  // Single precision for the ray generation (Embree traces in float anyway): the lifted
+  // corner a + offset n, the edges b - a and c - a, the normal.
+  float fa[3], fe1[3], fe2[3], fn[3];
 };
 
 // Scrambling seeds of a side for one purpose: a pure function of (seed, side identity), so
-// an unchanged face keeps its samples in a modified model and results ignore thread count.
+// an unchanged face keeps its sample points and rays in a modified model and results ignore
+// thread count.
 std::array<std::uint32_t, 4> side_seeds(std::uint64_t seed, std::uint64_t key, std::uint64_t purpose) {
   std::array<std::uint32_t, 4> out;
   const std::uint64_t h = sampling::hash_combine(sampling::hash_combine(key, seed), 0x10ad5000ull + purpose);
@@ -46,8 +51,17 @@ std::array<std::uint32_t, 4> side_seeds(std::uint64_t seed, std::uint64_t key, s
   return out;
 }
 
-double scrambled(std::uint32_t sobol, std::uint32_t seed) {
-  return sampling::to_unit_float(sampling::owen_scramble(sobol, seed)) + 0.5 / 16777216.0;
+// Owen-scrambled coordinate in (0, 1] of a bit-reversed Sobol value (sampling::sobol_4d_reversed):
+// owen_scramble(x, seed) = reverse_bits(laine_karras(reverse_bits(x), seed)), one reversal saved.
+inline float scrambled(std::uint32_t reversed, std::uint32_t seed) {
+  return sampling::to_unit_float(sampling::reverse_bits(sampling::laine_karras(reversed, seed))) + 0.5f / 16777216.0f;
+}
+
+// Area-preserving square -> triangle map (barycentric (1 - sqrt u, sqrt u (1 - v), sqrt u v)),
+// lifted off the face: the ray origin.
+inline void on_side(const Side& g, float u, float v, float* o) {
+  const float su = std::sqrt(u), w1 = su * (1.0f - v), w2 = su * v;
+  for (int k = 0; k < 3; ++k) o[k] = g.fa[k] + g.fe1[k] * w1 + g.fe2[k] * w2;
 }
 
 std::vector<Side> side_geometry(const Mesh& mesh, const SurfaceSides& sides) {
@@ -69,6 +83,13 @@ std::vector<Side> side_geometry(const Mesh& mesh, const SurfaceSides& sides) {
     // extent), so an unchanged face casts bit-identical rays in a decimated model.
     g.offset = 1e-5 * std::max({g.a.cwiseAbs().maxCoeff(), g.b.cwiseAbs().maxCoeff(), g.c.cwiseAbs().maxCoeff(),
                                 (g.b - g.a).norm(), (g.c - g.a).norm()});
+    const Eigen::Vector3d lifted = g.a + g.offset * g.normal, e1 = g.b - g.a, e2 = g.c - g.a;
+    for (int k = 0; k < 3; ++k) {
+      g.fa[k] = float(lifted[k]);
+      g.fe1[k] = float(e1[k]);
+      g.fe2[k] = float(e2[k]);
+      g.fn[k] = float(g.normal[k]);
+    }
   }
   return out;
 }
@@ -78,13 +99,199 @@ void orthonormal_frame(const Eigen::Vector3d& n, Eigen::Vector3d& t, Eigen::Vect
   u = n.cross(t);
 }
 
-RayQuery make_ray(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_far) {
-  RayQuery r;
-  for (int i = 0; i < 3; ++i) r.origin[i] = float(o[i]), r.direction[i] = float(d[i]);
-  r.t_near = 0.0f;
-  r.t_far = float(std::min(t_far, 1e30));
+// The changed region of a trial as the ray tests see it: a float box grown by a margin that
+// covers the slab test's rounding, so "does not enter" is never wrong.
+struct ChangeBox {
+  bool nothing = true;  // nothing changed: every recorded ray is reusable
+  Eigen::AlignedBox3f box;
+  float margin = 0.0f;
+  ChangeBox() = default;
+  explicit ChangeBox(const Eigen::AlignedBox3d& b) {
+    if (b.isEmpty()) return;
+    nothing = false;
+    const double scale = std::max({b.min().cwiseAbs().maxCoeff(), b.max().cwiseAbs().maxCoeff(), b.diagonal().norm()});
+    margin = float(1e-4 * scale + 1e-9);
+    box = Eigen::AlignedBox3f(b.min().cast<float>() - Eigen::Vector3f::Constant(margin),
+                              b.max().cast<float>() + Eigen::Vector3f::Constant(margin));
+  }
+  // True if the ray o + t d (unit d) stays out of the region for t in [0, t_stop] (t_stop =
+  // +inf: the whole half-line, NaN: only if it never enters).
+  bool clear(const float* o, const float* d, float t_stop) const {
+    if (nothing) return true;
+    const float entry = tracing::ray_box_entry(o, d, box);
+    return entry == kInf || entry > t_stop * (1.0f + 1e-4f) + margin;
+  }
+};
+
+// Per-ray results of one side's rays, and the reference record to reuse them from.
+struct SideRays {
+  std::vector<std::uint8_t> blocked;  // per ray
+  std::vector<float> hit_m;           // per ray: closest blocker [m] (recorded runs), +inf if open
+};
+
+// One side's rays in a reference record, read in ray order.
+struct RecordCursor {
+  const RayRecords* rec = nullptr;
+  std::int64_t ray0 = 0, count = 0, hit = 0;
+  RecordCursor() = default;
+  RecordCursor(const RayRecords* r, int side) {
+    if (!r || r->empty() || side < 0) return;
+    rec = r;
+    ray0 = r->ray_begin[side];
+    count = r->ray_begin[side + 1] - ray0;
+    hit = r->hit_begin[side];
+  }
+  bool bit(std::int64_t i) const { return (rec->blocked[(ray0 + i) >> 6] >> ((ray0 + i) & 63)) & 1u; }
+};
+
+// Traces rays of one side at a time in chunks through Embree's stream API (rtcOccluded1M),
+// appending each ray's blocked flag (and, when recording, its closest blocker's distance,
+// from rtcIntersect1M on the blocked ones) to `out` in the order the rays were added. With a
+// reference record, ray i < the record's count keeps the recorded result when its path up to
+// the recorded blocker (or to infinity) does not enter the changed region: what it met there
+// is unchanged and nothing new lies on it.
+class SideTracer {
+ public:
+  SideTracer(const RayScene& scene, bool coherent, bool record, const ChangeBox* change)
+      : scene_(scene.impl().scene), record_(record), change_(change) {
+    rtcInitIntersectContext(&ctx_);
+    ctx_.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+  }
+  void begin(SideRays* out, RecordCursor ref = {}) {
+    out_ = out;
+    out_->blocked.clear();
+    out_->hit_m.clear();
+    ref_ = ref;
+    next_ref_ = 0;
+  }
+  void add(const float* o, const float* d) {
+    const std::size_t i = out_->blocked.size();
+    if (static_cast<std::int64_t>(i) < ref_.count) {
+      const bool b = ref_.bit(next_ref_++);
+      const float t = b ? ref_.rec->hit_m[ref_.hit++] : kInf;
+      if (change_->clear(o, d, t)) {
+        out_->blocked.push_back(b);
+        if (record_) out_->hit_m.push_back(t);
+        ++reused;
+        return;
+      }
+    }
+    out_->blocked.push_back(0);
+    if (record_) out_->hit_m.push_back(kInf);
+    RTCRay& r = buf_[n_];
+    index_[n_++] = static_cast<int>(i);
+    r.org_x = o[0]; r.org_y = o[1]; r.org_z = o[2];
+    r.dir_x = d[0]; r.dir_y = d[1]; r.dir_z = d[2];
+    r.tnear = 0.0f;
+    r.tfar = kInf;
+    r.time = 0.0f; r.mask = 0xFFFFFFFFu; r.id = 0; r.flags = 0;
+    if (n_ == kChunk) flush();
+  }
+  void flush() {
+    if (n_ == 0) return;
+    traced += n_;
+    rtcOccluded1M(scene_, &ctx_, buf_, static_cast<unsigned>(n_), sizeof(RTCRay));
+    int m = 0;
+    for (int k = 0; k < n_; ++k) {
+      if (!(buf_[k].tfar < 0.0f)) continue;  // Embree sets tfar = -inf on occlusion
+      out_->blocked[index_[k]] = 1;
+      if (!record_) continue;
+      RTCRayHit& h = hits_[m];
+      h.ray = buf_[k];
+      h.ray.tfar = kInf;
+      h.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      h.hit.primID = RTC_INVALID_GEOMETRY_ID;
+      hit_index_[m++] = index_[k];
+    }
+    if (m > 0) {
+      rtcIntersect1M(scene_, &ctx_, hits_, static_cast<unsigned>(m), sizeof(RTCRayHit));
+      for (int k = 0; k < m; ++k)
+        out_->hit_m[hit_index_[k]] =
+            hits_[k].hit.geomID == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<float>::quiet_NaN() : hits_[k].ray.tfar;
+    }
+    n_ = 0;
+  }
+  long reused = 0, traced = 0;
+
+ private:
+  RTCScene scene_;
+  RTCIntersectContext ctx_;
+  bool record_;
+  const ChangeBox* change_;
+  SideRays* out_ = nullptr;
+  RecordCursor ref_;
+  std::int64_t next_ref_ = 0;
+  int n_ = 0;
+  alignas(16) RTCRay buf_[kChunk];
+  alignas(16) RTCRayHit hits_[kChunk];
+  int index_[kChunk], hit_index_[kChunk];
+};
+
+// Per-side results of a recorded pass, packed into a RayRecords once the pass is done. The
+// budget is shared by all passes of a run: once exceeded, recording stops for good.
+struct Recorder {
+  std::size_t budget = 0;
+  std::atomic<std::size_t> used{0};
+  std::atomic<bool> over{false};
+  bool active() const { return !over.load(std::memory_order_relaxed); }
+  // Keeps side s's rays for packing, if the budget allows.
+  void keep(std::vector<SideRays>& per_side, int s, SideRays& rays) {
+    if (!active()) return;
+    long blocked = 0;
+    for (auto b : rays.blocked) blocked += b;
+    const std::size_t bytes = rays.blocked.size() / 8 + 8 + 4 * blocked + 16;
+    if (used.fetch_add(bytes) + bytes > budget) {
+      over = true;
+      return;
+    }
+    per_side[s].blocked = rays.blocked;
+    per_side[s].hit_m = rays.hit_m;
+  }
+};
+
+RayRecords pack_records(const std::vector<SideRays>& per_side) {
+  RayRecords r;
+  const int ns = static_cast<int>(per_side.size());
+  r.ray_begin.assign(ns + 1, 0);
+  r.hit_begin.assign(ns + 1, 0);
+  for (int s = 0; s < ns; ++s) {
+    long blocked = 0;
+    for (auto b : per_side[s].blocked) blocked += b;
+    r.ray_begin[s + 1] = r.ray_begin[s] + static_cast<std::int64_t>(per_side[s].blocked.size());
+    r.hit_begin[s + 1] = r.hit_begin[s] + blocked;
+  }
+  r.blocked.assign((r.ray_begin[ns] + 63) / 64, 0);
+  r.hit_m.resize(r.hit_begin[ns]);
+  for (int s = 0; s < ns; ++s) {
+    std::int64_t bit = r.ray_begin[s], hit = r.hit_begin[s];
+    for (std::size_t k = 0; k < per_side[s].blocked.size(); ++k, ++bit)
+      if (per_side[s].blocked[k]) {
+        r.blocked[bit >> 6] |= std::uint64_t(1) << (bit & 63);
+        r.hit_m[hit++] = per_side[s].hit_m[k];
+      }
+  }
   return r;
 }
+
+// What a ray pass needs besides the geometry: reuse of a reference run (per side: index of
+// the side in the reference's records, -1 = trace all) and recording.
+struct PassContext {
+  const ChangeBox* change = nullptr;
+  const RayRecords* ref_records = nullptr;  // nullptr: no per-ray reuse
+  const std::vector<int>* ref_side = nullptr;
+  std::vector<SideRays>* record = nullptr;  // per side, filled if recording
+  Recorder* recorder = nullptr;
+  std::atomic<long>* reused_rays = nullptr;
+  std::atomic<long>* traced_rays = nullptr;
+  RecordCursor cursor(int s) const {
+    return ref_records && ref_side ? RecordCursor(ref_records, (*ref_side)[s]) : RecordCursor();
+  }
+  bool recording() const { return record && recorder && recorder->active(); }
+  void count(const SideTracer& t) const {
+    if (reused_rays) *reused_rays += t.reused;
+    if (traced_rays) *traced_rays += t.traced;
+  }
+};
 
 // Unblocked fraction of each side's sample points towards the direction `toward` (unit),
 // for sides facing it; 0 for the others. A pilot of the first P Sobol points (P a power of 2:
@@ -94,27 +301,31 @@ RayQuery make_ray(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_f
 // the sample: P = 16 left 0.6 W seed-to-seed differences on single nodes, P = 64 < 0.2 W).
 Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
                                 const Eigen::Vector3d& toward, const Eigen::VectorXi& side_rays, int pilot_rays,
-                                std::uint64_t seed, const std::vector<char>* todo = nullptr) {
+                                std::uint64_t seed, const tracing::SobolTable& sobol, const PassContext& pass,
+                                const std::vector<char>* todo = nullptr) {
   const int ns = sides.size();
   Eigen::VectorXd frac = Eigen::VectorXd::Zero(ns);
-  const auto sobol = sampling::sobol_4d(ns ? std::max(side_rays.maxCoeff(), pilot_rays) : 1);
-  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
-    std::vector<RayQuery> batch;
-    std::vector<std::uint8_t> blocked;
+  const float dir[3] = {float(toward.x()), float(toward.y()), float(toward.z())};
+  const bool recording = pass.recording();
+  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
+    // Parallel shadow rays from one triangle: Embree's coherent (packet) traversal fits them.
+    SideTracer tracer(scene, /*coherent=*/true, recording, pass.change);
+    SideRays rays_out;
     for (int s = range.begin(); s < range.end(); ++s) {
       const Side& g = geo[s];
       if (g.area <= 0.0 || g.normal.dot(toward) <= 0.0 || (todo && !(*todo)[s])) continue;
       const auto sd = side_seeds(seed, sides.key[s], 1);
       const int rays = side_rays[s], pilot = std::max(1, std::min(rays, pilot_rays));
+      tracer.begin(&rays_out, pass.cursor(s));
       auto trace = [&](int from, int to) {
-        batch.clear();
         for (int k = from; k < to; ++k) {
-          const Eigen::Vector2d uv(scrambled(sobol[k][0], sd[0]), scrambled(sobol[k][1], sd[1]));
-          batch.push_back(make_ray(on_triangle(uv, g.a, g.b, g.c) + g.offset * g.normal, toward, 1e30));
+          float o[3];
+          on_side(g, scrambled(sobol[k][0], sd[0]), scrambled(sobol[k][1], sd[1]), o);
+          tracer.add(o, dir);
         }
-        scene.occluded(batch, blocked);
+        tracer.flush();
         int open = 0;
-        for (auto b : blocked) open += !b;
+        for (int k = from; k < to; ++k) open += !rays_out.blocked[k];
         return open;
       };
       const int open_pilot = trace(0, pilot);
@@ -123,7 +334,9 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
       } else {
         frac[s] = double(open_pilot + trace(pilot, rays)) / rays;
       }
+      if (recording) pass.recorder->keep(*pass.record, s, rays_out);
     }
+    pass.count(tracer);
   });
   return frac;
 }
@@ -158,28 +371,15 @@ struct EarthHits {
   bool empty() const { return begin.empty(); }
 };
 
-// `rays` = #sides rays for a side whose view is partly blocked (the pilot decides).
-EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
-                     const Eigen::Vector3d& earth_dir_in, double distance_m, const Eigen::VectorXi& side_rays,
-                     int pilot_rays, std::uint64_t seed, const std::vector<char>* todo = nullptr, bool flatten = true) {
+// Which sides may have their view of the Earth blocked at all: some other face's bounding
+// sphere meets the set of rays leaving the side's bounding sphere inside the Earth's cone
+// and in front of the side. The pilot alone would call a side unobstructed when a small
+// blocker slips between its pilot rays, a seed-dependent (heavy-tailed) error; with this
+// conservative geometric test such sides always trace all their rays.
+std::vector<char> may_be_blocked_from_earth(const std::vector<Side>& geo, const SurfaceSides& sides,
+                                            const Eigen::Vector3d& earth_dir, double sin_half,
+                                            const std::vector<char>* todo) {
   const int ns = sides.size();
-  EarthHits out;
-  out.rays.resize(ns);
-  out.view_factor = Eigen::VectorXd::Zero(ns);
-  const auto sobol = sampling::sobol_4d(ns ? std::max(side_rays.maxCoeff(), pilot_rays) : 1);
-  const Eigen::Vector3d earth_dir = earth_dir_in.normalized();
-  const Eigen::Vector3d centre = earth_dir * distance_m;
-  const double R2 = kEarthRadius_m * kEarthRadius_m;
-  const double sin_half = kEarthRadius_m / distance_m;
-  const double cos_half = std::sqrt(1.0 - sin_half * sin_half);
-  const double cap_over_pi = 2.0 * (1.0 - cos_half);  // Omega_cap / pi
-  Eigen::Vector3d et, eu;
-  orthonormal_frame(earth_dir, et, eu);
-  // Which sides may have their view of the Earth blocked at all: some other face's bounding
-  // sphere meets the set of rays leaving the side's bounding sphere inside the Earth's cone
-  // and in front of the side. The pilot alone would call a side unobstructed when a small
-  // blocker slips between its pilot rays, a seed-dependent (heavy-tailed) error; with this
-  // conservative geometric test such sides always trace all their rays.
   std::vector<Eigen::Vector3d> centre_of(ns);
   std::vector<double> radius_of(ns, 0.0);
   for (int s = 0; s < ns; ++s) {
@@ -188,29 +388,60 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
     radius_of[s] = std::max({(g.a - centre_of[s]).norm(), (g.b - centre_of[s]).norm(), (g.c - centre_of[s]).norm()}) +
                    2.0 * g.offset + 1e-9;
   }
-  const double half_angle = std::asin(sin_half);
-  std::vector<char> may_be_blocked(ns, 0);
+  const double cos_half = std::sqrt(1.0 - sin_half * sin_half);
+  std::vector<char> out(ns, 0);
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
     for (int s = range.begin(); s < range.end(); ++s) {
       if (geo[s].area <= 0.0 || (todo && !(*todo)[s])) continue;
-      for (int t = 0; t < ns && !may_be_blocked[s]; ++t) {
+      for (int t = 0; t < ns; ++t) {
         if (sides.face[t] == sides.face[s] || geo[t].area <= 0.0) continue;
         const Eigen::Vector3d v = centre_of[t] - centre_of[s];
-        const double reach = radius_of[s] + radius_of[t], dist = v.norm();
+        const double reach = radius_of[s] + radius_of[t];
         if (v.dot(geo[s].normal) < -reach) continue;  // wholly behind the side
-        if (dist <= reach) {
-          may_be_blocked[s] = 1;
-          continue;
+        const double dist2 = v.squaredNorm();
+        if (dist2 <= reach * reach) {
+          out[s] = 1;
+          break;
         }
-        const double angle = std::acos(std::clamp(v.dot(earth_dir) / dist, -1.0, 1.0));
-        if (angle <= half_angle + std::asin(std::min(1.0, reach / dist)) + 1e-9) may_be_blocked[s] = 1;
+        // angle(v, earth) <= half + asin(reach / dist), compared through cosines (both angles
+        // in [0, pi], cos decreasing there): cos(half + beta) = cos_half cos_beta - sin_half sin_beta.
+        const double dist = std::sqrt(dist2), sin_b = reach / dist, cos_b = std::sqrt(1.0 - sin_b * sin_b);
+        if (v.dot(earth_dir) / dist >= cos_half * cos_b - sin_half * sin_b - 1e-9) {
+          out[s] = 1;
+          break;
+        }
       }
     }
   });
-  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
-    std::vector<RayQuery> batch;
-    std::vector<std::uint8_t> blocked;
-    std::vector<std::pair<float, Eigen::Vector3f>> candidate;  // (cos theta, Earth normal)
+  return out;
+}
+
+// `rays` = #sides rays for a side whose view is partly blocked (the pilot decides).
+EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
+                     const Eigen::Vector3d& earth_dir_in, double distance_m, const Eigen::VectorXi& side_rays,
+                     int pilot_rays, std::uint64_t seed, const tracing::SobolTable& sobol, const PassContext& pass,
+                     const std::vector<char>* todo = nullptr, bool flatten = true) {
+  const int ns = sides.size();
+  EarthHits out;
+  out.rays.resize(ns);
+  out.view_factor = Eigen::VectorXd::Zero(ns);
+  const Eigen::Vector3d earth_dir = earth_dir_in.normalized();
+  const Eigen::Vector3d centre = earth_dir * distance_m;
+  const double R2 = kEarthRadius_m * kEarthRadius_m;
+  const double sin_half = kEarthRadius_m / distance_m;
+  const double cos_half = std::sqrt(1.0 - sin_half * sin_half);
+  const double cap_over_pi = 2.0 * (1.0 - cos_half);  // Omega_cap / pi
+  Eigen::Vector3d et, eu;
+  orthonormal_frame(earth_dir, et, eu);
+  const Eigen::Vector3f fe = earth_dir.cast<float>(), ft = et.cast<float>(), fu = eu.cast<float>();
+  const float one_minus_cos_half = float(1.0 - cos_half);
+  const std::vector<char> may_be_blocked = may_be_blocked_from_earth(geo, sides, earth_dir, sin_half, todo);
+  const bool recording = pass.recording();
+  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 16), [&](const tbb::blocked_range<int>& range) {
+    SideTracer tracer(scene, /*coherent=*/false, recording, pass.change);
+    SideRays rays_out;
+    std::vector<float> cos_theta;  // per traced ray
+    std::vector<Eigen::Vector3f> earth_normal;
     for (int s = range.begin(); s < range.end(); ++s) {
       const Side& g = geo[s];
       if (g.area <= 0.0) continue;
@@ -218,25 +449,33 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       if (todo && !(*todo)[s]) continue;
       const auto sd = side_seeds(seed, sides.key[s], 2);
       const int rays = side_rays[s], pilot = std::max(1, std::min(rays, pilot_rays));
-      batch.clear();
-      candidate.clear();
+      tracer.begin(&rays_out, pass.cursor(s));
+      cos_theta.clear();
+      earth_normal.clear();
       auto add_rays = [&](int from, int to) {
         for (int k = from; k < to; ++k) {
           const auto& q = sobol[k];
-          const Eigen::Vector2d uv(scrambled(q[0], sd[0]), scrambled(q[1], sd[1]));
-          const double cos_a = 1.0 - scrambled(q[2], sd[2]) * (1.0 - cos_half), phi = 2.0 * kPi * scrambled(q[3], sd[3]);
-          const double sin_a = std::sqrt(std::max(0.0, 1.0 - cos_a * cos_a));
-          const Eigen::Vector3d d = cos_a * earth_dir + sin_a * (std::cos(phi) * et + std::sin(phi) * eu);
-          const double cos_t = g.normal.dot(d);
-          if (cos_t <= 0.0) continue;
-          const Eigen::Vector3d o = on_triangle(uv, g.a, g.b, g.c) + g.offset * g.normal;
-          const Eigen::Vector3d oc = centre - o;
-          const double tc = oc.dot(d);
+          const float u3 = scrambled(q[2], sd[2]) * one_minus_cos_half;  // 1 - cos(angle to the Earth's centre)
+          const float cos_a = 1.0f - u3, sin_a = std::sqrt(std::max(0.0f, u3 * (1.0f + cos_a)));
+          float sp, cp;
+          ::sincosf(float(2.0 * kPi) * scrambled(q[3], sd[3]), &sp, &cp);
+          float d[3];
+          for (int i = 0; i < 3; ++i) d[i] = cos_a * fe[i] + sin_a * (cp * ft[i] + sp * fu[i]);
+          const float cos_t = g.fn[0] * d[0] + g.fn[1] * d[1] + g.fn[2] * d[2];
+          if (cos_t <= 0.0f) continue;
+          float o[3];
+          on_side(g, scrambled(q[0], sd[0]), scrambled(q[1], sd[1]), o);
+          // Earth normal at the hit, in double: |centre| ~ 7e6 m would leave float nothing.
+          const Eigen::Vector3d od(o[0], o[1], o[2]), dd(d[0], d[1], d[2]);
+          const Eigen::Vector3d oc = centre - od;
+          const double tc = oc.dot(dd);
           const double d2 = std::max(0.0, oc.squaredNorm() - tc * tc);
           const double t_hit = d2 < R2 ? tc - std::sqrt(R2 - d2) : tc;  // grazing: nearest point
-          batch.push_back(make_ray(o, d, 1e30));
-          candidate.emplace_back(float(cos_t), ((o + t_hit * d - centre).normalized()).cast<float>());
+          tracer.add(o, d);
+          cos_theta.push_back(cos_t);
+          earth_normal.push_back((od + t_hit * dd - centre).normalized().cast<float>());
         }
+        tracer.flush();
       };
       // Pilot: a side none of whose first `pilot` rays is blocked and that no face can block
       // (may_be_blocked) sees the Earth unobstructed and keeps those (its view factor is the
@@ -244,39 +483,35 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       // all of whose pilot rays are blocked (e.g. an internal wall) sees none of it; only sides
       // with both trace all `rays`, where the visibility edge needs them.
       add_rays(0, pilot);
-      if (batch.empty()) continue;
-      scene.occluded(batch, blocked);
+      if (cos_theta.empty()) continue;
       int used = pilot, n_blocked = 0;
-      for (auto b : blocked) n_blocked += b != 0;
-      const bool mixed = (n_blocked > 0 && n_blocked < static_cast<int>(blocked.size())) ||
-                         (n_blocked == 0 && may_be_blocked[s]);
+      for (auto b : rays_out.blocked) n_blocked += b != 0;
+      const int n_pilot = static_cast<int>(cos_theta.size());
+      const bool mixed = (n_blocked > 0 && n_blocked < n_pilot) || (n_blocked == 0 && may_be_blocked[s]);
       if (mixed && rays > pilot) {
-        const size_t first_new = batch.size();
         add_rays(pilot, rays);
-        std::vector<std::uint8_t> more;
-        std::vector<RayQuery> rest(batch.begin() + first_new, batch.end());
-        if (!rest.empty()) scene.occluded(rest, more);
-        blocked.insert(blocked.end(), more.begin(), more.end());
         used = rays;
       }
+      if (recording) pass.recorder->keep(*pass.record, s, rays_out);
       // Ratio estimator: the unobstructed view factor has a closed form, only the blocked
       // share is left to the rays, F = F_open x (sum over unblocked rays of cos theta) / (sum
       // over all rays of cos theta). An unobstructed side is then exact and a partly blocked
       // one only carries the (correlated, hence much smaller) error of the ratio. The albedo
       // weights are scaled alike.
       double all = 0.0;
-      for (size_t k = 0; k < batch.size(); ++k) all += candidate[k].first;
+      for (float c : cos_theta) all += c;
       const double f_open = unobstructed_earth_view_factor(g.normal.dot(earth_dir), distance_m);
       const double weight = all > 0.0 ? f_open / all : cap_over_pi / used;
       auto& keep = out.rays[s];
       double f = 0.0;
-      for (size_t k = 0; k < batch.size(); ++k)
-        if (!blocked[k]) {
-          keep.emplace_back(float(weight * candidate[k].first), candidate[k].second);
-          f += weight * candidate[k].first;
+      for (size_t k = 0; k < cos_theta.size(); ++k)
+        if (!rays_out.blocked[k]) {
+          keep.emplace_back(float(weight * cos_theta[k]), earth_normal[k]);
+          f += weight * cos_theta[k];
         }
       out.view_factor[s] = f;
     }
+    pass.count(tracer);
   });
   if (flatten) out.flatten();
   return out;
@@ -297,34 +532,42 @@ struct EscapingRays {
 
 std::vector<std::vector<Eigen::Vector3f>> escaping_directions(const RayScene& scene, const std::vector<Side>& geo,
                                                              const SurfaceSides& sides, int rays, std::uint64_t seed,
+                                                             const tracing::SobolTable& sobol, const PassContext& pass,
                                                              const std::vector<char>* todo) {
   const int ns = sides.size();
-  const auto sobol = sampling::sobol_4d(rays);
   std::vector<std::vector<Eigen::Vector3f>> per_side(ns);
-  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
-    std::vector<RayQuery> batch;
-    std::vector<std::uint8_t> blocked;
+  const bool recording = pass.recording();
+  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 16), [&](const tbb::blocked_range<int>& range) {
+    SideTracer tracer(scene, /*coherent=*/false, recording, pass.change);
+    SideRays rays_out;
+    std::vector<Eigen::Vector3f> dirs;
     for (int s = range.begin(); s < range.end(); ++s) {
       const Side& g = geo[s];
       if (g.area <= 0.0 || (todo && !(*todo)[s])) continue;
       Eigen::Vector3d t, u;
       orthonormal_frame(g.normal, t, u);
+      const Eigen::Vector3f ft = t.cast<float>(), fu = u.cast<float>();
       const auto sd = side_seeds(seed, sides.key[s], 3);
-      batch.clear();
-      std::vector<Eigen::Vector3f> dirs;
+      tracer.begin(&rays_out, pass.cursor(s));
+      dirs.clear();
       for (int k = 0; k < rays; ++k) {
         const auto& q = sobol[k];
-        const Eigen::Vector2d uv(scrambled(q[0], sd[0]), scrambled(q[1], sd[1]));
-        const double r2 = scrambled(q[2], sd[2]), phi = 2.0 * kPi * scrambled(q[3], sd[3]);
-        const double st = std::sqrt(r2), ct = std::sqrt(std::max(0.0, 1.0 - r2));  // Malley
-        const Eigen::Vector3d d = st * std::cos(phi) * t + st * std::sin(phi) * u + ct * g.normal;
-        batch.push_back(make_ray(on_triangle(uv, g.a, g.b, g.c) + g.offset * g.normal, d, 1e30));
-        dirs.push_back(d.cast<float>());
+        const float r2 = scrambled(q[2], sd[2]);
+        const float st = std::sqrt(r2), ct = std::sqrt(std::max(0.0f, 1.0f - r2));  // Malley
+        float sp, cp;
+        ::sincosf(float(2.0 * kPi) * scrambled(q[3], sd[3]), &sp, &cp);
+        float o[3], d[3];
+        for (int i = 0; i < 3; ++i) d[i] = st * cp * ft[i] + st * sp * fu[i] + ct * g.fn[i];
+        on_side(g, scrambled(q[0], sd[0]), scrambled(q[1], sd[1]), o);
+        tracer.add(o, d);
+        dirs.emplace_back(d[0], d[1], d[2]);
       }
-      scene.occluded(batch, blocked);
+      tracer.flush();
+      if (recording) pass.recorder->keep(*pass.record, s, rays_out);
       for (int k = 0; k < rays; ++k)
-        if (!blocked[k]) per_side[s].push_back(dirs[k]);
+        if (!rays_out.blocked[k]) per_side[s].push_back(dirs[k]);
     }
+    pass.count(tracer);
   });
   return per_side;
 }
@@ -397,8 +640,9 @@ Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& si
   if (rays < 1) throw InvalidInput("earth_rays_per_face must be >= 1");
   if (!(distance_m > kEarthRadius_m)) throw InvalidInput("Earth view factors: distance must exceed the Earth radius");
   const auto geo = side_geometry(scene.mesh(), sides);
+  const auto sobol = sampling::sobol_4d_reversed(rays);
   const EarthHits hits = earth_hits(scene, geo, sides, earth_direction_body, distance_m,
-                                    Eigen::VectorXi::Constant(sides.size(), rays), rays, seed);
+                                    Eigen::VectorXi::Constant(sides.size(), rays), rays, seed, sobol, PassContext{});
   return hits.view_factor;
 }
 
@@ -455,6 +699,10 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     return ref_of[s] >= 0 && ref->sun_rays.size() == static_cast<Eigen::Index>(ref->key.size()) &&
            ref->sun_rays[ref_of[s]] == sun_rays[s] && ref->earth_rays[ref_of[s]] == earth_rays[s];
   };
+  // One Sobol table for every pass (the largest count any side or pilot draws).
+  int max_rays = std::max({settings.sun_pilot_rays, settings.earth_pilot_rays, settings.earth_rays_per_face, 1});
+  if (ns > 0) max_rays = std::max({max_rays, sun_rays.maxCoeff(), earth_rays.maxCoeff()});
+  const tracing::SobolTable sobol = sampling::sobol_4d_reversed(max_rays);
   Eigen::Vector3d change_centre = Eigen::Vector3d::Zero();
   double change_radius = 0.0;
   if (ref) {
@@ -473,6 +721,35 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       change_radius = -1.0;  // nothing changed: everything present is reusable
     }
   }
+  // Per-ray reuse: a side with the same sample counts as its reference twin reads the
+  // reference's record of its rays (same rays, same order); the others trace everything.
+  const ChangeBox change_box = ref ? ChangeBox(reuse->changed_region) : ChangeBox();
+  const bool per_ray_reuse = ref && ref->per_ray;
+  std::vector<int> ref_side(ns, -1);
+  if (per_ray_reuse)
+    for (int s = 0; s < ns; ++s) ref_side[s] = same_counts(s) ? ref_of[s] : -1;
+  std::atomic<long> reused_sun_rays{0}, traced_sun_rays{0}, reused_earth_rays{0}, traced_earth_rays{0};
+  // Recording (reference runs only: a run that itself reuses records nothing per ray).
+  Recorder recorder;
+  recorder.budget = settings.ray_record_budget_bytes;
+  const bool record = samples && !reuse;
+  std::vector<SideRays> recorded;
+  auto make_pass = [&](const RayRecords* ref_records, std::atomic<long>* reused_rays, std::atomic<long>* traced_rays) {
+    PassContext pass;
+    pass.change = &change_box;
+    if (per_ray_reuse && ref_records && !ref_records->empty()) {
+      pass.ref_records = ref_records;
+      pass.ref_side = &ref_side;
+    }
+    if (record && recorder.active()) {
+      recorded.assign(ns, SideRays{});
+      pass.record = &recorded;
+      pass.recorder = &recorder;
+    }
+    pass.reused_rays = reused_rays;
+    pass.traced_rays = traced_rays;
+    return pass;
+  };
   // Bounding sphere of each side (plus its ray lift) against the changed region's sphere.
   auto side_sphere = [&](int s, Eigen::Vector3d& c) {
     const Side& g = geo[s];
@@ -511,6 +788,9 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     samples->earth_rays = earth_rays;
     samples->earth.assign(ns, {});
     samples->earth_view_factor = Eigen::VectorXd::Zero(ns);
+    samples->sun_records.assign(steps, RayRecords{});
+    samples->earth_records = RayRecords{};
+    samples->per_ray = false;
   }
 
   // Solar-band incident power per side and step [W] (direct and albedo), absorbed shares.
@@ -538,7 +818,11 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
         reuse->reused_sun += reused_here;
         reuse->total_sun += ns;
       }
-      lit = sunlit_fraction(scene, geo, sides, st.sun_direction_body, sun_rays, settings.sun_pilot_rays, settings.seed, ref ? &todo : nullptr);
+      const PassContext pass = make_pass(ref && static_cast<int>(ref->sun_records.size()) == steps ? &ref->sun_records[k] : nullptr,
+                                         &reused_sun_rays, &traced_sun_rays);
+      lit = sunlit_fraction(scene, geo, sides, st.sun_direction_body, sun_rays, settings.sun_pilot_rays, settings.seed,
+                            sobol, pass, ref ? &todo : nullptr);
+      if (pass.recording() && recorder.active()) samples->sun_records[k] = pack_records(recorded);
       if (ref)
         for (int s = 0; s < ns; ++s)
           if (!todo[s]) lit[s] = ref->sunlit(ref_of[s], k);
@@ -569,9 +853,10 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       }
     EarthHits hits;
     EscapingRays escaping;
+    const PassContext pass = make_pass(ref ? &ref->earth_records : nullptr, &reused_earth_rays, &traced_earth_rays);
     if (earth_fixed) {
-      hits = earth_hits(scene, geo, sides, states[0].earth_direction_body, distance,
-                        earth_rays, settings.earth_pilot_rays, settings.seed, ref ? &earth_todo : nullptr, /*flatten=*/false);
+      hits = earth_hits(scene, geo, sides, states[0].earth_direction_body, distance, earth_rays, settings.earth_pilot_rays,
+                        settings.seed, sobol, pass, ref ? &earth_todo : nullptr, /*flatten=*/false);
       if (ref)
         for (int s = 0; s < ns; ++s)
           if (!earth_todo[s]) {
@@ -584,7 +869,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       }
       hits.flatten();
     } else {
-      auto dirs = escaping_directions(scene, geo, sides, settings.earth_rays_per_face, settings.seed,
+      auto dirs = escaping_directions(scene, geo, sides, settings.earth_rays_per_face, settings.seed, sobol, pass,
                                       ref ? &earth_todo : nullptr);
       if (ref)
         for (int s = 0; s < ns; ++s)
@@ -597,6 +882,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
           for (const auto& d : dirs[s]) samples->earth[s].emplace_back(1.0f / settings.earth_rays_per_face, d);
       escaping = pack_escaping(dirs, settings.earth_rays_per_face);
     }
+    if (pass.recording() && recorder.active()) samples->earth_records = pack_records(recorded);
     Eigen::VectorXd view_factor, lit_sum(ns);
     for (int k = 0; k < steps; ++k) {
       const OrbitState& st = states[k];
@@ -628,6 +914,19 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     }
   }
 
+  if (reuse) {
+    reuse->reused_sun_rays += reused_sun_rays;
+    reuse->traced_sun_rays += traced_sun_rays;
+    reuse->reused_earth_rays += reused_earth_rays;
+    reuse->traced_earth_rays += traced_earth_rays;
+  }
+  if (record) {
+    samples->per_ray = recorder.active();
+    if (!samples->per_ray) {  // over budget: keep none (trials use the per-side tests)
+      samples->sun_records.assign(steps, RayRecords{});
+      samples->earth_records = RayRecords{};
+    }
+  }
   if (samples) samples->earth_fixed = !orbit || [&] {
     for (int k = 1; k < steps; ++k)
       if (!same_direction(states[k].earth_direction_body, states[0].earth_direction_body)) return false;

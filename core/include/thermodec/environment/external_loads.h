@@ -25,6 +25,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <Eigen/SparseCore>
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -61,6 +62,9 @@ struct ExternalLoadSettings {
   int steps_per_orbit = 0;        //!< orbit samples; 0 = model.analysis.steps_per_orbit
   std::uint64_t seed = 1;         //!< sampling seed (combined with each side's identity)
   bool solar_reflections = true;  //!< solar-band diffuse reflections between faces
+  //! Memory cap [bytes] for the per-ray records of LoadSamples (what each sun and Earth ray
+  //! met); beyond it none are kept and trials fall back to per-side reuse tests.
+  std::size_t ray_record_budget_bytes = std::size_t(512) << 20;
 };
 
 //! View factor from each side to the Earth, F_side->Earth = (1/pi) int cos(theta) V dw over
@@ -78,6 +82,21 @@ Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& si
 //! \throw InvalidInput if distance_m <= Earth radius.
 double unobstructed_earth_view_factor(double cos_angle, double distance_m);
 
+//! What each traced ray of one ray family met, all sides concatenated in side order: side s
+//! owns rays [ray_begin[s], ray_begin[s + 1]) (in the order the side generates them) and
+//! blocker distances [hit_begin[s], hit_begin[s + 1]). One bit per ray (1 = blocked by the
+//! spacecraft) and, per blocked ray in order, the distance [m] along its unit direction to its
+//! closest blocker (NaN if unknown). Empty offsets = nothing recorded.
+struct RayRecords {
+  std::vector<std::uint64_t> blocked;
+  std::vector<float> hit_m;
+  std::vector<std::int64_t> ray_begin, hit_begin;  //!< #sides + 1 each
+  bool empty() const { return ray_begin.empty(); }
+  std::size_t bytes() const {
+    return blocked.size() * 8 + hit_m.size() * 4 + (ray_begin.size() + hit_begin.size()) * 8;
+  }
+};
+
 //! What one external_loads run sampled per face side, the geometry-dependent part of the
 //! loads: for a modified model (a trial of the reduction driver) the sides that did not
 //! change and whose rays cannot reach the change reuse it instead of tracing again.
@@ -90,6 +109,14 @@ struct LoadSamples {
   Eigen::VectorXd earth_view_factor;  //!< #sides F_side->Earth (Earth fixed in body axes)
   bool earth_fixed = true;
   Eigen::VectorXi sun_rays, earth_rays;  //!< #sides sample counts used (see the *_min_rays_per_node)
+  //! Per-ray records (see RayRecords), kept when they fit settings.ray_record_budget_bytes:
+  //! per step, the shadow rays traced at that step (empty where the step reused the previous
+  //! sun direction or was in eclipse); the Earth cone rays (Earth fixed in body axes) or the
+  //! hemisphere rays. A trial then re-traces only the rays whose path up to their reference
+  //! blocker (or to infinity) enters the changed region.
+  std::vector<RayRecords> sun_records;
+  RayRecords earth_records;
+  bool per_ray = false;  //!< the records are complete
 };
 
 //! Reuse request: sides present in `reference` (same key) whose sun rays, Earth rays or
@@ -100,9 +127,12 @@ struct LoadReuse {
   const LoadSamples* reference = nullptr;
   Eigen::AlignedBox3d changed_region;
   // out: how much came from the reference: (side, sun direction) shadow evaluations and
-  // sides' Earth rays, reused / total.
+  // sides' Earth rays reused whole / total; then, on the sides not reused whole, single rays
+  // reused from the per-ray records / rays traced again.
   long reused_sun = 0, total_sun = 0;
   int reused_earth = 0, total_earth = 0;
+  long reused_sun_rays = 0, traced_sun_rays = 0;
+  long reused_earth_rays = 0, traced_earth_rays = 0;
 };
 
 //! Loads of `model` (whose mesh is scene.mesh() and whose sides are `sides`) in its
