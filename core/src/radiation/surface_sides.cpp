@@ -1,6 +1,7 @@
 #include "thermodec/radiation/surface_sides.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -102,17 +103,24 @@ Eigen::VectorXi rays_per_side_of_node(const SurfaceSides& sides, int rays_per_si
   const int ns = sides.size();
   int num_nodes = 0;
   for (int s = 0; s < ns; ++s) num_nodes = std::max(num_nodes, sides.node[s] + 1);
-  std::vector<std::int64_t> count(num_nodes, 0);
   // Faces, not sides: each side of a two-sided face is a surface of its own that the
   // minimum applies to (a two-sided node's fronts get it, and so do its backs).
+  std::vector<double> area(num_nodes, 0.0);
   for (int s = 0; s < ns; ++s)
-    if (sides.node[s] >= 0 && !sides.is_back[s]) ++count[sides.node[s]];
+    if (sides.node[s] >= 0 && !sides.is_back[s]) area[sides.node[s]] += sides.area_m2[s];
+  // The node's area rounded to a 1/64 octave (1.1 %): the decimator keeps node areas to
+  // ~1e-5, so a node whose faces change elsewhere keeps the same rays on its unchanged faces
+  // (correlated sampling, and no re-trace of the whole node when a neighbour's decimation
+  // touches a few of its faces along their interface).
+  for (double& a : area)
+    if (a > 0.0) a = std::exp2(std::round(std::log2(a) * 64.0) / 64.0);
   Eigen::VectorXi rays(ns);
   for (int s = 0; s < ns; ++s) {
-    std::int64_t r = rays_per_side;
+    double r = rays_per_side;
     const int n = sides.node[s];
-    if (n >= 0 && min_rays_per_node > 0 && count[n] > 0) r = std::max<std::int64_t>(r, (min_rays_per_node + count[n] - 1) / count[n]);
-    rays[s] = static_cast<int>(r);
+    if (n >= 0 && min_rays_per_node > 0 && area[n] > 0.0)
+      r = std::max(r, std::ceil(double(min_rays_per_node) * sides.area_m2[s] / area[n]));
+    rays[s] = static_cast<int>(std::min(r, 1e9));
   }
   return rays;
 }

@@ -38,11 +38,12 @@ SurfaceSides surface_sides(const ThermalModel& model);
 Eigen::VectorXd side_emissivity(const ThermalModel& model, const SurfaceSides& sides);
 Eigen::VectorXd side_absorptivity(const ThermalModel& model, const SurfaceSides& sides);
 
-//! Rays per side when the fronts of a node with n faces must get at least min_rays_per_node
-//! in total (and so must its backs if two-sided): max(rays_per_side, ceil(min_rays_per_node /
-//! n)); sides without a node get rays_per_side.
-//! A side's count thus changes only when its own node's side count does. Returns #S
-//! (min_rays_per_node <= 0: rays_per_side for all).
+//! Rays per side when the fronts of a node must get at least min_rays_per_node in total (and
+//! so must its backs if two-sided), shared in proportion to area: max(rays_per_side,
+//! ceil(min_rays_per_node x A_side / A_node)), A_node rounded to 1/64 octave; sides without a
+//! node get rays_per_side. A side's count depends on its own area and its node's area only, so
+//! it stays the same when other faces of its node change (decimation keeps node areas).
+//! Returns #S (min_rays_per_node <= 0: rays_per_side for all).
 Eigen::VectorXi rays_per_side_of_node(const SurfaceSides& sides, int rays_per_side, int min_rays_per_node);
 
 }  // namespace thermodec
