@@ -3,6 +3,7 @@
 #include <atomic>
 #include <tbb/parallel_for.h>
 #include <map>
+#include <memory>
 #include <vector>
 
 #include "thermodec/common/errors.h"
@@ -22,6 +23,9 @@ struct ReductionReference::Impl {
   LoadSamples load_samples;  //!< the reference's load sampling, reused by trials
   mutable std::mutex cache_mutex;
   mutable std::map<std::vector<double>, TrialResult> cache;
+  // Fully verified candidates, so that the driver's final rebuild of the verified model does
+  // not simulate it a second time.
+  mutable std::map<std::vector<double>, std::shared_ptr<const Candidate>> verified;
   mutable std::atomic<int> evaluated{0};
 };
 
@@ -118,6 +122,11 @@ Candidate ReductionReference::candidate(const Eigen::VectorXd& ratios, bool full
   const Impl& s = *impl_;
   if (ratios.size() != static_cast<Eigen::Index>(s.model.nodes.size()))
     throw InvalidInput("one ratio per node expected");
+  if (full) {
+    std::lock_guard<std::mutex> lock(s.cache_mutex);
+    const auto it = s.verified.find(std::vector<double>(ratios.data(), ratios.data() + ratios.size()));
+    if (it != s.verified.end()) return *it->second;
+  }
   Candidate c;
   c.decimation = decimate_nodes(s.model.mesh, ratios, s.settings.decimation);
   c.model = s.model;
@@ -165,7 +174,10 @@ TrialResult ReductionReference::trial(const Eigen::VectorXd& ratios) const {
 
 TrialResult ReductionReference::verify(const Eigen::VectorXd& ratios) const {
   ++impl_->evaluated;
-  return candidate(ratios, true).trial;
+  auto c = std::make_shared<const Candidate>(candidate(ratios, true));
+  std::lock_guard<std::mutex> lock(impl_->cache_mutex);
+  impl_->verified[std::vector<double>(ratios.data(), ratios.data() + ratios.size())] = c;
+  return c->trial;
 }
 
 }  // namespace thermodec

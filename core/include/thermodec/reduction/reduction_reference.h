@@ -63,7 +63,8 @@ class ReductionReference {
   TrialResult trial(const Eigen::VectorXd& ratio_per_node) const;
   //! Full verification: the candidate simulated from scratch, nothing reused. Thread-safe.
   TrialResult verify(const Eigen::VectorXd& ratio_per_node) const;
-  //! The candidate itself (decimated model + its result), incremental or full.
+  //! The candidate itself (decimated model + its result), incremental or full (a candidate
+  //! already verified is returned from memory, not simulated again).
   Candidate candidate(const Eigen::VectorXd& ratio_per_node, bool full) const;
 
   //! Redraws each node's samples in turn (salt `salt`, incremental evaluation, nodes in
