@@ -33,9 +33,13 @@ ReductionRun reduce_model(const ThermalModel& model, const ReduceSettings& setti
   run.strategy = settings.strategy == ReductionStrategy::informed ? "informed" : "uniform";
   run.tolerance_K = tol;
 
-  // Noise floor first: a tolerance the Monte Carlo noise could eat is refused before any work.
-  say("noise floor: simulating the reference with " + std::to_string(settings.noise_runs) + " seeds");
-  const NoiseFloor noise = noise_floor(model, settings.noise_runs, settings.reference.simulation);
+  // The reference (simulated once, with its reusable rays and samples), then the noise floor:
+  // the same simulation with other seeds. A tolerance the Monte Carlo noise could eat is
+  // refused before any reduction work.
+  say("reference: simulating and keeping reusable rays and samples");
+  const ReductionReference ref(model, settings.reference);
+  say("noise floor: simulating the reference with " + std::to_string(settings.noise_runs - 1) + " other seed(s)");
+  const NoiseFloor noise = noise_floor(model, settings.noise_runs, settings.reference.simulation, &ref.result());
   run.noise_floor_K = noise.worst.max_abs_K;
   run.seconds_noise = since(t0);
   say(fmt("noise floor %.4f K (%.1f s per simulation)", run.noise_floor_K,
@@ -45,9 +49,6 @@ ReductionRun reduce_model(const ThermalModel& model, const ReduceSettings& setti
                            "ask for at least %.4g K or raise radiation.rays_per_face",
                            tol, run.noise_floor_K, 2.0 * run.noise_floor_K));
 
-  say("reference: preparing reusable rays and simulation");
-  // note: the noise floor's first run is the reference simulation itself (same seed and settings).
-  const ReductionReference ref(model, settings.reference, &noise.first);
   run.reference = ref.result();
   run.reference_mesh = model.mesh;
   const int n = static_cast<int>(model.nodes.size());

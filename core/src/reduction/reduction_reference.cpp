@@ -65,17 +65,17 @@ ReductionReference::ReductionReference(const ThermalModel& model, const Reductio
   for (int k = 0; k < n; ++k)
     if (impl_->faces_per_node[k] == 0)
       throw InvalidInput("node '" + model.nodes[k].name + "' has no faces in the mesh");
-  impl_->result = reference_result ? *reference_result : simulate_model(model, settings.simulation);
   impl_->radiation = std::make_unique<RadiationReference>(prepare_radiation(model, model.radiation));
-  {
-    // Record the reference's load samples (the loads themselves equal those of the reference
-    // simulation: same seeds, same sides) so trials re-sample only sides the change can reach.
-    const RayScene scene(model.mesh);
-    const FaceViewFactors& vf = impl_->radiation->face_view_factors();
-    ExternalLoadSettings ls = impl_->settings.simulation.loads;
-    ls.seed = model.radiation.seed;
-    external_loads(model, scene, vf.sides, ls.solar_reflections ? &vf : nullptr, ls, {}, &impl_->load_samples);
-  }
+  // The reference's loads, recording their samples so that trials re-sample only what a
+  // change can reach; with the prepared couplings they make the reference simulation itself
+  // (the same rays, samples and solve as simulate_model).
+  const RayScene scene(model.mesh);
+  const FaceViewFactors& vf = impl_->radiation->face_view_factors();
+  ExternalLoadSettings ls = impl_->settings.simulation.loads;
+  ls.seed = model.radiation.seed;
+  const Loads loads = external_loads(model, scene, vf.sides, ls.solar_reflections ? &vf : nullptr, ls, {}, &impl_->load_samples);
+  impl_->result = reference_result ? *reference_result
+                                   : simulate(model, impl_->radiation->couplings(), loads, settings.simulation.solver);
 }
 
 ReductionReference::~ReductionReference() = default;

@@ -57,13 +57,18 @@ SimulationResult simulate_model(const ThermalModel& model, const ModelSimulation
   return r;
 }
 
-NoiseFloor noise_floor(const ThermalModel& model, int runs, const ModelSimulationSettings& settings) {
+NoiseFloor noise_floor(const ThermalModel& model, int runs, const ModelSimulationSettings& settings,
+                       const SimulationResult* first) {
   if (runs < 2) throw InvalidInput("noise floor needs at least 2 runs");
   NoiseFloor out;
   ThermalModel m = model;
   for (int k = 0; k < runs; ++k) {
     m.radiation.seed = model.radiation.seed + static_cast<std::uint64_t>(k);
     out.seeds.push_back(m.radiation.seed);
+    if (k == 0 && first) {
+      out.first = *first;
+      continue;
+    }
     const auto t0 = Clock::now();
     SimulationResult r = simulate_model(m, settings);
     out.run_time_s.push_back(seconds_since(t0));

@@ -41,9 +41,9 @@ struct TrialNoiseFloor {
 
 class ReductionReference {
  public:
-  //! Simulates `model` fully (the reference) and prepares the reusable radiative state.
-  //! `reference_result`, if given, must be simulate_model(model, settings.simulation) (e.g. the
-  //! first run of a noise-floor measurement) and is used instead of simulating again.
+  //! Simulates `model` fully (the reference) and prepares the reusable radiative state, in
+  //! one pass (equal to simulate_model(model, settings.simulation)). `reference_result`, if
+  //! given, must be that result and is used as is.
   //! \throw InvalidInput / SolverError from the stages.
   ReductionReference(const ThermalModel& model, const ReductionReferenceSettings& settings,
                      const SimulationResult* reference_result = nullptr);

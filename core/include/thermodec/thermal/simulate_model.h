@@ -33,7 +33,10 @@ struct NoiseFloor {
   SimulationResult first;                          //!< the first run's result
 };
 
+//! `first`, if given, is the first run's result (simulate_model(model, settings), e.g. a
+//! reference already simulated): only runs 2..runs are simulated (and timed).
 //! \throw InvalidInput if runs < 2.
-NoiseFloor noise_floor(const ThermalModel& model, int runs = 3, const ModelSimulationSettings& settings = {});
+NoiseFloor noise_floor(const ThermalModel& model, int runs = 3, const ModelSimulationSettings& settings = {},
+                       const SimulationResult* first = nullptr);
 
 }  // namespace thermodec
