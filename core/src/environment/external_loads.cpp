@@ -499,8 +499,9 @@ std::vector<char> may_be_blocked_from_earth(const std::vector<Side>& geo, const 
 // `rays` = #sides rays for a side whose view is partly blocked (the pilot decides).
 EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
                      const Eigen::Vector3d& earth_dir_in, double distance_m, const Eigen::VectorXi& side_rays,
-                     int pilot_rays, std::uint64_t seed, const tracing::SobolTable& sobol, const Occluders& occ,
-                     const PassContext& pass, const std::vector<char>* todo = nullptr, bool flatten = true) {
+                     int pilot_rays, std::uint64_t seed, const tracing::SobolTable& sobol,
+                     const std::vector<char>& may_be_blocked, const PassContext& pass,
+                     const std::vector<char>* todo = nullptr, bool flatten = true) {
   const int ns = sides.size();
   EarthHits out;
   out.rays.resize(ns);
@@ -514,7 +515,6 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   orthonormal_frame(earth_dir, et, eu);
   const Eigen::Vector3f fe = earth_dir.cast<float>(), ft = et.cast<float>(), fu = eu.cast<float>();
   const float one_minus_cos_half = float(1.0 - cos_half);
-  const std::vector<char> may_be_blocked = may_be_blocked_from_earth(geo, occ, earth_dir, sin_half, todo);
   const bool recording = pass.recording();
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 16), [&](const tbb::blocked_range<int>& range) {
     SideTracer tracer(scene, /*coherent=*/false, recording, pass.change);
@@ -726,9 +726,11 @@ Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& si
   if (!(distance_m > kEarthRadius_m)) throw InvalidInput("Earth view factors: distance must exceed the Earth radius");
   const auto geo = side_geometry(scene.mesh(), sides);
   const auto sobol = sampling::sobol_4d_reversed(rays);
+  const auto may_be_blocked = may_be_blocked_from_earth(geo, occluders(geo, sides), earth_direction_body.normalized(),
+                                                        kEarthRadius_m / distance_m, nullptr);
   const EarthHits hits = earth_hits(scene, geo, sides, earth_direction_body, distance_m,
-                                    Eigen::VectorXi::Constant(sides.size(), rays), rays, seed, sobol,
-                                    occluders(geo, sides), PassContext{});
+                                    Eigen::VectorXi::Constant(sides.size(), rays), rays, seed, sobol, may_be_blocked,
+                                    PassContext{});
   return hits.view_factor;
 }
 
@@ -878,6 +880,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     samples->sun_records.assign(steps, RayRecords{});
     samples->earth_records = RayRecords{};
     samples->per_ray = false;
+    samples->earth_may_be_blocked.clear();
   }
 
   // Solar-band incident power per side and step [W] (direct and albedo), absorbed shares.
@@ -930,11 +933,21 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     if (ref && ref->earth_fixed != earth_fixed)
       throw InvalidInput("external loads: reference samples are for another attitude");
     const double half_angle = std::asin(kEarthRadius_m / distance);
-    std::vector<char> earth_todo(ns, 1);
+    std::vector<char> earth_todo(ns, 1), may_be_blocked;
+    if (earth_fixed) {
+      // For every side (not only those traced): a side reused whole must also have taken the
+      // same pilot decision, which depends on this conservative test as well as on its rays.
+      may_be_blocked = may_be_blocked_from_earth(geo, occ, states[0].earth_direction_body.normalized(),
+                                                 kEarthRadius_m / distance, nullptr);
+      if (samples) samples->earth_may_be_blocked = may_be_blocked;
+    }
+    const bool ref_has_decisions = ref && static_cast<int>(ref->earth_may_be_blocked.size()) == static_cast<int>(ref->key.size());
     if (ref)
       for (int s = 0; s < ns; ++s) {
-        earth_todo[s] = !(same_counts(s) && (earth_fixed ? clear_of_change_in_cone(s, states[0].earth_direction_body.normalized(), half_angle)
-                                                          : clear_of_change_in_front(s)));
+        earth_todo[s] = !(same_counts(s) &&
+                          (earth_fixed ? ref_has_decisions && may_be_blocked[s] == ref->earth_may_be_blocked[ref_of[s]] &&
+                                             clear_of_change_in_cone(s, states[0].earth_direction_body.normalized(), half_angle)
+                                       : clear_of_change_in_front(s)));
         reuse->reused_earth += !earth_todo[s];
         reuse->total_earth += 1;
       }
@@ -943,7 +956,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     const PassContext pass = make_pass(ref ? &ref->earth_records : nullptr, &reused_earth_rays, &traced_earth_rays);
     if (earth_fixed) {
       hits = earth_hits(scene, geo, sides, states[0].earth_direction_body, distance, earth_rays, settings.earth_pilot_rays,
-                        settings.seed, sobol, occ, pass, ref ? &earth_todo : nullptr, /*flatten=*/false);
+                        settings.seed, sobol, may_be_blocked, pass, ref ? &earth_todo : nullptr, /*flatten=*/false);
       if (ref)
         for (int s = 0; s < ns; ++s)
           if (!earth_todo[s]) {

@@ -107,6 +107,9 @@ struct LoadSamples {
   //! axes, else (1/N, escaping direction).
   std::vector<std::vector<std::pair<float, Eigen::Vector3f>>> earth;
   Eigen::VectorXd earth_view_factor;  //!< #sides F_side->Earth (Earth fixed in body axes)
+  //! #sides: could the spacecraft block the side's Earth view at all (conservative bounding-
+  //! sphere test; it decides, with the pilot rays, how many rays the side traces)
+  std::vector<char> earth_may_be_blocked;
   bool earth_fixed = true;
   Eigen::VectorXi sun_rays, earth_rays;  //!< #sides sample counts used (see the *_min_rays_per_node)
   //! Per-ray records (see RayRecords), kept when they fit settings.ray_record_budget_bytes:
