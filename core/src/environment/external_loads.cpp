@@ -845,16 +845,44 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     c = (g.a + g.b + g.c) / 3.0;
     return std::max({(g.a - c).norm(), (g.b - c).norm(), (g.c - c).norm()}) + 2.0 * g.offset + 1e-9;
   };
+  // The side's rays all leave forwards (n . d > 0) from within its bounding sphere, so they
+  // stay in the half-space n . x >= n . c - rho: a region wholly behind it is out of reach.
+  auto change_behind = [&](int s) {
+    Eigen::Vector3d c;
+    const double rho = side_sphere(s, c);
+    const Eigen::Vector3d& n = geo[s].normal;
+    const Eigen::AlignedBox3d& box = reuse->changed_region;
+    const double support = n.dot(box.center()) + n.cwiseAbs().dot(0.5 * box.diagonal());
+    return support < n.dot(c) - rho - 1e-9 * (1.0 + box.diagonal().norm() + c.norm());
+  };
   auto clear_of_change_along = [&](int s, const Eigen::Vector3d& d) {  // half-line family c + t d
-    if (change_radius < 0.0) return true;
+    if (change_radius < 0.0 || change_behind(s)) return true;
     Eigen::Vector3d c;
     const double rho = side_sphere(s, c);
     const Eigen::Vector3d bc = change_centre - c;
     const double t = std::max(0.0, bc.dot(d));
-    return (bc - t * d).norm() > rho + change_radius;
+    if ((bc - t * d).norm() > rho + change_radius) return true;
+    // Tighter for flat or long regions: the swept sphere {c + t d + r, |r| <= rho} meets the
+    // region only if the half-line from c meets the region grown by rho (slab test).
+    const Eigen::AlignedBox3d& box = reuse->changed_region;
+    const double grow = rho + 1e-9 * (1.0 + box.diagonal().norm());
+    double t0 = 0.0, t1 = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+      const double lo = box.min()[k] - grow, hi = box.max()[k] + grow;
+      if (d[k] == 0.0) {
+        if (c[k] < lo || c[k] > hi) return true;
+        continue;
+      }
+      double ta = (lo - c[k]) / d[k], tb = (hi - c[k]) / d[k];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+      if (t0 > t1) return true;
+    }
+    return false;
   };
   auto clear_of_change_in_cone = [&](int s, const Eigen::Vector3d& axis, double half_angle) {
-    if (change_radius < 0.0) return true;
+    if (change_radius < 0.0 || change_behind(s)) return true;
     Eigen::Vector3d c;
     const double rho = side_sphere(s, c);
     const Eigen::Vector3d bc = change_centre - c;
@@ -864,7 +892,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     return angle > half_angle + std::asin(std::min(1.0, reach / dist)) + 1e-9;
   };
   auto clear_of_change_in_front = [&](int s) {
-    if (change_radius < 0.0) return true;
+    if (change_radius < 0.0 || change_behind(s)) return true;
     Eigen::Vector3d c;
     const double rho = side_sphere(s, c);
     return (change_centre - c).dot(geo[s].normal) < -(rho + change_radius);
