@@ -122,10 +122,15 @@ struct LoadSamples {
   bool per_ray = false;  //!< the records are complete
 };
 
-//! Reuse request: sides present in `reference` (same key) whose sun rays, Earth rays or
-//! hemisphere cannot reach `changed_region` take their samples from it. `changed_region`
-//! [m, body axes] must bound the changed geometry before AND after the change (what was
-//! removed can have shadowed others). Same environment and settings as the reference run.
+//! Reuse request: sides present in `reference` (same key) with the same sample counts whose
+//! sun rays, Earth rays or hemisphere cannot reach `changed_region` (conservative bounding-
+//! volume tests) take their samples from it whole; on the other such sides, with the
+//! reference's per-ray records (LoadSamples::per_ray), each ray whose path up to its recorded
+//! blocker (or to infinity) stays out of `changed_region` keeps its recorded result and only
+//! the others are traced again. Either way the result equals a full run bit for bit.
+//! `changed_region` [m, body axes] must bound the changed geometry before AND after the change
+//! (what was removed can have shadowed others). Same environment and settings as the
+//! reference run. A run given `reuse` records no per-ray records in its own `samples`.
 struct LoadReuse {
   const LoadSamples* reference = nullptr;
   Eigen::AlignedBox3d changed_region;
