@@ -12,6 +12,8 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <unordered_map>
 #include <vector>
 
@@ -47,6 +49,17 @@ std::array<std::uint32_t, 4> side_seeds(std::uint64_t seed, std::uint64_t key, s
   const std::uint64_t h = sampling::hash_combine(sampling::hash_combine(key, seed), 0x10ad5000ull + purpose);
   for (int d = 0; d < 4; ++d) out[d] = std::uint32_t(sampling::hash_combine(h, d) >> 32);
   return out;
+}
+
+// The bit-reversed Sobol table with at least n points, shared by all runs of the process (its
+// first n points do not depend on its length; building 1e5 points costs a few ms per run).
+std::shared_ptr<const tracing::SobolTable> sobol_table(int n) {
+  static std::mutex mutex;
+  static std::shared_ptr<const tracing::SobolTable> cached;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (!cached || static_cast<int>(cached->size()) < n)
+    cached = std::make_shared<const tracing::SobolTable>(sampling::sobol_4d_reversed(n));
+  return cached;
 }
 
 // Owen-scrambled coordinate in (0, 1] of a bit-reversed Sobol value (sampling::sobol_4d_reversed):
@@ -588,6 +601,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       const double f_open = unobstructed_earth_view_factor(g.normal.dot(earth_dir), distance_m);
       const double weight = all > 0.0 ? f_open / all : cap_over_pi / used;
       auto& keep = out.rays[s];
+      keep.reserve(cos_theta.size());
       double f = 0.0;
       for (size_t k = 0; k < cos_theta.size(); ++k)
         if (!rays_out.blocked[k]) {
@@ -725,7 +739,8 @@ Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& si
   if (rays < 1) throw InvalidInput("earth_rays_per_face must be >= 1");
   if (!(distance_m > kEarthRadius_m)) throw InvalidInput("Earth view factors: distance must exceed the Earth radius");
   const auto geo = side_geometry(scene.mesh(), sides);
-  const auto sobol = sampling::sobol_4d_reversed(rays);
+  const auto table = sobol_table(rays);
+  const tracing::SobolTable& sobol = *table;
   const auto may_be_blocked = may_be_blocked_from_earth(geo, occluders(geo, sides), earth_direction_body.normalized(),
                                                         kEarthRadius_m / distance_m, nullptr);
   const EarthHits hits = earth_hits(scene, geo, sides, earth_direction_body, distance_m,
@@ -790,7 +805,8 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
   // One Sobol table for every pass (the largest count any side or pilot draws).
   int max_rays = std::max({settings.sun_pilot_rays, settings.earth_pilot_rays, settings.earth_rays_per_face, 1});
   if (ns > 0) max_rays = std::max({max_rays, sun_rays.maxCoeff(), earth_rays.maxCoeff()});
-  const tracing::SobolTable sobol = sampling::sobol_4d_reversed(max_rays);
+  const auto table = sobol_table(max_rays);
+  const tracing::SobolTable& sobol = *table;
   const Occluders occ = occluders(geo, sides);
   Eigen::Vector3d change_centre = Eigen::Vector3d::Zero();
   double change_radius = 0.0;
