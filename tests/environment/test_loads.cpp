@@ -5,6 +5,7 @@
 
 #include "environment/test_models.h"
 #include "thermodec/common/errors.h"
+#include "thermodec/decimation/decimate_nodes.h"
 #include "thermodec/environment/external_loads.h"
 #include "thermodec/environment/orbit.h"
 #include "thermodec/mesh/face_geometry.h"
@@ -338,4 +339,40 @@ TEST(LoadReuse, inertial_attitude_reuses_hemisphere_rays_and_matches_a_full_reco
   EXPECT_EQ(incremental.earth_ir_W, full.earth_ir_W);
   EXPECT_GT(reuse.reused_earth_rays, 0);
   EXPECT_GT(reuse.traced_earth_rays, 0);
+}
+
+TEST(LoadReuse, decimated_node_trial_keeps_earth_pilot_decisions_and_equals_a_full_recompute) {
+  // A decimation (the driver's real trials) moves face spheres: a side far from the change can
+  // lose or gain "may be blocked" (the conservative test deciding, with the pilot rays, how
+  // many Earth rays it traces). Such a side must not be reused whole. Measured on the sample:
+  // boom at ratio 0.64 flipped a dish side, 5e-5 W of albedo apart before the fix.
+  ThermalModel model = load_model(fs_sample());
+  const ExternalLoadSettings s;  // the defaults: the flip needs the per-node budgets
+  LoadSamples reference;
+  {
+    const RayScene scene(model.mesh);
+    external_loads(model, scene, surface_sides(model), nullptr, s, {}, &reference);
+  }
+  int node = -1;
+  for (size_t n = 0; n < model.nodes.size(); ++n)
+    if (model.nodes[n].name == "boom") node = static_cast<int>(n);
+  ASSERT_GE(node, 0);
+  Eigen::VectorXd ratios = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model.nodes.size()));
+  ratios[node] = 0.64;
+  ThermalModel trial = model;
+  trial.mesh = decimate_nodes(model.mesh, ratios).mesh;
+  Eigen::AlignedBox3d changed;  // the node's faces before and after bound what changed
+  for (const Mesh* m : {&model.mesh, &trial.mesh})
+    for (int f = 0; f < m->num_faces(); ++f)
+      if (m->face_node[f] == node)
+        for (int k = 0; k < 3; ++k) changed.extend(Eigen::Vector3d(m->V.row(m->F(f, k)).transpose()));
+  const RayScene scene(trial.mesh);
+  const SurfaceSides sides = surface_sides(trial);
+  const Loads full = external_loads(trial, scene, sides, nullptr, s);
+  LoadReuse reuse{&reference, changed};
+  const Loads incremental = external_loads(trial, scene, sides, nullptr, s, {}, nullptr, &reuse);
+  EXPECT_EQ(incremental.solar_W, full.solar_W);
+  EXPECT_EQ(incremental.albedo_W, full.albedo_W);
+  EXPECT_EQ(incremental.earth_ir_W, full.earth_ir_W);
+  EXPECT_GT(reuse.reused_earth_rays, 0);
 }

@@ -12,10 +12,10 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <unordered_map>
 #include <vector>
-#include <chrono>
-#include <cstdio>
 
 #include "thermodec/common/errors.h"
 #include "thermodec/environment/orbit.h"
@@ -49,6 +49,17 @@ std::array<std::uint32_t, 4> side_seeds(std::uint64_t seed, std::uint64_t key, s
   const std::uint64_t h = sampling::hash_combine(sampling::hash_combine(key, seed), 0x10ad5000ull + purpose);
   for (int d = 0; d < 4; ++d) out[d] = std::uint32_t(sampling::hash_combine(h, d) >> 32);
   return out;
+}
+
+// The bit-reversed Sobol table with at least n points, shared by all runs of the process (its
+// first n points do not depend on its length; building 1e5 points costs a few ms per run).
+std::shared_ptr<const tracing::SobolTable> sobol_table(int n) {
+  static std::mutex mutex;
+  static std::shared_ptr<const tracing::SobolTable> cached;
+  std::lock_guard<std::mutex> lock(mutex);
+  if (!cached || static_cast<int>(cached->size()) < n)
+    cached = std::make_shared<const tracing::SobolTable>(sampling::sobol_4d_reversed(n));
+  return cached;
 }
 
 // Owen-scrambled coordinate in (0, 1] of a bit-reversed Sobol value (sampling::sobol_4d_reversed):
@@ -187,6 +198,12 @@ class SideTracer {
     r.time = 0.0f; r.mask = 0xFFFFFFFFu; r.id = 0; r.flags = 0;
     if (n_ == kChunk) flush();
   }
+  // A ray known to be unblocked without tracing (a conservative geometric test said so).
+  void add_open() {
+    if (static_cast<std::int64_t>(out_->blocked.size()) < ref_.count && ref_.bit(next_ref_++)) ++ref_.hit;
+    out_->blocked.push_back(0);
+    if (record_) out_->hit_m.push_back(kInf);
+  }
   void flush() {
     if (n_ == 0) return;
     traced += n_;
@@ -293,6 +310,85 @@ struct PassContext {
   }
 };
 
+// True if no point of side t's triangle lies above side s's plane by more than half s's ray
+// lift: rays leaving s (lifted by its offset, going away from its plane) can never meet t.
+// Adjacent faces of one panel and faces behind s are ruled out so.
+bool below_plane_of(const Side& s, const Side& t) {
+  const double h = 0.5 * s.offset;
+  return s.normal.dot(t.a - s.a) <= h && s.normal.dot(t.b - s.a) <= h && s.normal.dot(t.c - s.a) <= h;
+}
+
+// For the conservative "can anything block this side's rays" tests: per side, a bounding
+// sphere (plus its ray lift and float rounding: Embree works in single precision) and the
+// faces that could block it in some direction at all, i.e. that are not below its plane
+// (below_plane_of; each face once, whichever side). Direction-independent: built once per run.
+struct Occluders {
+  std::vector<Eigen::Vector3d> centre;
+  std::vector<double> radius;  // < 0 for sides without area
+  std::vector<int> begin, list;  // side s: potential blockers list[begin[s] .. begin[s + 1])
+};
+
+Occluders occluders(const std::vector<Side>& geo, const SurfaceSides& sides) {
+  const int ns = sides.size();
+  Occluders o;
+  o.centre.resize(ns);
+  o.radius.assign(ns, -1.0);
+  std::vector<int> blockers;  // one side per face
+  for (int s = 0; s < ns; ++s) {
+    const Side& g = geo[s];
+    if (g.area <= 0.0) continue;
+    const Eigen::Vector3d c = (g.a + g.b + g.c) / 3.0;
+    o.centre[s] = c;
+    o.radius[s] = std::max({(g.a - c).norm(), (g.b - c).norm(), (g.c - c).norm()}) + 2.0 * g.offset +
+                  1e-6 * (c.cwiseAbs().maxCoeff() + g.offset) + 1e-9;
+    const int f = sides.face[s];
+    if (sides.front_side[f] < 0 || sides.front_side[f] == s) blockers.push_back(s);
+  }
+  std::vector<std::vector<int>> per_side(ns);
+  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
+    for (int s = range.begin(); s < range.end(); ++s) {
+      if (o.radius[s] < 0.0) continue;
+      for (int t : blockers)
+        if (sides.face[t] != sides.face[s] && !below_plane_of(geo[s], geo[t])) per_side[s].push_back(t);
+    }
+  });
+  o.begin.assign(ns + 1, 0);
+  for (int s = 0; s < ns; ++s) o.begin[s + 1] = o.begin[s] + static_cast<int>(per_side[s].size());
+  o.list.reserve(o.begin[ns]);
+  for (auto& l : per_side) o.list.insert(o.list.end(), l.begin(), l.end());
+  return o;
+}
+
+// Which sides facing `toward` (unit) may be shadowed at all: some potential blocker's bounding
+// sphere meets the prism their rays sweep (the side's bounding sphere moved along `toward`).
+// The others are lit whatever their sample points, exactly, and need no rays.
+std::vector<char> may_be_shadowed(const std::vector<Side>& geo, const Occluders& occ, const Eigen::Vector3d& toward) {
+  const int ns = static_cast<int>(geo.size());
+  std::vector<char> out(ns, 0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
+    for (int s = range.begin(); s < range.end(); ++s) {
+      const double facing = geo[s].normal.dot(toward);
+      if (occ.radius[s] < 0.0 || facing <= 0.0) continue;
+      if (facing < 1e-6) {  // grazing: float rays could sink below the lift, let Embree decide
+        out[s] = 1;
+        continue;
+      }
+      for (int k = occ.begin[s]; k < occ.begin[s + 1]; ++k) {
+        const int t = occ.list[k];
+        const double reach = occ.radius[s] + occ.radius[t];
+        const Eigen::Vector3d v = occ.centre[t] - occ.centre[s];
+        const double along = v.dot(toward);
+        if (along < -reach) continue;  // wholly behind the rays' start
+        if (v.squaredNorm() - along * along <= reach * reach) {
+          out[s] = 1;
+          break;
+        }
+      }
+    }
+  });
+  return out;
+}
+
 // Unblocked fraction of each side's sample points towards the direction `toward` (unit),
 // for sides facing it; 0 for the others. A pilot of the first P Sobol points (P a power of 2:
 // one per 1/P-area stratum of the Owen-scrambled net) decides fully lit or fully shadowed
@@ -301,12 +397,13 @@ struct PassContext {
 // the sample: P = 16 left 0.6 W seed-to-seed differences on single nodes, P = 64 < 0.2 W).
 Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
                                 const Eigen::Vector3d& toward, const Eigen::VectorXi& side_rays, int pilot_rays,
-                                std::uint64_t seed, const tracing::SobolTable& sobol, const PassContext& pass,
-                                const std::vector<char>* todo = nullptr) {
+                                std::uint64_t seed, const tracing::SobolTable& sobol, const Occluders& occ,
+                                const PassContext& pass, const std::vector<char>* todo = nullptr) {
   const int ns = sides.size();
   Eigen::VectorXd frac = Eigen::VectorXd::Zero(ns);
   const float dir[3] = {float(toward.x()), float(toward.y()), float(toward.z())};
   const bool recording = pass.recording();
+  const std::vector<char> shadowable = may_be_shadowed(geo, occ, toward);
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
     // Parallel shadow rays from one triangle: Embree's coherent (packet) traversal fits them.
     SideTracer tracer(scene, /*coherent=*/true, recording, pass.change);
@@ -314,6 +411,10 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
     for (int s = range.begin(); s < range.end(); ++s) {
       const Side& g = geo[s];
       if (g.area <= 0.0 || g.normal.dot(toward) <= 0.0 || (todo && !(*todo)[s])) continue;
+      if (!shadowable[s]) {  // exact: every sample point sees the sun
+        frac[s] = 1.0;
+        continue;
+      }
       const auto sd = side_seeds(seed, sides.key[s], 1);
       const int rays = side_rays[s], pilot = std::max(1, std::min(rays, pilot_rays));
       tracer.begin(&rays_out, pass.cursor(s));
@@ -376,27 +477,19 @@ struct EarthHits {
 // and in front of the side. The pilot alone would call a side unobstructed when a small
 // blocker slips between its pilot rays, a seed-dependent (heavy-tailed) error; with this
 // conservative geometric test such sides always trace all their rays.
-std::vector<char> may_be_blocked_from_earth(const std::vector<Side>& geo, const SurfaceSides& sides,
+std::vector<char> may_be_blocked_from_earth(const std::vector<Side>& geo, const Occluders& occ,
                                             const Eigen::Vector3d& earth_dir, double sin_half,
                                             const std::vector<char>* todo) {
-  const int ns = sides.size();
-  std::vector<Eigen::Vector3d> centre_of(ns);
-  std::vector<double> radius_of(ns, 0.0);
-  for (int s = 0; s < ns; ++s) {
-    const Side& g = geo[s];
-    centre_of[s] = (g.a + g.b + g.c) / 3.0;
-    radius_of[s] = std::max({(g.a - centre_of[s]).norm(), (g.b - centre_of[s]).norm(), (g.c - centre_of[s]).norm()}) +
-                   2.0 * g.offset + 1e-9;
-  }
+  const int ns = static_cast<int>(geo.size());
   const double cos_half = std::sqrt(1.0 - sin_half * sin_half);
   std::vector<char> out(ns, 0);
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
     for (int s = range.begin(); s < range.end(); ++s) {
-      if (geo[s].area <= 0.0 || (todo && !(*todo)[s])) continue;
-      for (int t = 0; t < ns; ++t) {
-        if (sides.face[t] == sides.face[s] || geo[t].area <= 0.0) continue;
-        const Eigen::Vector3d v = centre_of[t] - centre_of[s];
-        const double reach = radius_of[s] + radius_of[t];
+      if (occ.radius[s] < 0.0 || (todo && !(*todo)[s])) continue;
+      for (int k = occ.begin[s]; k < occ.begin[s + 1]; ++k) {
+        const int t = occ.list[k];
+        const Eigen::Vector3d v = occ.centre[t] - occ.centre[s];
+        const double reach = occ.radius[s] + occ.radius[t];
         if (v.dot(geo[s].normal) < -reach) continue;  // wholly behind the side
         const double dist2 = v.squaredNorm();
         if (dist2 <= reach * reach) {
@@ -406,7 +499,7 @@ std::vector<char> may_be_blocked_from_earth(const std::vector<Side>& geo, const 
         // angle(v, earth) <= half + asin(reach / dist), compared through cosines (both angles
         // in [0, pi], cos decreasing there): cos(half + beta) = cos_half cos_beta - sin_half sin_beta.
         const double dist = std::sqrt(dist2), sin_b = reach / dist, cos_b = std::sqrt(1.0 - sin_b * sin_b);
-        if (v.dot(earth_dir) / dist >= cos_half * cos_b - sin_half * sin_b - 1e-9) {
+        if (v.dot(earth_dir) / dist >= cos_half * cos_b - sin_half * sin_b - 1e-6) {  // (float ray directions)
           out[s] = 1;
           break;
         }
@@ -419,14 +512,14 @@ std::vector<char> may_be_blocked_from_earth(const std::vector<Side>& geo, const 
 // `rays` = #sides rays for a side whose view is partly blocked (the pilot decides).
 EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
                      const Eigen::Vector3d& earth_dir_in, double distance_m, const Eigen::VectorXi& side_rays,
-                     int pilot_rays, std::uint64_t seed, const tracing::SobolTable& sobol, const PassContext& pass,
+                     int pilot_rays, std::uint64_t seed, const tracing::SobolTable& sobol,
+                     const std::vector<char>& may_be_blocked, const PassContext& pass,
                      const std::vector<char>* todo = nullptr, bool flatten = true) {
   const int ns = sides.size();
   EarthHits out;
   out.rays.resize(ns);
   out.view_factor = Eigen::VectorXd::Zero(ns);
   const Eigen::Vector3d earth_dir = earth_dir_in.normalized();
-  const Eigen::Vector3d centre = earth_dir * distance_m;
   const double R2 = kEarthRadius_m * kEarthRadius_m;
   const double sin_half = kEarthRadius_m / distance_m;
   const double cos_half = std::sqrt(1.0 - sin_half * sin_half);
@@ -435,7 +528,6 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   orthonormal_frame(earth_dir, et, eu);
   const Eigen::Vector3f fe = earth_dir.cast<float>(), ft = et.cast<float>(), fu = eu.cast<float>();
   const float one_minus_cos_half = float(1.0 - cos_half);
-  const std::vector<char> may_be_blocked = may_be_blocked_from_earth(geo, sides, earth_dir, sin_half, todo);
   const bool recording = pass.recording();
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 16), [&](const tbb::blocked_range<int>& range) {
     SideTracer tracer(scene, /*coherent=*/false, recording, pass.change);
@@ -463,17 +555,23 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
           for (int i = 0; i < 3; ++i) d[i] = cos_a * fe[i] + sin_a * (cp * ft[i] + sp * fu[i]);
           const float cos_t = g.fn[0] * d[0] + g.fn[1] * d[1] + g.fn[2] * d[2];
           if (cos_t <= 0.0f) continue;
-          float o[3];
-          on_side(g, scrambled(q[0], sd[0]), scrambled(q[1], sd[1]), o);
-          // Earth normal at the hit, in double: |centre| ~ 7e6 m would leave float nothing.
-          const Eigen::Vector3d od(o[0], o[1], o[2]), dd(d[0], d[1], d[2]);
-          const Eigen::Vector3d oc = centre - od;
-          const double tc = oc.dot(dd);
-          const double d2 = std::max(0.0, oc.squaredNorm() - tc * tc);
-          const double t_hit = d2 < R2 ? tc - std::sqrt(R2 - d2) : tc;  // grazing: nearest point
-          tracer.add(o, d);
+          // Earth normal at the hit, seen from the body origin (the craft's metres are nothing
+          // against the Earth's radius): the ray at angle a from the centre direction meets the
+          // sphere at t = D cos a - sqrt(R^2 - D^2 sin^2 a). In double: D^2 ~ 5e13 m^2.
+          const double ca = cos_a, sa = sin_a;
+          const double t_hit = distance_m * ca - std::sqrt(std::max(0.0, R2 - distance_m * distance_m * sa * sa));
+          const double n_axis = (t_hit * ca - distance_m) / kEarthRadius_m, n_side = t_hit * sa / kEarthRadius_m;
+          Eigen::Vector3f n_earth;
+          for (int i = 0; i < 3; ++i) n_earth[i] = float(n_axis * fe[i] + n_side * (cp * ft[i] + sp * fu[i]));
+          if (may_be_blocked[s]) {
+            float o[3];
+            on_side(g, scrambled(q[0], sd[0]), scrambled(q[1], sd[1]), o);
+            tracer.add(o, d);
+          } else {
+            tracer.add_open();  // exact: no face can meet these rays
+          }
           cos_theta.push_back(cos_t);
-          earth_normal.push_back((od + t_hit * dd - centre).normalized().cast<float>());
+          earth_normal.push_back(n_earth);
         }
         tracer.flush();
       };
@@ -503,6 +601,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       const double f_open = unobstructed_earth_view_factor(g.normal.dot(earth_dir), distance_m);
       const double weight = all > 0.0 ? f_open / all : cap_over_pi / used;
       auto& keep = out.rays[s];
+      keep.reserve(cos_theta.size());
       double f = 0.0;
       for (size_t k = 0; k < cos_theta.size(); ++k)
         if (!rays_out.blocked[k]) {
@@ -640,9 +739,13 @@ Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& si
   if (rays < 1) throw InvalidInput("earth_rays_per_face must be >= 1");
   if (!(distance_m > kEarthRadius_m)) throw InvalidInput("Earth view factors: distance must exceed the Earth radius");
   const auto geo = side_geometry(scene.mesh(), sides);
-  const auto sobol = sampling::sobol_4d_reversed(rays);
+  const auto table = sobol_table(rays);
+  const tracing::SobolTable& sobol = *table;
+  const auto may_be_blocked = may_be_blocked_from_earth(geo, occluders(geo, sides), earth_direction_body.normalized(),
+                                                        kEarthRadius_m / distance_m, nullptr);
   const EarthHits hits = earth_hits(scene, geo, sides, earth_direction_body, distance_m,
-                                    Eigen::VectorXi::Constant(sides.size(), rays), rays, seed, sobol, PassContext{});
+                                    Eigen::VectorXi::Constant(sides.size(), rays), rays, seed, sobol, may_be_blocked,
+                                    PassContext{});
   return hits.view_factor;
 }
 
@@ -702,7 +805,9 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
   // One Sobol table for every pass (the largest count any side or pilot draws).
   int max_rays = std::max({settings.sun_pilot_rays, settings.earth_pilot_rays, settings.earth_rays_per_face, 1});
   if (ns > 0) max_rays = std::max({max_rays, sun_rays.maxCoeff(), earth_rays.maxCoeff()});
-  const tracing::SobolTable sobol = sampling::sobol_4d_reversed(max_rays);
+  const auto table = sobol_table(max_rays);
+  const tracing::SobolTable& sobol = *table;
+  const Occluders occ = occluders(geo, sides);
   Eigen::Vector3d change_centre = Eigen::Vector3d::Zero();
   double change_radius = 0.0;
   if (ref) {
@@ -756,16 +861,44 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     c = (g.a + g.b + g.c) / 3.0;
     return std::max({(g.a - c).norm(), (g.b - c).norm(), (g.c - c).norm()}) + 2.0 * g.offset + 1e-9;
   };
+  // The side's rays all leave forwards (n . d > 0) from within its bounding sphere, so they
+  // stay in the half-space n . x >= n . c - rho: a region wholly behind it is out of reach.
+  auto change_behind = [&](int s) {
+    Eigen::Vector3d c;
+    const double rho = side_sphere(s, c);
+    const Eigen::Vector3d& n = geo[s].normal;
+    const Eigen::AlignedBox3d& box = reuse->changed_region;
+    const double support = n.dot(box.center()) + n.cwiseAbs().dot(0.5 * box.diagonal());
+    return support < n.dot(c) - rho - 1e-9 * (1.0 + box.diagonal().norm() + c.norm());
+  };
   auto clear_of_change_along = [&](int s, const Eigen::Vector3d& d) {  // half-line family c + t d
-    if (change_radius < 0.0) return true;
+    if (change_radius < 0.0 || change_behind(s)) return true;
     Eigen::Vector3d c;
     const double rho = side_sphere(s, c);
     const Eigen::Vector3d bc = change_centre - c;
     const double t = std::max(0.0, bc.dot(d));
-    return (bc - t * d).norm() > rho + change_radius;
+    if ((bc - t * d).norm() > rho + change_radius) return true;
+    // Tighter for flat or long regions: the swept sphere {c + t d + r, |r| <= rho} meets the
+    // region only if the half-line from c meets the region grown by rho (slab test).
+    const Eigen::AlignedBox3d& box = reuse->changed_region;
+    const double grow = rho + 1e-9 * (1.0 + box.diagonal().norm());
+    double t0 = 0.0, t1 = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+      const double lo = box.min()[k] - grow, hi = box.max()[k] + grow;
+      if (d[k] == 0.0) {
+        if (c[k] < lo || c[k] > hi) return true;
+        continue;
+      }
+      double ta = (lo - c[k]) / d[k], tb = (hi - c[k]) / d[k];
+      if (ta > tb) std::swap(ta, tb);
+      t0 = std::max(t0, ta);
+      t1 = std::min(t1, tb);
+      if (t0 > t1) return true;
+    }
+    return false;
   };
   auto clear_of_change_in_cone = [&](int s, const Eigen::Vector3d& axis, double half_angle) {
-    if (change_radius < 0.0) return true;
+    if (change_radius < 0.0 || change_behind(s)) return true;
     Eigen::Vector3d c;
     const double rho = side_sphere(s, c);
     const Eigen::Vector3d bc = change_centre - c;
@@ -775,7 +908,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     return angle > half_angle + std::asin(std::min(1.0, reach / dist)) + 1e-9;
   };
   auto clear_of_change_in_front = [&](int s) {
-    if (change_radius < 0.0) return true;
+    if (change_radius < 0.0 || change_behind(s)) return true;
     Eigen::Vector3d c;
     const double rho = side_sphere(s, c);
     return (change_centre - c).dot(geo[s].normal) < -(rho + change_radius);
@@ -791,6 +924,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     samples->sun_records.assign(steps, RayRecords{});
     samples->earth_records = RayRecords{};
     samples->per_ray = false;
+    samples->earth_may_be_blocked.clear();
   }
 
   // Solar-band incident power per side and step [W] (direct and albedo), absorbed shares.
@@ -821,7 +955,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       const PassContext pass = make_pass(ref && static_cast<int>(ref->sun_records.size()) == steps ? &ref->sun_records[k] : nullptr,
                                          &reused_sun_rays, &traced_sun_rays);
       lit = sunlit_fraction(scene, geo, sides, st.sun_direction_body, sun_rays, settings.sun_pilot_rays, settings.seed,
-                            sobol, pass, ref ? &todo : nullptr);
+                            sobol, occ, pass, ref ? &todo : nullptr);
       if (pass.recording() && recorder.active()) samples->sun_records[k] = pack_records(recorded);
       if (ref)
         for (int s = 0; s < ns; ++s)
@@ -843,11 +977,21 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     if (ref && ref->earth_fixed != earth_fixed)
       throw InvalidInput("external loads: reference samples are for another attitude");
     const double half_angle = std::asin(kEarthRadius_m / distance);
-    std::vector<char> earth_todo(ns, 1);
+    std::vector<char> earth_todo(ns, 1), may_be_blocked;
+    if (earth_fixed) {
+      // For every side (not only those traced): a side reused whole must also have taken the
+      // same pilot decision, which depends on this conservative test as well as on its rays.
+      may_be_blocked = may_be_blocked_from_earth(geo, occ, states[0].earth_direction_body.normalized(),
+                                                 kEarthRadius_m / distance, nullptr);
+      if (samples) samples->earth_may_be_blocked = may_be_blocked;
+    }
+    const bool ref_has_decisions = ref && static_cast<int>(ref->earth_may_be_blocked.size()) == static_cast<int>(ref->key.size());
     if (ref)
       for (int s = 0; s < ns; ++s) {
-        earth_todo[s] = !(same_counts(s) && (earth_fixed ? clear_of_change_in_cone(s, states[0].earth_direction_body.normalized(), half_angle)
-                                                          : clear_of_change_in_front(s)));
+        earth_todo[s] = !(same_counts(s) &&
+                          (earth_fixed ? ref_has_decisions && may_be_blocked[s] == ref->earth_may_be_blocked[ref_of[s]] &&
+                                             clear_of_change_in_cone(s, states[0].earth_direction_body.normalized(), half_angle)
+                                       : clear_of_change_in_front(s)));
         reuse->reused_earth += !earth_todo[s];
         reuse->total_earth += 1;
       }
@@ -856,7 +1000,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     const PassContext pass = make_pass(ref ? &ref->earth_records : nullptr, &reused_earth_rays, &traced_earth_rays);
     if (earth_fixed) {
       hits = earth_hits(scene, geo, sides, states[0].earth_direction_body, distance, earth_rays, settings.earth_pilot_rays,
-                        settings.seed, sobol, pass, ref ? &earth_todo : nullptr, /*flatten=*/false);
+                        settings.seed, sobol, may_be_blocked, pass, ref ? &earth_todo : nullptr, /*flatten=*/false);
       if (ref)
         for (int s = 0; s < ns; ++s)
           if (!earth_todo[s]) {
@@ -884,23 +1028,35 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     }
     if (pass.recording() && recorder.active()) samples->earth_records = pack_records(recorded);
     Eigen::VectorXd view_factor, lit_sum(ns);
+    // Earth fixed in body axes: per side, sum over its Earth hits of w max(0, n_E . sun) at
+    // every step at once (each hit read once, the steps in the inner, vectorisable loop).
+    Eigen::MatrixXf lit_per_step;  // steps x #sides
+    if (earth_fixed) {
+      std::vector<float> sx(steps), sy(steps), sz(steps);
+      for (int k = 0; k < steps; ++k) {
+        sx[k] = float(states[k].sun_direction_body.x());
+        sy[k] = float(states[k].sun_direction_body.y());
+        sz[k] = float(states[k].sun_direction_body.z());
+      }
+      lit_per_step = Eigen::MatrixXf::Zero(steps, ns);
+      const float* nx = hits.normals.col(0).data();
+      const float* ny = hits.normals.col(1).data();
+      const float* nz = hits.normals.col(2).data();
+      const float* w = hits.weights.data();
+      tbb::parallel_for(tbb::blocked_range<int>(0, ns, 16), [&](const tbb::blocked_range<int>& range) {
+        for (int s = range.begin(); s < range.end(); ++s) {
+          float* acc = lit_per_step.col(s).data();
+          for (int r = hits.begin[s]; r < hits.begin[s + 1]; ++r) {
+            const float wr = w[r], ax = nx[r], ay = ny[r], az = nz[r];
+            for (int k = 0; k < steps; ++k) acc[k] += wr * std::max(0.0f, ax * sx[k] + ay * sy[k] + az * sz[k]);
+          }
+        }
+      });
+    }
     for (int k = 0; k < steps; ++k) {
       const OrbitState& st = states[k];
       if (earth_fixed) {
-        const float sx = float(st.sun_direction_body.x()), sy = float(st.sun_direction_body.y()),
-                    sz = float(st.sun_direction_body.z());
-        const float* nx = hits.normals.col(0).data();
-        const float* ny = hits.normals.col(1).data();
-        const float* nz = hits.normals.col(2).data();
-        const float* w = hits.weights.data();
-        tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
-          for (int s = range.begin(); s < range.end(); ++s) {
-            float sum = 0.0f;
-            for (int k = hits.begin[s]; k < hits.begin[s + 1]; ++k)
-              sum += w[k] * std::max(0.0f, nx[k] * sx + ny[k] * sy + nz[k] * sz);
-            lit_sum[s] = sum;
-          }
-        });
+        for (int s = 0; s < ns; ++s) lit_sum[s] = lit_per_step(k, s);
         view_factor = hits.view_factor;
       } else {
         earth_view_from_escaping(escaping, st.earth_direction_body, distance, st.sun_direction_body, view_factor, lit_sum);

@@ -107,6 +107,9 @@ struct LoadSamples {
   //! axes, else (1/N, escaping direction).
   std::vector<std::vector<std::pair<float, Eigen::Vector3f>>> earth;
   Eigen::VectorXd earth_view_factor;  //!< #sides F_side->Earth (Earth fixed in body axes)
+  //! #sides: could the spacecraft block the side's Earth view at all (conservative bounding-
+  //! sphere test; it decides, with the pilot rays, how many rays the side traces)
+  std::vector<char> earth_may_be_blocked;
   bool earth_fixed = true;
   Eigen::VectorXi sun_rays, earth_rays;  //!< #sides sample counts used (see the *_min_rays_per_node)
   //! Per-ray records (see RayRecords), kept when they fit settings.ray_record_budget_bytes:
@@ -119,10 +122,15 @@ struct LoadSamples {
   bool per_ray = false;  //!< the records are complete
 };
 
-//! Reuse request: sides present in `reference` (same key) whose sun rays, Earth rays or
-//! hemisphere cannot reach `changed_region` take their samples from it. `changed_region`
-//! [m, body axes] must bound the changed geometry before AND after the change (what was
-//! removed can have shadowed others). Same environment and settings as the reference run.
+//! Reuse request: sides present in `reference` (same key) with the same sample counts whose
+//! sun rays, Earth rays or hemisphere cannot reach `changed_region` (conservative bounding-
+//! volume tests) take their samples from it whole; on the other such sides, with the
+//! reference's per-ray records (LoadSamples::per_ray), each ray whose path up to its recorded
+//! blocker (or to infinity) stays out of `changed_region` keeps its recorded result and only
+//! the others are traced again. Either way the result equals a full run bit for bit.
+//! `changed_region` [m, body axes] must bound the changed geometry before AND after the change
+//! (what was removed can have shadowed others). Same environment and settings as the
+//! reference run. A run given `reuse` records no per-ray records in its own `samples`.
 struct LoadReuse {
   const LoadSamples* reference = nullptr;
   Eigen::AlignedBox3d changed_region;
