@@ -57,7 +57,10 @@ void make_two_sided(Mesh& m, Eigen::VectorXi& two_sided, int f, int back_materia
   if (m.face_back_material[f] < 0) m.face_back_material[f] = back_material;
 }
 
-// Step 2: faces on the same three vertices.
+// Step 2: faces on the same three vertices. An opposite-orientation pair is either a sheet
+// exported as two back-to-back faces or the contact of two touching solids whose vertices were
+// welded; the surroundings tell them apart: without the pairs, a contact's rim still closes
+// (every rim edge keeps >= 2 other faces), a sheet's does not.
 void merge_index_duplicates(Mesh& m, Eigen::VectorXi& source, Eigen::VectorXi& two_sided, BareMeshCleanupReport& rep) {
   const int nf = m.num_faces();
   std::vector<std::pair<std::array<int, 3>, int>> sorted(nf);
@@ -73,23 +76,54 @@ void merge_index_duplicates(Mesh& m, Eigen::VectorXi& source, Eigen::VectorXi& t
     return (a < b) + (b < c) + (c < a) == 2;
   };
   std::vector<char> keep(nf, 1);
+  std::vector<std::pair<int, int>> pairs;  // (survivor, its reversed twin)
   for (int i = 0; i < nf;) {
     int j = i;
     while (j < nf && sorted[j].first == sorted[i].first) ++j;
-    // The first face of each orientation survives; the first of the other orientation becomes
-    // the survivor's back side if the survivor is one-sided.
     const int first = sorted[i].second;
+    int twin = -1;
     for (int k = i + 1; k < j; ++k) {
       const int g = sorted[k].second;
       keep[g] = 0;
-      if (parity(g) != parity(first) && !two_sided[first] && m.face_back_material[first] < 0) {
-        make_two_sided(m, two_sided, first, attr(m.face_material, g));
-        ++rep.back_to_back_pairs_merged;
-      } else {
+      if (twin < 0 && parity(g) != parity(first) && !two_sided[first] && m.face_back_material[first] < 0)
+        twin = g;
+      else
         ++rep.duplicate_faces_dropped;
+    }
+    if (twin >= 0) pairs.emplace_back(first, twin);
+    i = j;
+  }
+  if (!pairs.empty()) {
+    std::vector<char> in_pair(nf, 0);
+    for (const auto& [a, b] : pairs) in_pair[a] = in_pair[b] = 1;
+    std::map<std::pair<int, int>, int> other_faces, pair_faces;  // per edge: faces outside pairs / pair survivors
+    auto edge = [&](int f, int k) {
+      const int a = m.F(f, k), b = m.F(f, (k + 1) % 3);
+      return std::make_pair(std::min(a, b), std::max(a, b));
+    };
+    for (int f = 0; f < nf; ++f)
+      if (keep[f] && !in_pair[f])
+        for (int k = 0; k < 3; ++k) ++other_faces[edge(f, k)];
+    for (const auto& pr : pairs)
+      for (int k = 0; k < 3; ++k) ++pair_faces[edge(pr.first, k)];
+    const Eigen::VectorXd area = face_areas(m.V, m.F);
+    for (const auto& [a, b] : pairs) {
+      bool contact = true;
+      for (int k = 0; k < 3 && contact; ++k) {
+        const auto e = edge(a, k);
+        const auto it = other_faces.find(e);
+        const int others = it == other_faces.end() ? 0 : it->second;
+        contact = others >= 2 || (others == 0 && pair_faces[e] >= 2);
+      }
+      if (contact) {
+        keep[a] = 0;
+        rep.coincident_faces_dropped += 2;
+        rep.coincident_area_dropped_m2 += 2 * area[a];
+      } else {
+        make_two_sided(m, two_sided, a, attr(m.face_material, b));
+        ++rep.back_to_back_pairs_merged;
       }
     }
-    i = j;
   }
   if (std::find(keep.begin(), keep.end(), 0) != keep.end()) keep_faces(m, source, two_sided, keep);
 }

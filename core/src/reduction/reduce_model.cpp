@@ -32,6 +32,9 @@ ReductionRun reduce_model(const ThermalModel& model, const ReduceSettings& setti
   ReductionRun run;
   run.strategy = settings.strategy == ReductionStrategy::informed ? "informed" : "uniform";
   run.tolerance_K = tol;
+  run.mesh_cleanup = model.mesh_cleanup;
+  run.rays_per_face = model.radiation.rays_per_face;
+  run.sun_rays_per_face = settings.reference.simulation.loads.sun_rays_per_face;
 
   // Noise floor first: a tolerance the Monte Carlo noise could eat is refused before any work.
   say("noise floor: simulating the reference with " + std::to_string(settings.noise_runs) + " seeds");

@@ -5,9 +5,11 @@
 //!
 //! 1. repair_mesh (mesh/repair.h): weld, drop degenerate faces, conform T-junctions, orient
 //!    consistently, closed parts outward. Its index-duplicate removal is replaced by step 2.
-//! 2. Faces on the same three vertices: a same-orientation copy is dropped; an
-//!    opposite-orientation pair (a sheet exported as two back-to-back one-sided faces) becomes
-//!    one two-sided face, so both sides still radiate.
+//! 2. Faces on the same three vertices: a same-orientation copy is dropped. An
+//!    opposite-orientation pair is the contact of two touching solids (welded together) when
+//!    the surface around it closes without it (every rim edge keeps two other faces): both
+//!    faces are dropped, as in step 4. Otherwise it is a sheet exported as two back-to-back
+//!    one-sided faces and becomes one two-sided face, so both sides still radiate.
 //! 3. Sidedness of open sheets: a face of an edge-connected component with open (boundary)
 //!    edges is made two-sided with its front material on the back. A one-sided open sheet is
 //!    transparent from behind (rays pass through one-sided backs), so A sees C through B while
@@ -48,7 +50,7 @@ struct BareMeshCleanupReport {
   int back_to_back_pairs_merged = 0;         //!< same vertices, opposite: one two-sided face each
   int open_sheet_faces_made_two_sided = 0;
   int open_components = 0, closed_components = 0;  //!< edge-connected parts after repair
-  int coincident_faces_dropped = 0;
+  int coincident_faces_dropped = 0;         //!< touching faces, steps 2 and 4
   double coincident_area_dropped_m2 = 0.0;
   bool changed() const;
   //! One line per non-zero count, e.g. "open-sheet faces made two-sided: 2900".

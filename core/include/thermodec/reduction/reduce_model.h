@@ -3,6 +3,7 @@
 //! allows, node by node, guided by simulation, and verify the result (paper §IV-V).
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,10 @@ struct ReductionRun {
   SimulationResult reference;
   Mesh reference_mesh;                         //!< the input mesh (for pictures)
   int trials = 0;
+  //! What the loader's bare-mesh cleanup changed (ThermalModel::mesh_cleanup), if it ran.
+  std::optional<BareMeshCleanupReport> mesh_cleanup;
+  int rays_per_face = 0;       //!< IR rays per face side used (model.radiation)
+  int sun_rays_per_face = 0;   //!< shadow samples per face side used
   double seconds_total = 0.0, seconds_noise = 0.0, seconds_sensitivity = 0.0, seconds_search = 0.0;
 };
 
