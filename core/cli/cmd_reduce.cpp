@@ -23,6 +23,7 @@ struct ReduceCliOptions {
   bool no_plots = false;
   bool quiet = false;
   bool raw_mesh = false;
+  bool max_evaluations_set = false;
 };
 
 void run_reduce(const ReduceCliOptions& o) {
@@ -30,13 +31,14 @@ void run_reduce(const ReduceCliOptions& o) {
   load.clean_bare_mesh = !o.raw_mesh;
   ThermalModel model = load_model(o.model, load);
   ReduceSettings s;
-  apply_bare_mesh_ray_budgets(model, s.reference.simulation);
+  s.informed.max_evaluations = o.max_evaluations;
+  apply_bare_mesh_reduction_budget(model, s);
+  if (o.max_evaluations_set) s.informed.max_evaluations = o.max_evaluations;
   if (model.mesh_cleanup) std::cout << "bare mesh cleanup:\n" << model.mesh_cleanup->summary();
   if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
   s.tolerance_K = o.tolerance_K;
   s.strategy = o.strategy == "uniform" ? ReductionStrategy::uniform : ReductionStrategy::informed;
   s.sensitivity_cap_factor = o.cap_factor;
-  s.informed.max_evaluations = o.max_evaluations;
   if (!o.quiet) s.progress = [](const std::string& m) { std::cerr << "reduce: " << m << "\n"; };
   std::cerr << "reduce: " << o.model << ": " << model.mesh.num_faces() << " faces, " << model.nodes.size()
             << " nodes, " << model.radiation.rays_per_face << " IR rays and "
@@ -74,8 +76,9 @@ void add_reduce(CLI::App& app) {
                   "a node's sweep stops once max |dT| exceeds this multiple of the tolerance")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  sub->add_option("--max-evaluations", o->max_evaluations, "bound on trials after the prediction")
-      ->capture_default_str()
+  sub->add_option_function<int>(
+         "--max-evaluations", [o](int n) { o->max_evaluations = n; o->max_evaluations_set = true; },
+         "bound on trials after the prediction (default 40; 20 for bare meshes over 2000 faces)")
       ->check(CLI::PositiveNumber);
   sub->add_flag("--raw-mesh", o->raw_mesh,
                 "bare mesh: skip the cleanup (duplicates, open sheets two-sided, touching faces) and the "

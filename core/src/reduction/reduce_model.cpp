@@ -1,6 +1,7 @@
 #include "thermodec/reduction/reduce_model.h"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <tbb/parallel_for.h>
@@ -21,6 +22,15 @@ std::string fmt(const char* f, double a, double b = 0, double c = 0) {
   return buf;
 }
 }  // namespace
+
+void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& settings) {
+  if (!model.mesh_cleanup) return;
+  apply_bare_mesh_ray_budgets(model, settings.reference.simulation);
+  if (model.mesh.num_faces() > kBareMeshCoarseSweepFaces) {
+    settings.sensitivity.ratios = {0.5, 0.8, 0.93};
+    settings.informed.max_evaluations = std::min(settings.informed.max_evaluations, 20);
+  }
+}
 
 ReductionRun reduce_model(const ThermalModel& model, const ReduceSettings& settings) {
   const double tol = settings.tolerance_K;

@@ -69,6 +69,14 @@ struct ReductionRun {
   double seconds_total = 0.0, seconds_noise = 0.0, seconds_sensitivity = 0.0, seconds_search = 0.0;
 };
 
+//! Bounded run time for bare meshes (ThermalModel::mesh_cleanup set; no-op otherwise): the
+//! simulation ray budgets of apply_bare_mesh_ray_budgets, and above
+//! kBareMeshCoarseSweepFaces faces a coarse sensitivity sweep (ratios 0.5, 0.8, 0.93: at most
+//! 3 trials per node instead of 11) and at most 20 trials after the prediction. Measured
+//! effect in docs/reduction.md ("NASA models").
+void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& settings);
+constexpr int kBareMeshCoarseSweepFaces = 2000;
+
 //! Runs the whole reduction: reference simulation, noise floor, (informed) sensitivity and
 //! prediction, strategy search, full verification.
 //! \throw InvalidInput if the tolerance is not finite and positive, or is below twice the
