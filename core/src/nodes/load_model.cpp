@@ -195,7 +195,10 @@ ThermalModel model_from_bare_mesh(const fs::path& path, const MeshReadOptions& o
   model.mesh_path = path;
   model.mesh = read_mesh(path, options);
   Eigen::VectorXi two_sided;
-  if (cleanup) {
+  // Only a mesh without any group is a raw CAD export; a grouped mesh was prepared for
+  // thermodec (or by it) and is taken as written.
+  const bool grouped = model.mesh.face_node.size() > 0 && model.mesh.face_node.maxCoeff() >= 0;
+  if (cleanup && !grouped) {
     BareMeshCleanupResult cleaned = cleanup_bare_mesh(model.mesh, *cleanup);
     model.mesh = std::move(cleaned.mesh);
     two_sided = std::move(cleaned.two_sided);

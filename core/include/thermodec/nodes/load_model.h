@@ -20,9 +20,10 @@ ThermalModel load_model(const std::filesystem::path& path, const MeshReadOptions
 
 struct ModelLoadOptions {
   MeshReadOptions mesh;
-  //! A bare mesh (a mesh path given as the model) is cleaned before its automatic nodes are
-  //! built (mesh/bare_mesh_cleanup.h); the counts land in ThermalModel::mesh_cleanup. Model
-  //! files are never cleaned: their sidedness and faces are the user's.
+  //! A bare mesh without groups (a raw CAD export, e.g. STL, given as the model) is cleaned
+  //! before its automatic nodes are built (mesh/bare_mesh_cleanup.h); the counts land in
+  //! ThermalModel::mesh_cleanup. Grouped meshes and model files are never cleaned: their
+  //! sidedness and faces are the user's.
   bool clean_bare_mesh = true;
   BareMeshCleanupOptions cleanup;
 };
