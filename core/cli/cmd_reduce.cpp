@@ -7,6 +7,7 @@
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/reduction/reduce_model.h"
 #include "thermodec/report/reduction_report.h"
+#include "thermodec/thermal/simulate_model.h"
 
 namespace thermodec::cli {
 namespace {
@@ -21,19 +22,27 @@ struct ReduceCliOptions {
   int max_evaluations = 40;
   bool no_plots = false;
   bool quiet = false;
+  bool raw_mesh = false;
+  bool max_evaluations_set = false;
 };
 
 void run_reduce(const ReduceCliOptions& o) {
-  ThermalModel model = load_model(o.model);
-  if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
+  ModelLoadOptions load;
+  load.clean_bare_mesh = !o.raw_mesh;
+  ThermalModel model = load_model(o.model, load);
   ReduceSettings s;
+  s.informed.max_evaluations = o.max_evaluations;
+  apply_bare_mesh_reduction_budget(model, s);
+  if (o.max_evaluations_set) s.informed.max_evaluations = o.max_evaluations;
+  if (model.mesh_cleanup) std::cout << "bare mesh cleanup:\n" << model.mesh_cleanup->summary();
+  if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
   s.tolerance_K = o.tolerance_K;
   s.strategy = o.strategy == "uniform" ? ReductionStrategy::uniform : ReductionStrategy::informed;
   s.sensitivity_cap_factor = o.cap_factor;
-  s.informed.max_evaluations = o.max_evaluations;
   if (!o.quiet) s.progress = [](const std::string& m) { std::cerr << "reduce: " << m << "\n"; };
   std::cerr << "reduce: " << o.model << ": " << model.mesh.num_faces() << " faces, " << model.nodes.size()
-            << " nodes, tolerance " << o.tolerance_K << " K, strategy " << o.strategy << "\n";
+            << " nodes, " << model.radiation.rays_per_face << " IR rays and "
+            << s.reference.simulation.loads.sun_rays_per_face << " sun samples per face side, tolerance " << o.tolerance_K << " K, strategy " << o.strategy << "\n";
   const ReductionRun run = reduce_model(model, s);
   const auto warnings = write_reduction_outputs(run, o.out_dir, {o.model, model.mesh_path}, !o.no_plots);
   for (const auto& w : warnings) std::cerr << "reduce: warning: plot not written: " << w << "\n";
@@ -67,9 +76,13 @@ void add_reduce(CLI::App& app) {
                   "a node's sweep stops once max |dT| exceeds this multiple of the tolerance")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  sub->add_option("--max-evaluations", o->max_evaluations, "bound on trials after the prediction")
-      ->capture_default_str()
+  sub->add_option_function<int>(
+         "--max-evaluations", [o](int n) { o->max_evaluations = n; o->max_evaluations_set = true; },
+         "bound on trials after the prediction (default 40; 20 for bare meshes over 2000 faces)")
       ->check(CLI::PositiveNumber);
+  sub->add_flag("--raw-mesh", o->raw_mesh,
+                "bare mesh: skip the cleanup (duplicates, open sheets two-sided, touching faces) and the "
+                "size-aware ray budgets");
   sub->add_flag("--no-plots", o->no_plots, "write JSON and meshes only");
   sub->add_flag("-q,--quiet", o->quiet, "no progress on stderr");
   sub->callback([o] { run_guarded([o] { run_reduce(*o); }); });

@@ -21,19 +21,26 @@ struct SimulateOptions {
   int noise_runs = 3;
   bool quiet = false;
   int rays_per_face = 0;  // 0 = the model's radiation.rays_per_face
+  bool raw_mesh = false;
   ExternalLoadSettings loads;
+  bool sun_rays_set = false;
 };
 
 void run_simulate(const SimulateOptions& o) {
-  ThermalModel model = load_model(o.model);
+  ModelLoadOptions load;
+  load.clean_bare_mesh = !o.raw_mesh;
+  ThermalModel model = load_model(o.model, load);
+  ModelSimulationSettings settings;
+  settings.loads = o.loads;
+  if (!o.raw_mesh) apply_bare_mesh_ray_budgets(model, settings);
+  if (o.sun_rays_set) settings.loads.sun_rays_per_face = o.loads.sun_rays_per_face;
+  if (model.mesh_cleanup && !o.quiet) std::cout << "bare mesh cleanup:\n" << model.mesh_cleanup->summary();
   if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
   const std::vector<std::filesystem::path> inputs{o.model, model.mesh_path};
   // Refuse before the work, not after it.
   for (const auto& in : inputs)
     for (const auto& out : {o.json_out, o.plot_out})
       if (!out.empty() && same_file(in, out)) throw InvalidInput("output " + out + " would overwrite the input " + in.string());
-  ModelSimulationSettings settings;
-  settings.loads = o.loads;
   if (!o.quiet) settings.progress = [](const std::string& m) { std::cerr << "simulate: " << m << "\n"; };
 
   SimulationResult result;
@@ -65,7 +72,7 @@ void run_simulate(const SimulateOptions& o) {
   j["model"] = o.model;
   j["settings"] = {{"rays_per_face", model.radiation.rays_per_face},
                    {"seed", model.radiation.seed},
-                   {"sun_rays_per_face", o.loads.sun_rays_per_face},
+                   {"sun_rays_per_face", settings.loads.sun_rays_per_face},
                    {"earth_rays_per_face", o.loads.earth_rays_per_face},
                    {"solar_reflections", o.loads.solar_reflections}};
   for (auto& [k, v] : extra.items()) j[k] = v;
@@ -90,8 +97,13 @@ void add_simulate(CLI::App& app) {
   sub->add_option("--noise-runs", opts->noise_runs, "runs for --noise-floor")->check(CLI::Range(2, 100));
   sub->add_option("--rays", opts->rays_per_face, "IR view-factor rays per face side (default: the model's)")
       ->check(CLI::PositiveNumber);
-  sub->add_option("--sun-rays", opts->loads.sun_rays_per_face, "shadow samples per face side")
-      ->check(CLI::PositiveNumber)->capture_default_str();
+  sub->add_option_function<int>(
+         "--sun-rays", [opts](int n) { opts->loads.sun_rays_per_face = n; opts->sun_rays_set = true; },
+         "shadow samples per face side (default 256; bare meshes: sized by face count)")
+      ->check(CLI::PositiveNumber);
+  sub->add_flag("--raw-mesh", opts->raw_mesh,
+                "bare mesh: skip the cleanup (duplicates, open sheets two-sided, touching faces) and the "
+                "size-aware ray budgets");
   sub->add_option("--earth-rays", opts->loads.earth_rays_per_face, "Earth view rays per face side")
       ->check(CLI::PositiveNumber)->capture_default_str();
   sub->add_flag("!--no-reflections", opts->loads.solar_reflections, "skip solar-band reflections between faces");

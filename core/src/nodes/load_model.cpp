@@ -189,10 +189,21 @@ void resolve_faces(ThermalModel& model, const std::vector<NodeSides>& sides, con
   for (const auto& n : model.nodes) mesh.node_names.push_back(n.name);
 }
 
-ThermalModel model_from_bare_mesh(const fs::path& path, const MeshReadOptions& options) {
+ThermalModel model_from_bare_mesh(const fs::path& path, const MeshReadOptions& options,
+                                  const BareMeshCleanupOptions* cleanup) {
   ThermalModel model;
   model.mesh_path = path;
   model.mesh = read_mesh(path, options);
+  Eigen::VectorXi two_sided;
+  // Only a mesh without any group is a raw CAD export; a grouped mesh was prepared for
+  // thermodec (or by it) and is taken as written.
+  const bool grouped = model.mesh.face_node.size() > 0 && model.mesh.face_node.maxCoeff() >= 0;
+  if (cleanup && !grouped) {
+    BareMeshCleanupResult cleaned = cleanup_bare_mesh(model.mesh, *cleanup);
+    model.mesh = std::move(cleaned.mesh);
+    two_sided = std::move(cleaned.two_sided);
+    model.mesh_cleanup = cleaned.report;
+  }
   ensure_nodes(model.mesh);
   model.materials.push_back({kDefaultMaterialName, kDefaultAbsorptivity, kDefaultEmissivity});
   model.default_material = 0;
@@ -206,6 +217,10 @@ ThermalModel model_from_bare_mesh(const fs::path& path, const MeshReadOptions& o
     model.nodes.push_back(node);
   }
   resolve_faces(model, std::vector<NodeSides>(model.nodes.size()), path.string());
+  // Faces the cleanup made two-sided whose front material was "the node's": the back radiates
+  // with the resolved front.
+  for (int f = 0; f < two_sided.size(); ++f)
+    if (two_sided[f] && model.mesh.face_back_material[f] < 0) model.mesh.face_back_material[f] = model.mesh.face_material[f];
   return model;
 }
 
@@ -435,13 +450,20 @@ const char* attitude_name(Attitude a) {
 ThermalModel load_model(const fs::path& path, const MeshReadOptions& options) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw IOError(path.string() + ": no such file");
-  if (is_mesh_path(path)) return model_from_bare_mesh(path, options);
+  if (is_mesh_path(path)) return model_from_bare_mesh(path, options, nullptr);
   if (lower_extension(path) != ".json")
     throw InvalidInput(path.string() + ": a model is a .json model file or a .obj, .ply or .stl mesh");
   return model_from_json(path, options);
 }
 
-ThermalModel load_model(const fs::path& path) { return load_model(path, MeshReadOptions{}); }
+ThermalModel load_model(const fs::path& path, const ModelLoadOptions& options) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw IOError(path.string() + ": no such file");
+  if (is_mesh_path(path)) return model_from_bare_mesh(path, options.mesh, options.clean_bare_mesh ? &options.cleanup : nullptr);
+  return load_model(path, options.mesh);
+}
+
+ThermalModel load_model(const fs::path& path) { return load_model(path, ModelLoadOptions{}); }
 
 void save_model(const ThermalModel& model, const fs::path& json_path, const fs::path& mesh_path) {
   const std::string ext = lower_extension(mesh_path);

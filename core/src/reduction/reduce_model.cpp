@@ -1,6 +1,7 @@
 #include "thermodec/reduction/reduce_model.h"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <tbb/parallel_for.h>
@@ -22,6 +23,15 @@ std::string fmt(const char* f, double a, double b = 0, double c = 0) {
 }
 }  // namespace
 
+void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& settings) {
+  if (!model.mesh_cleanup) return;
+  apply_bare_mesh_ray_budgets(model, settings.reference.simulation);
+  if (model.mesh.num_faces() > kBareMeshCoarseSweepFaces) {
+    settings.sensitivity.ratios = {0.5, 0.8, 0.93};
+    settings.informed.max_evaluations = std::min(settings.informed.max_evaluations, 20);
+  }
+}
+
 ReductionRun reduce_model(const ThermalModel& model, const ReduceSettings& settings) {
   const double tol = settings.tolerance_K;
   if (!std::isfinite(tol) || tol <= 0)
@@ -32,6 +42,9 @@ ReductionRun reduce_model(const ThermalModel& model, const ReduceSettings& setti
   ReductionRun run;
   run.strategy = settings.strategy == ReductionStrategy::informed ? "informed" : "uniform";
   run.tolerance_K = tol;
+  run.mesh_cleanup = model.mesh_cleanup;
+  run.rays_per_face = model.radiation.rays_per_face;
+  run.sun_rays_per_face = settings.reference.simulation.loads.sun_rays_per_face;
 
   // The reference (simulated once, with its reusable rays and samples), then the noise floor:
   // the same simulation with other seeds. A tolerance the Monte Carlo noise could eat is

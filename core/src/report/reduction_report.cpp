@@ -66,6 +66,23 @@ json reduction_report_json(const ReductionRun& run) {
                     {"max_abs_dT_K", h.result.max_abs_dT_K}, {"within_tolerance", h.within_tolerance}});
   j["history"] = hist;
   j["trials"] = run.trials;
+  j["rays"] = {{"ir_rays_per_face", run.rays_per_face}, {"sun_rays_per_face", run.sun_rays_per_face}};
+  if (run.mesh_cleanup) {
+    const BareMeshCleanupReport& c = *run.mesh_cleanup;
+    j["mesh_cleanup"] = {{"faces_in", c.faces_in},
+                         {"faces_out", c.faces_out},
+                         {"vertices_welded", c.vertices_welded},
+                         {"degenerate_faces_dropped", c.degenerate_faces_dropped},
+                         {"t_junctions_split", c.t_junctions_split},
+                         {"faces_flipped", c.faces_flipped},
+                         {"duplicate_faces_dropped", c.duplicate_faces_dropped},
+                         {"back_to_back_pairs_merged", c.back_to_back_pairs_merged},
+                         {"closed_parts", c.closed_components},
+                         {"open_sheets", c.open_components},
+                         {"open_sheet_faces_made_two_sided", c.open_sheet_faces_made_two_sided},
+                         {"coincident_faces_dropped", c.coincident_faces_dropped},
+                         {"coincident_area_dropped_m2", c.coincident_area_dropped_m2}};
+  }
   j["timings_s"] = {{"total", run.seconds_total}, {"noise_floor", run.seconds_noise},
                     {"sensitivity", run.seconds_sensitivity}, {"search", run.seconds_search}};
   return j;

@@ -1,6 +1,8 @@
 #include "thermodec/thermal/simulate_model.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 
 #include "thermodec/common/errors.h"
@@ -55,6 +57,15 @@ SimulationResult simulate_model(const ThermalModel& model, const ModelSimulation
   SimulationResult r = simulate(model, couplings, loads, solver);
   say("done");
   return r;
+}
+
+void apply_bare_mesh_ray_budgets(ThermalModel& model, ModelSimulationSettings& settings) {
+  if (!model.mesh_cleanup) return;
+  const double faces = std::max(1, model.mesh.num_faces());
+  auto clamp = [](double x, int lo, int hi) { return static_cast<int>(std::min<double>(hi, std::max<double>(lo, std::round(x)))); };
+  model.radiation.rays_per_face = clamp(kBareMeshIrRays / faces, 1000, 4000);
+  settings.loads.sun_rays_per_face = clamp(kBareMeshSunRays / faces, 256, 1024);
+  settings.loads.sun_min_rays_per_node = std::max(settings.loads.sun_min_rays_per_node, 400000);
 }
 
 NoiseFloor noise_floor(const ThermalModel& model, int runs, const ModelSimulationSettings& settings,

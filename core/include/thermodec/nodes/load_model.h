@@ -4,6 +4,7 @@
 //! groups gets an automatic nodal breakdown.
 #include <filesystem>
 
+#include "thermodec/mesh/bare_mesh_cleanup.h"
 #include "thermodec/mesh/io.h"
 #include "thermodec/nodes/thermal_model.h"
 
@@ -14,7 +15,21 @@ namespace thermodec {
 ThermalModel load_model(const std::filesystem::path& path);
 
 //! Same, with explicit mesh reading options (e.g. keep degenerate faces for `thermodec info`).
+//! The mesh is taken as read: no bare-mesh cleanup (for tools that inspect the file itself).
 ThermalModel load_model(const std::filesystem::path& path, const MeshReadOptions& mesh_options);
+
+struct ModelLoadOptions {
+  MeshReadOptions mesh;
+  //! A bare mesh without groups (a raw CAD export, e.g. STL, given as the model) is cleaned
+  //! before its automatic nodes are built (mesh/bare_mesh_cleanup.h); the counts land in
+  //! ThermalModel::mesh_cleanup. Grouped meshes and model files are never cleaned: their
+  //! sidedness and faces are the user's.
+  bool clean_bare_mesh = true;
+  BareMeshCleanupOptions cleanup;
+};
+
+//! Same, with all loading options. load_model(path) = load_model(path, ModelLoadOptions{}).
+ThermalModel load_model(const std::filesystem::path& path, const ModelLoadOptions& options);
 
 //! Writes `model` as JSON at `json_path` and its mesh at `mesh_path` (relative path stored
 //! in the JSON), both atomically.

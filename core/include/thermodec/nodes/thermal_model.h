@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "thermodec/mesh/bare_mesh_cleanup.h"
 #include "thermodec/mesh/mesh.h"
 
 namespace thermodec {
@@ -91,6 +92,8 @@ struct ThermalModel {
   RadiationSettings radiation;
   double unit_scale = 1.0;             //!< mesh file units -> m (already applied to mesh.V)
   std::filesystem::path mesh_path;     //!< mesh file the model was read from
+  //! Set when the model is a bare mesh cleaned on loading (nodes/load_model.h): what changed.
+  std::optional<BareMeshCleanupReport> mesh_cleanup;
 };
 
 }  // namespace thermodec

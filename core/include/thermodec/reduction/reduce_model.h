@@ -3,6 +3,7 @@
 //! allows, node by node, guided by simulation, and verify the result (paper §IV-V).
 #include <Eigen/Core>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,8 +62,20 @@ struct ReductionRun {
   SimulationResult reference;
   Mesh reference_mesh;                         //!< the input mesh (for pictures)
   int trials = 0;
+  //! What the loader's bare-mesh cleanup changed (ThermalModel::mesh_cleanup), if it ran.
+  std::optional<BareMeshCleanupReport> mesh_cleanup;
+  int rays_per_face = 0;       //!< IR rays per face side used (model.radiation)
+  int sun_rays_per_face = 0;   //!< shadow samples per face side used
   double seconds_total = 0.0, seconds_noise = 0.0, seconds_sensitivity = 0.0, seconds_search = 0.0;
 };
+
+//! Bounded run time for bare meshes (ThermalModel::mesh_cleanup set; no-op otherwise): the
+//! simulation ray budgets of apply_bare_mesh_ray_budgets, and above
+//! kBareMeshCoarseSweepFaces faces a coarse sensitivity sweep (ratios 0.5, 0.8, 0.93: at most
+//! 3 trials per node instead of 11) and at most 20 trials after the prediction. Measured
+//! effect in docs/reduction.md ("NASA models").
+void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& settings);
+constexpr int kBareMeshCoarseSweepFaces = 2000;
 
 //! Runs the whole reduction: reference simulation, noise floor, (informed) sensitivity and
 //! prediction, strategy search, full verification.

@@ -23,6 +23,20 @@ struct ModelSimulationSettings {
 //! \throw InvalidInput / SolverError from the stages.
 SimulationResult simulate_model(const ThermalModel& model, const ModelSimulationSettings& settings = {});
 
+//! Ray budgets for a bare mesh (a model loaded from a mesh file, ThermalModel::mesh_cleanup
+//! set), sized by its face count F so that a simulation's cost stays bounded while the noise
+//! floor stays well below the default 0.5 K tolerance (measured in docs/reduction.md, "NASA
+//! models"):
+//!  - IR view factors: rays_per_face = clamp(kBareMeshIrRays / F, 1000, 4000) (a total of
+//!    16 M rays: 4000 per face up to 4000 faces, fewer beyond);
+//!  - sun shadows: sun_rays_per_face = clamp(kBareMeshSunRays / F, 256, 1024) and a per-node
+//!    minimum of 400 000 samples: CAD panels are few, huge triangles whose partial shadows
+//!    carry most of the load noise.
+//! Model files keep their own settings (no-op when mesh_cleanup is unset).
+void apply_bare_mesh_ray_budgets(ThermalModel& model, ModelSimulationSettings& settings);
+constexpr double kBareMeshIrRays = 16e6;
+constexpr double kBareMeshSunRays = 4e6;
+
 //! Run-to-run Monte Carlo noise: the model simulated with `runs` seeds (seed, seed+1, ...),
 //! every run compared with the first.
 struct NoiseFloor {
