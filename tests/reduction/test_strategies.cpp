@@ -147,6 +147,21 @@ TEST(InformedReduction, never_returns_a_candidate_that_fails_full_verification) 
   EXPECT_LE(verify(u.ratio_per_node).max_abs_dT_K, 0.5);
 }
 
+TEST(InformedReduction, spent_evaluation_budget_scales_back_instead_of_giving_up) {
+  const Synthetic s = three_nodes(0.4);  // the prediction fails and needs backing off
+  const auto curves = sensitivity_analysis(3, s, SensitivityOptions{});
+  InformedOptions io;
+  io.tolerance_K = 0.5;
+  io.push = false;
+  io.max_evaluations = 1;  // no leave-one-out step affordable after the prediction
+  const auto out = informed_reduction(curves, 3, s, s, io);
+  EXPECT_GT(s(out.predicted_ratio_per_node).max_abs_dT_K, 0.5);
+  EXPECT_LE(out.verified.max_abs_dT_K, 0.5);
+  EXPECT_LE(s(out.ratio_per_node).max_abs_dT_K, 0.5);
+  EXPECT_GT(out.ratio_per_node.maxCoeff(), 0.0);  // still reduced
+  EXPECT_LT(out.verified.faces_after, s.faces.sum());
+}
+
 TEST(InformedReduction, refuses_when_the_reference_itself_exceeds_tolerance) {
   auto noisy = [](const Eigen::VectorXd& r) {
     TrialResult t;

@@ -104,6 +104,8 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
   Eigen::VectorXd best = Eigen::VectorXd::Zero(num_nodes);
   TrialResult best_verified;
   bool have_best = false;
+  int scale_passes = 0;
+  constexpr int kScaleBackSteps = 6;  // common factor resolved to 1/64
   while (true) {
     while (!within(res, tol) && ratios.maxCoeff() > 0.0 && evaluations < o.max_evaluations) {
       std::vector<int> reduced;
@@ -125,11 +127,29 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       record(ratios, res, "back off node " + std::to_string(reduced[pick]) + " (contribution " +
                               std::to_string(out.history.back().result.max_abs_dT_K - res.max_abs_dT_K) + " K)");
     }
-    if (!within(res, tol)) {
-      if (ratios.maxCoeff() > 0.0) {  // evaluation budget spent: fall back to the reference
-        log("evaluation budget spent while backing off; returning the unreduced model");
-        ratios.setZero();
+    if (!within(res, tol) && ratios.maxCoeff() > 0.0) {
+      // Evaluation budget spent (a large model's leave-one-out step costs one trial per reduced
+      // node): scale every ratio back together by bisection on a common factor, a bounded number
+      // of trials, rather than give up the reduction. A later pass (its verification failed)
+      // starts at half the ratios, so the passes end at the unreduced model at worst.
+      log("evaluation budget spent while backing off; scaling all ratios back together");
+      const Eigen::VectorXd base = ratios;
+      double lo = 0.0, hi = scale_passes++ == 0 ? 1.0 : 0.5;
+      TrialResult lo_res;
+      for (int it = 0; it < kScaleBackSteps; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        const TrialResult t = trial(base * mid);
+        ++evaluations;
+        record(base * mid, t, "scale back x" + std::to_string(mid));
+        if (within(t, tol)) {
+          lo = mid;
+          lo_res = t;
+        } else {
+          hi = mid;
+        }
       }
+      ratios = base * lo;
+      if (lo > 0.0) res = lo_res;
     }
     const TrialResult v = verify(ratios);
     record(ratios, v, "verify");

@@ -44,7 +44,9 @@ ReductionOutcome uniform_reduction(
 
 struct InformedOptions {
   double tolerance_K = 0.5;
-  int max_evaluations = 40;   //!< bound on trials after the prediction (back-off + push)
+  int max_evaluations = 40;   //!< bound on trials after the prediction (back-off + push); once
+                              //!< spent while backing off, all ratios are scaled back together
+                              //!< (bisection, 6 trials per pass) instead
   bool push = true;           //!< use remaining slack to reduce nodes further
   bool parallel = true;       //!< leave-one-out contributions measured concurrently
   std::function<void(const std::string&)> log;
