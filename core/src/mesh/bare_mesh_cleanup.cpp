@@ -17,6 +17,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/mesh/face_geometry.h"
 #include "thermodec/mesh/mesh_stats.h"
+#include "thermodec/mesh/remove_faces.h"
 #include "thermodec/mesh/repair.h"
 
 namespace thermodec {
@@ -24,32 +25,11 @@ namespace {
 
 int attr(const Eigen::VectorXi& a, int f) { return a.size() > f ? a[f] : -1; }
 
-// Keeps the faces with keep[f] != 0 (attributes, provenance and two-sided flags follow).
+// Keeps the faces with keep[f] != 0; provenance and two-sided flags follow.
 void keep_faces(Mesh& m, Eigen::VectorXi& source, Eigen::VectorXi& two_sided, const std::vector<char>& keep) {
-  const int n = static_cast<int>(std::count(keep.begin(), keep.end(), 1));
-  Mesh out;
-  out.V = m.V;
-  out.F.resize(n, 3);
-  out.face_node.resize(n);
-  out.face_material.resize(n);
-  out.face_back_material.resize(n);
-  Eigen::VectorXi src(n), ts(n);
-  int k = 0;
-  for (int f = 0; f < m.num_faces(); ++f) {
-    if (!keep[f]) continue;
-    out.F.row(k) = m.F.row(f);
-    out.face_node[k] = attr(m.face_node, f);
-    out.face_material[k] = attr(m.face_material, f);
-    out.face_back_material[k] = attr(m.face_back_material, f);
-    src[k] = source[f];
-    ts[k] = two_sided[f];
-    ++k;
-  }
-  out.node_names = m.node_names;
-  out.material_names = m.material_names;
-  m = std::move(out);
-  source = src;
-  two_sided = ts;
+  const std::vector<int> kept = remove_faces(m, keep);
+  source = source(kept).eval();
+  two_sided = two_sided(kept).eval();
 }
 
 void make_two_sided(Mesh& m, Eigen::VectorXi& two_sided, int f, int back_material) {

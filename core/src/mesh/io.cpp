@@ -1,4 +1,5 @@
 #include "thermodec/mesh/io.h"
+#include "thermodec/mesh/remove_faces.h"
 
 #include <algorithm>
 #include <cctype>
@@ -35,29 +36,6 @@ std::string read_bytes(const std::filesystem::path& path) {
   s << in.rdbuf();
   if (in.bad()) throw IOError(path.string() + ": read failed");
   return s.str();
-}
-
-void keep_faces(Mesh& mesh, const std::vector<int>& drop) {
-  std::vector<char> dropped(mesh.num_faces(), 0);
-  for (int f : drop) dropped[f] = 1;
-  const int kept = mesh.num_faces() - static_cast<int>(drop.size());
-  Mesh out;
-  out.V = mesh.V;
-  out.F.resize(kept, 3);
-  out.face_node.resize(kept);
-  out.face_material.resize(kept);
-  out.face_back_material.resize(kept);
-  for (int f = 0, g = 0; f < mesh.num_faces(); ++f) {
-    if (dropped[f]) continue;
-    out.F.row(g) = mesh.F.row(f);
-    out.face_node[g] = mesh.face_node[f];
-    out.face_material[g] = mesh.face_material[f];
-    out.face_back_material[g] = mesh.face_back_material[f];
-    ++g;
-  }
-  out.node_names = std::move(mesh.node_names);
-  out.material_names = std::move(mesh.material_names);
-  mesh = std::move(out);
 }
 
 std::string list_faces(const std::vector<int>& faces) {
@@ -117,7 +95,9 @@ Mesh read_mesh(const std::filesystem::path& path, const MeshReadOptions& options
   if (options.drop_degenerate_faces && !report.degenerate_faces.empty()) {
     if (report.degenerate_faces.size() == static_cast<std::size_t>(mesh.num_faces()))
       throw InvalidInput(file + ": all " + std::to_string(mesh.num_faces()) + " faces are degenerate (zero area)");
-    keep_faces(mesh, report.degenerate_faces);
+    std::vector<char> keep(mesh.num_faces(), 1);
+    for (int f : report.degenerate_faces) keep[f] = 0;
+    remove_faces(mesh, keep);
     report.degenerate_faces_dropped = true;
   }
   return mesh;
