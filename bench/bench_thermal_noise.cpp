@@ -12,7 +12,9 @@
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/radiation/gebhart_factors.h"
 #include "thermodec/radiation/radiative_couplings.h"
+#include "thermodec/thermal/network.h"
 #include "thermodec/thermal/simulate.h"
+#include "thermodec/thermal/temperature_noise.h"
 
 using namespace thermodec;
 using Clock = std::chrono::steady_clock;
@@ -28,6 +30,16 @@ int main(int argc, char** argv) {
   if (argc > 5) ls.earth_min_rays_per_node = std::stoi(argv[5]);
   if (argc > 6) model.radiation.min_rays_per_node = std::stoi(argv[6]);
   if (argc > 7) ls.sun_min_rays_per_node = std::stoi(argv[7]);
+  // BENCH_BOOST="dish=4,boom=2": Node::sampling_boost per node (experiments).
+  if (const char* b = std::getenv("BENCH_BOOST")) {
+    std::string spec = b;
+    for (std::size_t at = 0; at < spec.size();) {
+      const std::size_t end = std::min(spec.find(',', at), spec.size()), eq = spec.find('=', at);
+      for (Node& n : model.nodes)
+        if (eq < end && n.name == spec.substr(at, eq - at)) n.sampling_boost = std::stod(spec.substr(eq + 1, end - eq - 1));
+      at = end + 1;
+    }
+  }
   const int N = static_cast<int>(model.nodes.size());
   const RayScene scene(model.mesh);
   const SurfaceSides sides = surface_sides(model);
@@ -67,7 +79,8 @@ int main(int argc, char** argv) {
   auto t0 = Clock::now();
   const SimulationResult ra = simulate(model, a.nc, la);
   const double t_solve = since(t0);
-  const auto d_couplings = compare_results(ra, simulate(model, b.nc, la));
+  const SimulationResult rb_ir = simulate(model, b.nc, la);
+  const auto d_couplings = compare_results(ra, rb_ir);
   const auto d_loads = compare_results(ra, simulate(model, a.nc, lb));
   const auto d_reflect = compare_results(ra, simulate(model, a.nc, lvf));
   const auto d_all = compare_results(ra, simulate(model, b.nc, lvf.period_s ? loads(b.vf, s2, s2, &t_loads) : lb));
@@ -96,11 +109,13 @@ int main(int argc, char** argv) {
   std::printf("largest load difference (sampling): %.4f W at %s step %d (solar %.3f, albedo %.3f, IR %.3f)\n",
               dl(i, k), model.nodes[i].name.c_str(), int(k), std::abs(la.solar_W(i, k) - lb.solar_W(i, k)),
               std::abs(la.albedo_W(i, k) - lb.albedo_W(i, k)), std::abs(la.earth_ir_W(i, k) - lb.earth_ir_W(i, k)));
-  std::printf("orbit-mean load differences per node [W] (sampling seed 1 vs 2): solar / albedo / IR / reflected, of total\n");
+  const Eigen::VectorXd sigma_T = temperature_standard_error_K(thermal_network(model, a.nc), a.nc, ra.temperature_K);
+  std::printf("orbit-mean load differences per node [W] (sampling seed 1 vs 2): solar / albedo / IR / reflected, of total;"
+              " then the IR couplings' estimated temperature standard error and max |dT| (IR only) [K]\n");
   for (int n = 0; n < N; ++n)
-    std::printf("  %-12s %8.4f %8.4f %8.4f %8.4f  of %8.2f\n", model.nodes[n].name.c_str(),
+    std::printf("  %-12s %8.4f %8.4f %8.4f %8.4f  of %8.2f   %8.4f %8.4f\n", model.nodes[n].name.c_str(),
                 (la.solar_W - lb.solar_W).row(n).mean(), (la.albedo_W - lb.albedo_W).row(n).mean(),
                 (la.earth_ir_W - lb.earth_ir_W).row(n).mean(), (la.reflected_solar_W - lb.reflected_solar_W).row(n).mean(),
-                la.total_W().row(n).mean());
+                la.total_W().row(n).mean(), sigma_T[n], (ra.temperature_K - rb_ir.temperature_K).row(n).cwiseAbs().maxCoeff());
   return 0;
 }

@@ -24,6 +24,7 @@ struct ReduceCliOptions {
   bool quiet = false;
   bool raw_mesh = false;
   bool max_evaluations_set = false;
+  double noise_target_fraction = 0.05;
 };
 
 void run_reduce(const ReduceCliOptions& o) {
@@ -39,6 +40,7 @@ void run_reduce(const ReduceCliOptions& o) {
   s.tolerance_K = o.tolerance_K;
   s.strategy = o.strategy == "uniform" ? ReductionStrategy::uniform : ReductionStrategy::informed;
   s.sensitivity_cap_factor = o.cap_factor;
+  s.noise_target_fraction = o.noise_target_fraction;
   if (!o.quiet) s.progress = [](const std::string& m) { std::cerr << "reduce: " << m << "\n"; };
   std::cerr << "reduce: " << o.model << ": " << model.mesh.num_faces() << " faces, " << model.nodes.size()
             << " nodes, " << model.radiation.rays_per_face << " IR rays and "
@@ -80,6 +82,11 @@ void add_reduce(CLI::App& app) {
          "--max-evaluations", [o](int n) { o->max_evaluations = n; o->max_evaluations_set = true; },
          "bound on trials after the prediction (default 40; 20 for bare meshes over 2000 faces)")
       ->check(CLI::PositiveNumber);
+  sub->add_option("--noise-target", o->noise_target_fraction,
+                  "noise-targeted sampling: nodes whose estimated Monte Carlo temperature noise exceeds this "
+                  "fraction of the tolerance get more samples (0 = off; boosts already in the model file are kept)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   sub->add_flag("--raw-mesh", o->raw_mesh,
                 "bare mesh: skip the cleanup (duplicates, open sheets two-sided, touching faces) and the "
                 "size-aware ray budgets");

@@ -24,6 +24,7 @@ struct SimulateOptions {
   bool raw_mesh = false;
   ExternalLoadSettings loads;
   bool sun_rays_set = false;
+  double noise_target_K = 0.01;
 };
 
 void run_simulate(const SimulateOptions& o) {
@@ -43,8 +44,31 @@ void run_simulate(const SimulateOptions& o) {
       if (!out.empty() && same_file(in, out)) throw InvalidInput("output " + out + " would overwrite the input " + in.string());
   if (!o.quiet) settings.progress = [](const std::string& m) { std::cerr << "simulate: " << m << "\n"; };
 
-  SimulationResult result;
   nlohmann::json extra;
+  // Noise-targeted sampling: one simulation at the model's counts estimates each node's
+  // temperature noise; the nodes above the target get more samples (docs/thermal.md).
+  if (o.noise_target_K > 0.0 && !has_sampling_boosts(model)) {
+    if (settings.progress) settings.progress("sampling: estimating each node's Monte Carlo noise");
+    const SamplingBoosts b = decide_sampling_boosts(model, settings, o.noise_target_K);
+    nlohmann::json boosts = nlohmann::json::object();
+    std::string which;
+    for (std::size_t k = 0; k < b.boost.size(); ++k) {
+      model.nodes[k].sampling_boost = b.boost[k];
+      if (b.boost[k] > 1.0) {
+        boosts[model.nodes[k].name] = b.boost[k];
+        char buf[64];
+        std::snprintf(buf, sizeof buf, " x%g", b.boost[k]);
+        which += " " + model.nodes[k].name + buf;
+      }
+    }
+    if (settings.progress) {
+      char buf[128];
+      std::snprintf(buf, sizeof buf, "sampling: target %.3g K, +%.0f %% IR rays:", b.target_K, 100.0 * b.extra_rays);
+      settings.progress(which.empty() ? std::string("sampling: no node needs more samples") : buf + which);
+    }
+    extra["sampling"] = {{"noise_target_K", b.target_K}, {"extra_ir_rays", b.extra_rays}, {"sampling_boost", boosts}};
+  }
+  SimulationResult result;
   if (o.noise_floor) {
     const NoiseFloor nf = noise_floor(model, o.noise_runs, settings);
     result = nf.first;
@@ -95,6 +119,12 @@ void add_simulate(CLI::App& app) {
   sub->add_flag("--noise-floor", opts->noise_floor,
                 "run with several seeds and report the max |dT| between runs and the run time");
   sub->add_option("--noise-runs", opts->noise_runs, "runs for --noise-floor")->check(CLI::Range(2, 100));
+  sub->add_option("--noise-target", opts->noise_target_K,
+                  "noise-targeted sampling: nodes whose estimated Monte Carlo temperature noise exceeds this "
+                  "get more samples, at most 2x the model's IR rays in extra [K] (0 = off; boosts in the "
+                  "model file are kept)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e3));
   sub->add_option("--rays", opts->rays_per_face, "IR view-factor rays per face side (default: the model's)")
       ->check(CLI::PositiveNumber);
   sub->add_option_function<int>(

@@ -384,7 +384,8 @@ ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& option
       if (n < 0) k.fail(key, "no group named '" + item.key() + "' in mesh " + model.mesh_path.string());
       const json& v = item.value();
       k.require_object(v, key);
-      k.only_keys(v, key, {"material", "capacitance", "power", "fixed_temperature", "two_sided", "back_material"});
+      k.only_keys(v, key, {"material", "capacitance", "power", "fixed_temperature", "two_sided", "back_material",
+                               "sampling_boost"});
       Node& node = model.nodes[n];
       auto material_key = [&](const char* name) {
         const std::string m = k.string(v, key, name);
@@ -396,6 +397,7 @@ ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& option
       if (v.contains("capacitance")) node.capacitance_J_per_K = k.number_in(v, key, "capacitance", 0, 1e15, false, " J/K");
       if (v.contains("power")) node.power_W = k.number(v, key, "power");
       if (v.contains("fixed_temperature")) node.fixed_temperature_K = k.number_in(v, key, "fixed_temperature", 0, 1e5, true, " K");
+      if (v.contains("sampling_boost")) node.sampling_boost = k.number_in(v, key, "sampling_boost", 1, 1e4, false, "");
       if (v.contains("two_sided")) sides[n].two_sided = k.boolean(v, key, "two_sided");
       if (v.contains("back_material")) {
         if (sides[n].two_sided == false) k.fail(key + ".back_material", "given for a node with \"two_sided\": false");
@@ -501,6 +503,7 @@ void save_model(const ThermalModel& model, const fs::path& json_path, const fs::
     v["capacitance"] = node.capacitance_J_per_K;
     v["power"] = node.power_W;
     if (node.fixed_temperature_K) v["fixed_temperature"] = *node.fixed_temperature_K;
+    if (node.sampling_boost != 1.0) v["sampling_boost"] = node.sampling_boost;
     // Sidedness is stated here when it is uniform over the node; otherwise only the mesh
     // file (PLY property, OBJ comment) carries it per face.
     int back = -2;

@@ -51,6 +51,7 @@ SurfaceSides surface_sides(const Mesh& mesh) {
   s.node = Eigen::Map<Eigen::VectorXi>(node.data(), n);
   s.material = Eigen::Map<Eigen::VectorXi>(mat.data(), n);
   s.area_m2 = Eigen::Map<Eigen::VectorXd>(area.data(), n);
+  s.boost = Eigen::VectorXd::Ones(n);
   return s;
 }
 
@@ -71,6 +72,13 @@ SurfaceSides surface_sides(const ThermalModel& model) {
     s.material[i] = m;
     if (s.node[i] >= 0 && model.nodes[s.node[i]].sampling_salt != 0)
       s.key[i] = sampling::hash_combine(s.key[i], model.nodes[s.node[i]].sampling_salt);
+    if (s.node[i] >= 0) {
+      const double b = model.nodes[s.node[i]].sampling_boost;
+      if (!(b >= 1.0 && b <= 1e4))
+        throw InvalidInput("node '" + model.nodes[s.node[i]].name + "': sampling_boost " + std::to_string(b) +
+                           " is outside [1, 10000]");
+      s.boost[i] = b;
+    }
   }
   return s;
 }
@@ -116,10 +124,11 @@ Eigen::VectorXi rays_per_side_of_node(const SurfaceSides& sides, int rays_per_si
     if (a > 0.0) a = std::exp2(std::round(std::log2(a) * 64.0) / 64.0);
   Eigen::VectorXi rays(ns);
   for (int s = 0; s < ns; ++s) {
-    double r = rays_per_side;
+    const double b = sides.boost.size() == ns ? sides.boost[s] : 1.0;
+    double r = std::ceil(rays_per_side * b);
     const int n = sides.node[s];
     if (n >= 0 && min_rays_per_node > 0 && area[n] > 0.0)
-      r = std::max(r, std::ceil(double(min_rays_per_node) * sides.area_m2[s] / area[n]));
+      r = std::max(r, std::ceil(double(min_rays_per_node) * b * sides.area_m2[s] / area[n]));
     rays[s] = static_cast<int>(std::min(r, 1e9));
   }
   return rays;

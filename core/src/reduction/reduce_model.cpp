@@ -9,6 +9,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/decimation/global_ratio.h"
 #include "thermodec/reduction/prediction.h"
+#include "thermodec/thermal/simulate_model.h"
 
 namespace thermodec {
 
@@ -32,18 +33,39 @@ void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& setti
   }
 }
 
-ReductionRun reduce_model(const ThermalModel& model, const ReduceSettings& settings) {
+ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& settings) {
   const double tol = settings.tolerance_K;
   if (!std::isfinite(tol) || tol <= 0)
     throw InvalidInput("tolerance must be a finite temperature difference > 0 K (got " + std::to_string(tol) + ")");
   if (settings.noise_runs < 2) throw InvalidInput("noise_runs must be >= 2");
+  if (!(settings.noise_target_fraction >= 0.0)) throw InvalidInput("noise_target_fraction must be >= 0");
   auto say = [&](const std::string& s) { if (settings.progress) settings.progress(s); };
   const auto t0 = Clock::now();
+
+  // Noise-targeted sampling: the few nodes whose temperature the couplings' noise moves most
+  // get more samples, decided once here and kept by every trial and by the reduced model.
+  ThermalModel boosted;
+  const bool boost = settings.noise_target_fraction > 0.0 && !has_sampling_boosts(model_in);
+  if (boost) {
+    say(fmt("sampling: estimating each node's Monte Carlo noise (target %.3g K)", settings.noise_target_fraction * tol));
+    const SamplingBoosts b =
+        decide_sampling_boosts(model_in, settings.reference.simulation, settings.noise_target_fraction * tol);
+    boosted = model_in;
+    std::string which;
+    for (std::size_t k = 0; k < b.boost.size(); ++k) {
+      boosted.nodes[k].sampling_boost = b.boost[k];
+      if (b.boost[k] > 1.0) which += " " + model_in.nodes[k].name + " x" + fmt("%g", b.boost[k]);
+    }
+    say(which.empty() ? std::string("sampling: no node needs more samples")
+                      : fmt("sampling: target %.3g K, +%.0f %% IR rays:", b.target_K, 100.0 * b.extra_rays) + which);
+  }
+  const ThermalModel& model = boost ? boosted : model_in;
   ReductionRun run;
   run.strategy = settings.strategy == ReductionStrategy::informed ? "informed" : "uniform";
   run.tolerance_K = tol;
   run.mesh_cleanup = model.mesh_cleanup;
   run.rays_per_face = model.radiation.rays_per_face;
+  for (const Node& nd : model.nodes) run.sampling_boost.push_back(nd.sampling_boost);
   run.sun_rays_per_face = settings.reference.simulation.loads.sun_rays_per_face;
 
   // The reference (simulated once, with its reusable rays and samples), then the noise floor:

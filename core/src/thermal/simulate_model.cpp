@@ -10,6 +10,8 @@
 #include "thermodec/radiation/radiative_couplings.h"
 #include "thermodec/radiation/ray_scene.h"
 #include "thermodec/radiation/surface_sides.h"
+#include "thermodec/thermal/network.h"
+#include "thermodec/thermal/temperature_noise.h"
 
 namespace thermodec {
 namespace {
@@ -19,7 +21,8 @@ double seconds_since(Clock::time_point t0) {
 }
 }  // namespace
 
-SimulationResult simulate_model(const ThermalModel& model, const ModelSimulationSettings& settings) {
+SimulationResult simulate_model(const ThermalModel& model, const ModelSimulationSettings& settings,
+                                NodeCouplings* couplings_out) {
   const auto t0 = Clock::now();
   auto say = [&](const std::string& what) {
     if (!settings.progress) return;
@@ -56,7 +59,43 @@ SimulationResult simulate_model(const ThermalModel& model, const ModelSimulation
   };
   SimulationResult r = simulate(model, couplings, loads, solver);
   say("done");
+  if (couplings_out) *couplings_out = std::move(couplings);
   return r;
+}
+
+bool has_sampling_boosts(const ThermalModel& model) {
+  for (const Node& n : model.nodes)
+    if (n.sampling_boost != 1.0) return true;
+  return false;
+}
+
+SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimulationSettings& settings,
+                                      double target_K, double max_extra_rays) {
+  if (!(target_K > 0.0)) throw InvalidInput("noise target must be > 0 K");
+  SamplingBoosts out;
+  NodeCouplings couplings;
+  out.unboosted = simulate_model(model, settings, &couplings);
+  out.standard_error_K = temperature_standard_error_K(thermal_network(model, couplings), couplings,
+                                                      out.unboosted.temperature_K);
+  // IR rays per node at the model's counts: the boosts' cost (the loads' samples follow).
+  const SurfaceSides sides = surface_sides(model);
+  const Eigen::VectorXi rays =
+      rays_per_side_of_node(sides, model.radiation.rays_per_face, model.radiation.min_rays_per_node);
+  std::vector<double> node_rays(model.nodes.size(), 0.0);
+  double total = 0.0;
+  for (int s = 0; s < sides.size(); ++s) {
+    total += rays[s];
+    if (sides.node[s] >= 0) node_rays[sides.node[s]] += rays[s] / sides.boost[s];
+  }
+  out.target_K = target_K;
+  for (int attempt = 0; attempt < 64; ++attempt, out.target_K *= std::sqrt(2.0)) {
+    out.boost = noise_targeted_sampling_boosts(out.standard_error_K, out.target_K);
+    double extra = 0.0;
+    for (std::size_t i = 0; i < node_rays.size(); ++i) extra += node_rays[i] * (out.boost[i] - 1.0);
+    out.extra_rays = total > 0.0 ? extra / total : 0.0;
+    if (out.extra_rays <= max_extra_rays) break;
+  }
+  return out;
 }
 
 void apply_bare_mesh_ray_budgets(ThermalModel& model, ModelSimulationSettings& settings) {

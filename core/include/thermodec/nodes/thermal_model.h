@@ -33,6 +33,11 @@ struct Node {
   //! how the trial noise floor (reduction/reduction_reference.h) measures the Monte Carlo
   //! noise a reduction trial sees. Not stored in model files.
   std::uint64_t sampling_salt = 0;
+  //! Multiplies the Monte Carlo samples of the node's faces (IR rays, sun points, Earth rays;
+  //! per face and per node budgets alike), >= 1. Set by noise_targeted_sampling
+  //! (thermal/noise_targeted_sampling.h) for the few nodes whose temperature the couplings'
+  //! noise moves most; 1 otherwise. Stored in model files as "sampling_boost".
+  double sampling_boost = 1.0;
 };
 
 //! Conductive link GL between two nodes [W/K].

@@ -24,6 +24,10 @@ struct ReduceSettings {
   UniformOptions uniform;          //!< tolerance taken from tolerance_K
   InformedOptions informed;        //!< tolerance taken from tolerance_K
   int noise_runs = 2;              //!< independent-seed runs measuring the noise floor (>= 2)
+  //! Noise-targeted sampling before anything else (thermal/simulate_model.h,
+  //! decide_sampling_boosts): nodes whose estimated temperature noise exceeds this fraction of
+  //! the tolerance get more samples. 0 = off; models that already carry boosts keep them.
+  double noise_target_fraction = 0.05;
   //! Extra trials for the predicted-vs-real plot: targets as multiples of the tolerance.
   std::vector<double> prediction_targets{0.1, 0.25, 0.5, 1.0, 2.0};
   std::function<void(const std::string&)> progress;  //!< human-readable progress lines
@@ -66,6 +70,8 @@ struct ReductionRun {
   std::optional<BareMeshCleanupReport> mesh_cleanup;
   int rays_per_face = 0;       //!< IR rays per face side used (model.radiation)
   int sun_rays_per_face = 0;   //!< shadow samples per face side used
+  //! Node::sampling_boost of every node (1 = not boosted), as the reduced model keeps them.
+  std::vector<double> sampling_boost;
   double seconds_total = 0.0, seconds_noise = 0.0, seconds_sensitivity = 0.0, seconds_search = 0.0;
 };
 

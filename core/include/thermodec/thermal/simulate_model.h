@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "thermodec/environment/external_loads.h"
+#include "thermodec/radiation/radiative_couplings.h"
 #include "thermodec/thermal/simulate.h"
 
 namespace thermodec {
@@ -21,7 +22,27 @@ struct ModelSimulationSettings {
 
 //! Runs the chain with model.radiation (rays, seed) for couplings and load sampling.
 //! \throw InvalidInput / SolverError from the stages.
-SimulationResult simulate_model(const ThermalModel& model, const ModelSimulationSettings& settings = {});
+//! `couplings_out`, if given, receives the node couplings the solve used.
+SimulationResult simulate_model(const ThermalModel& model, const ModelSimulationSettings& settings = {},
+                                NodeCouplings* couplings_out = nullptr);
+
+//! Noise-targeted sampling (docs/thermal.md, "Noise-targeted sampling"): simulates the model
+//! once at its own sample counts, estimates each node's temperature standard error from the
+//! couplings' (thermal/temperature_noise.h) and picks Node::sampling_boost for the nodes above
+//! target_K. The extra IR rays are capped at `max_extra_rays` x the model's total: while the
+//! boosts would cost more, the target is raised by sqrt(2).
+struct SamplingBoosts {
+  std::vector<double> boost;                  //!< per node, >= 1
+  Eigen::VectorXd standard_error_K;           //!< per node, estimated at the unboosted counts
+  double target_K = 0.0;                      //!< the target actually used (>= the one asked)
+  double extra_rays = 0.0;                    //!< extra IR rays / the unboosted total
+  SimulationResult unboosted;                 //!< the simulation the estimate comes from
+};
+SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimulationSettings& settings,
+                                      double target_K, double max_extra_rays = 2.0);
+
+//! Whether any node of `model` already has a sampling boost (e.g. from its model file).
+bool has_sampling_boosts(const ThermalModel& model);
 
 //! Ray budgets for a bare mesh (a model loaded from a mesh file, ThermalModel::mesh_cleanup
 //! set), sized by its face count F so that a simulation's cost stays bounded while the noise

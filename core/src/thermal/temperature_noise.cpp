@@ -1,0 +1,56 @@
+#include "thermodec/thermal/temperature_noise.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "thermodec/common/errors.h"
+
+namespace thermodec {
+
+namespace {
+constexpr double kStefanBoltzmann = 5.670374419e-8;  // W/(m^2 K^4)
+}
+
+Eigen::VectorXd temperature_standard_error_K(const ThermalNetwork& net, const NodeCouplings& nc,
+                                            const Eigen::MatrixXd& T) {
+  const int N = net.num_nodes();
+  if (T.rows() != N || nc.radiative_couplings_standard_error.rows() != N ||
+      nc.to_space_couplings_standard_error.size() != N)
+    throw InvalidInput("temperature_standard_error_K: temperatures and couplings must have one row per node");
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(N);
+  const double s = kStefanBoltzmann;
+  for (int i = 0; i < N; ++i) {
+    if (net.is_fixed(i)) continue;
+    double gl = 0.0, gr = net.to_space_couplings_m2[i];
+    for (int j = 0; j < N; ++j)
+      if (j != i) {
+        gl += net.conductance_W_per_K(i, j);
+        gr += net.radiative_couplings_m2(i, j);
+      }
+    for (int k = 0; k < T.cols(); ++k) {
+      const double ti = T(i, k), ti4 = ti * ti * ti * ti;
+      double var = std::pow(s * nc.to_space_couplings_standard_error[i] * ti4, 2);
+      for (int j = 0; j < N; ++j) {
+        if (j == i) continue;
+        const double tj = T(j, k);
+        var += std::pow(s * nc.radiative_couplings_standard_error(i, j) * (tj * tj * tj * tj - ti4), 2);
+      }
+      const double g = 4.0 * s * ti * ti * ti * gr + gl;
+      if (g > 0.0) out[i] = std::max(out[i], std::sqrt(var) / g);
+    }
+  }
+  return out;
+}
+
+std::vector<double> noise_targeted_sampling_boosts(const Eigen::VectorXd& sigma, double target_K, double max_boost) {
+  if (!(target_K > 0.0)) throw InvalidInput("noise_targeted_sampling_boosts: target must be > 0 K");
+  std::vector<double> boost(sigma.size(), 1.0);
+  for (int i = 0; i < sigma.size(); ++i) {
+    if (!(sigma[i] > target_K)) continue;
+    const double want = std::pow(sigma[i] / target_K, 4.0 / 3.0);
+    boost[i] = std::min(max_boost, std::exp2(std::ceil(std::log2(want) - 1e-9)));
+  }
+  return boost;
+}
+
+}  // namespace thermodec
