@@ -141,6 +141,58 @@ TEST(SurfaceSides, sampling_salt_changes_the_identity_of_its_node_sides_only) {
   for (int s = 0; s < a.size(); ++s) EXPECT_EQ(a.key[s] != b.key[s], a.node[s] == 6) << "side " << s;
 }
 
+TEST(SurfaceSides, sampling_boost_multiplies_its_node_sides_samples_only) {
+  ThermalModel model = small_model();
+  const Eigen::VectorXi a = rays_per_side_of_node(surface_sides(model), 100, 5000);
+  model.nodes[6].sampling_boost = 4.0;
+  const SurfaceSides sides = surface_sides(model);
+  const Eigen::VectorXi b = rays_per_side_of_node(sides, 100, 5000);
+  for (int s = 0; s < sides.size(); ++s) {
+    if (sides.node[s] == 6) {
+      EXPECT_GE(b[s], 4 * a[s] - 4) << "side " << s;
+      EXPECT_LE(b[s], 4 * a[s] + 1) << "side " << s;
+    } else {
+      EXPECT_EQ(b[s], a[s]) << "side " << s;
+    }
+  }
+  model.nodes[6].sampling_boost = 0.5;
+  EXPECT_THROW(surface_sides(model), InvalidInput);
+}
+
+TEST(SamplingBoosts, noisy_nodes_are_boosted_within_the_extra_ray_cap_and_kept_by_model_files) {
+  ThermalModel model = small_model();
+  model.radiation.rays_per_face = 50;
+  ModelSimulationSettings ss;
+  ss.loads.earth_rays_per_face = 16;
+  const SamplingBoosts b = decide_sampling_boosts(model, ss, 1e-4, 2.0);
+  ASSERT_EQ(b.boost.size(), model.nodes.size());
+  EXPECT_GE(b.target_K, 1e-4);
+  EXPECT_LE(b.extra_rays, 2.0);
+  double most = 1.0;
+  for (double x : b.boost) most = std::max(most, x);
+  EXPECT_GT(most, 1.0);
+  for (std::size_t k = 0; k < b.boost.size(); ++k) model.nodes[k].sampling_boost = b.boost[k];
+  EXPECT_TRUE(has_sampling_boosts(model));
+  const fs::path dir = fs::temp_directory_path() / ("thermodec_test_boost_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  save_model(model, dir / "m.json", dir / "m.obj");
+  const ThermalModel back = load_model(dir / "m.json");
+  for (std::size_t k = 0; k < b.boost.size(); ++k) EXPECT_EQ(back.nodes[k].sampling_boost, b.boost[k]);
+  // a boost below 1 in a model file is refused with the key named
+  std::ifstream in(dir / "m.json");
+  nlohmann::json j = nlohmann::json::parse(in);
+  j["nodes"]["px"]["sampling_boost"] = 0.5;
+  std::ofstream(dir / "bad.json") << j.dump();
+  try {
+    load_model(dir / "bad.json");
+    FAIL() << "expected InvalidInput";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("sampling_boost"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
 TEST(ReduceModel, informed_result_is_verified_within_tolerance_by_an_independent_simulation) {
   const ThermalModel model = small_model();
   const double tol = 0.5;

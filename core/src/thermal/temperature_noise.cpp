@@ -4,12 +4,9 @@
 #include <cmath>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/environment/orbit.h"
 
 namespace thermodec {
-
-namespace {
-constexpr double kStefanBoltzmann = 5.670374419e-8;  // W/(m^2 K^4)
-}
 
 Eigen::VectorXd temperature_standard_error_K(const ThermalNetwork& net, const NodeCouplings& nc,
                                             const Eigen::MatrixXd& T) {
@@ -18,7 +15,7 @@ Eigen::VectorXd temperature_standard_error_K(const ThermalNetwork& net, const No
       nc.to_space_couplings_standard_error.size() != N)
     throw InvalidInput("temperature_standard_error_K: temperatures and couplings must have one row per node");
   Eigen::VectorXd out = Eigen::VectorXd::Zero(N);
-  const double s = kStefanBoltzmann;
+  const double s = kStefanBoltzmann_W_per_m2_K4;
   for (int i = 0; i < N; ++i) {
     if (net.is_fixed(i)) continue;
     double gl = 0.0, gr = net.to_space_couplings_m2[i];

@@ -1,0 +1,72 @@
+// Noise-targeted sampling: the temperature noise estimate and the boosts it asks for.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "thermodec/common/errors.h"
+#include "thermodec/environment/orbit.h"
+#include "thermodec/thermal/temperature_noise.h"
+
+using namespace thermodec;
+
+namespace {
+ThermalNetwork one_node_to_space(double gr_space_m2) {
+  ThermalNetwork net;
+  net.node_names = {"plate"};
+  net.capacitance_J_per_K = Eigen::VectorXd::Zero(1);
+  net.power_W = Eigen::VectorXd::Zero(1);
+  net.fixed_temperature_K = Eigen::VectorXd::Constant(1, std::numeric_limits<double>::quiet_NaN());
+  net.conductance_W_per_K = Eigen::MatrixXd::Zero(1, 1);
+  net.radiative_couplings_m2 = Eigen::MatrixXd::Zero(1, 1);
+  net.to_space_couplings_m2 = Eigen::VectorXd::Constant(1, gr_space_m2);
+  return net;
+}
+}  // namespace
+
+TEST(TemperatureNoise, node_radiating_to_space_matches_the_linearised_balance) {
+  // Q = sigma GR T^4 fixed: dT/T = -dGR / (4 GR), so sigma_T = SE(GR) T / (4 GR).
+  const ThermalNetwork net = one_node_to_space(2.0);
+  NodeCouplings nc;
+  nc.radiative_couplings_standard_error = Eigen::MatrixXd::Zero(1, 1);
+  nc.to_space_couplings_standard_error = Eigen::VectorXd::Constant(1, 0.01);
+  Eigen::MatrixXd T(1, 3);
+  T << 250.0, 300.0, 280.0;  // the largest over the steps
+  const Eigen::VectorXd s = temperature_standard_error_K(net, nc, T);
+  EXPECT_NEAR(s[0], 0.01 * 300.0 / (4.0 * 2.0), 1e-12);
+}
+
+TEST(TemperatureNoise, node_between_two_others_weighs_each_coupling_by_the_T4_difference) {
+  // Node 0 couples to a hot (1) and a cold (2) node; only GR_01 is uncertain.
+  ThermalNetwork net = one_node_to_space(0.0);
+  net.node_names = {"a", "hot", "cold"};
+  net.capacitance_J_per_K = Eigen::VectorXd::Zero(3);
+  net.power_W = Eigen::VectorXd::Zero(3);
+  net.fixed_temperature_K = Eigen::Vector3d(std::numeric_limits<double>::quiet_NaN(), 350.0, 200.0);
+  net.conductance_W_per_K = Eigen::MatrixXd::Zero(3, 3);
+  net.radiative_couplings_m2 = Eigen::MatrixXd::Zero(3, 3);
+  net.radiative_couplings_m2(0, 1) = net.radiative_couplings_m2(1, 0) = 1.0;
+  net.radiative_couplings_m2(0, 2) = net.radiative_couplings_m2(2, 0) = 1.0;
+  net.to_space_couplings_m2 = Eigen::VectorXd::Zero(3);
+  NodeCouplings nc;
+  nc.radiative_couplings_standard_error = Eigen::MatrixXd::Zero(3, 3);
+  nc.radiative_couplings_standard_error(0, 1) = nc.radiative_couplings_standard_error(1, 0) = 0.002;
+  nc.to_space_couplings_standard_error = Eigen::VectorXd::Zero(3);
+  const Eigen::MatrixXd T = Eigen::Vector3d(300.0, 350.0, 200.0);
+  const Eigen::VectorXd s = temperature_standard_error_K(net, nc, T);
+  const double sb = kStefanBoltzmann_W_per_m2_K4;
+  const double expect = sb * 0.002 * (std::pow(350.0, 4) - std::pow(300.0, 4)) / (4.0 * sb * std::pow(300.0, 3) * 2.0);
+  EXPECT_NEAR(s[0], expect, 1e-12);
+  EXPECT_EQ(s[1], 0.0);  // fixed nodes carry no noise
+  EXPECT_THROW(temperature_standard_error_K(net, nc, Eigen::MatrixXd::Zero(2, 1)), InvalidInput);
+}
+
+TEST(TemperatureNoise, boosts_are_powers_of_two_that_reach_the_target_within_the_cap) {
+  Eigen::VectorXd s(4);
+  s << 0.005, 0.02, 0.05, 10.0;
+  const std::vector<double> b = noise_targeted_sampling_boosts(s, 0.01, 64.0);
+  // (sigma / target)^(4/3): 2^(4/3) = 2.5 -> 4, 5^(4/3) = 8.5 -> 16, 1000^(4/3) -> cap 64
+  EXPECT_EQ(b, (std::vector<double>{1.0, 4.0, 16.0, 64.0}));
+  EXPECT_THROW(noise_targeted_sampling_boosts(s, 0.0), InvalidInput);
+  EXPECT_THROW(noise_targeted_sampling_boosts(s, std::nan("")), InvalidInput);
+}
