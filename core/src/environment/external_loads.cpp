@@ -1008,6 +1008,8 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       }
     EarthHits hits;
     EscapingRays escaping;
+    const bool ref_lit = ref && ref->earth_lit_per_step.rows() == steps &&
+                         ref->earth_lit_per_step.cols() == static_cast<Eigen::Index>(ref->key.size());
     const PassContext pass = make_pass(ref ? &ref->earth_records : nullptr, &reused_earth_rays, &traced_earth_rays);
     if (earth_fixed) {
       hits = earth_hits(scene, geo, sides, states[0].earth_direction_body, distance, earth_rays, settings.earth_pilot_rays,
@@ -1015,7 +1017,8 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       if (ref)
         for (int s = 0; s < ns; ++s)
           if (!earth_todo[s]) {
-            hits.rays[s] = ref->earth[ref_of[s]];
+            // Its rays are needed only to record them; its lighting sums come from the reference.
+            if (samples || !ref_lit) hits.rays[s] = ref->earth[ref_of[s]];
             hits.view_factor[s] = ref->earth_view_factor[ref_of[s]];
           }
       if (samples) {
@@ -1057,6 +1060,10 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       tbb::parallel_for(tbb::blocked_range<int>(0, ns, 16), [&](const tbb::blocked_range<int>& range) {
         for (int s = range.begin(); s < range.end(); ++s) {
           float* acc = lit_per_step.col(s).data();
+          if (ref_lit && !earth_todo[s]) {  // reused whole: the same rays, the same sums
+            lit_per_step.col(s) = ref->earth_lit_per_step.col(ref_of[s]);
+            continue;
+          }
           for (int r = hits.begin[s]; r < hits.begin[s + 1]; ++r) {
             const float wr = w[r], ax = nx[r], ay = ny[r], az = nz[r];
             for (int k = 0; k < steps; ++k) acc[k] += wr * std::max(0.0f, ax * sx[k] + ay * sy[k] + az * sz[k]);
@@ -1064,6 +1071,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
         }
       });
     }
+    if (samples && earth_fixed) samples->earth_lit_per_step = lit_per_step;
     for (int k = 0; k < steps; ++k) {
       const OrbitState& st = states[k];
       if (earth_fixed) {

@@ -107,6 +107,9 @@ struct LoadSamples {
   //! axes, else (1/N, escaping direction).
   std::vector<std::vector<std::pair<float, Eigen::Vector3f>>> earth;
   Eigen::VectorXd earth_view_factor;  //!< #sides F_side->Earth (Earth fixed in body axes)
+  //! steps x #sides: sum over the side's Earth rays of w max(0, n_E . sun) (Earth fixed in
+  //! body axes): a side reused whole reuses its albedo lighting at every step too.
+  Eigen::MatrixXf earth_lit_per_step;
   //! #sides: could the spacecraft block the side's Earth view at all (conservative bounding-
   //! sphere test; it decides, with the pilot rays, how many rays the side traces)
   std::vector<char> earth_may_be_blocked;
