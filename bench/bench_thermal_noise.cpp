@@ -30,13 +30,13 @@ int main(int argc, char** argv) {
   if (argc > 5) ls.earth_min_rays_per_node = std::stoi(argv[5]);
   if (argc > 6) model.radiation.min_rays_per_node = std::stoi(argv[6]);
   if (argc > 7) ls.sun_min_rays_per_node = std::stoi(argv[7]);
-  // BENCH_BOOST="dish=4,boom=2": Node::sampling_boost per node (experiments).
+  // BENCH_BOOST="dish=4,boom=2": Node::sampling_boost (IR and loads) per node (experiments).
   if (const char* b = std::getenv("BENCH_BOOST")) {
     std::string spec = b;
     for (std::size_t at = 0; at < spec.size();) {
       const std::size_t end = std::min(spec.find(',', at), spec.size()), eq = spec.find('=', at);
       for (Node& n : model.nodes)
-        if (eq < end && n.name == spec.substr(at, eq - at)) n.sampling_boost = std::stod(spec.substr(eq + 1, end - eq - 1));
+        if (eq < end && n.name == spec.substr(at, eq - at)) n.sampling_boost.ir = n.sampling_boost.loads = std::stod(spec.substr(eq + 1, end - eq - 1));
       at = end + 1;
     }
   }
@@ -109,13 +109,16 @@ int main(int argc, char** argv) {
   std::printf("largest load difference (sampling): %.4f W at %s step %d (solar %.3f, albedo %.3f, IR %.3f)\n",
               dl(i, k), model.nodes[i].name.c_str(), int(k), std::abs(la.solar_W(i, k) - lb.solar_W(i, k)),
               std::abs(la.albedo_W(i, k) - lb.albedo_W(i, k)), std::abs(la.earth_ir_W(i, k) - lb.earth_ir_W(i, k)));
-  const Eigen::VectorXd sigma_T = temperature_standard_error_K(thermal_network(model, a.nc), a.nc, ra.temperature_K);
+  const ThermalNetwork net = thermal_network(model, a.nc);
+  const Eigen::VectorXd sigma_ir = temperature_standard_error_K(net, a.nc, ra.temperature_K);
+  const Eigen::VectorXd sigma_loads = temperature_standard_error_from_loads_K(
+      net, ra.temperature_K, ra.transient ? la.sampling_standard_error_W : Eigen::MatrixXd(la.sampling_standard_error_W.rowwise().mean()));
   std::printf("orbit-mean load differences per node [W] (sampling seed 1 vs 2): solar / albedo / IR / reflected, of total;"
-              " then the IR couplings' estimated temperature standard error and max |dT| (IR only) [K]\n");
+              " then the estimated temperature standard errors (couplings, loads) and max |dT| (IR only) [K]\n");
   for (int n = 0; n < N; ++n)
-    std::printf("  %-12s %8.4f %8.4f %8.4f %8.4f  of %8.2f   %8.4f %8.4f\n", model.nodes[n].name.c_str(),
+    std::printf("  %-12s %8.4f %8.4f %8.4f %8.4f  of %8.2f   %8.4f %8.4f %8.4f\n", model.nodes[n].name.c_str(),
                 (la.solar_W - lb.solar_W).row(n).mean(), (la.albedo_W - lb.albedo_W).row(n).mean(),
                 (la.earth_ir_W - lb.earth_ir_W).row(n).mean(), (la.reflected_solar_W - lb.reflected_solar_W).row(n).mean(),
-                la.total_W().row(n).mean(), sigma_T[n], (ra.temperature_K - rb_ir.temperature_K).row(n).cwiseAbs().maxCoeff());
+                la.total_W().row(n).mean(), sigma_ir[n], sigma_loads[n], (ra.temperature_K - rb_ir.temperature_K).row(n).cwiseAbs().maxCoeff());
   return 0;
 }

@@ -51,22 +51,19 @@ void run_simulate(const SimulateOptions& o) {
     if (settings.progress) settings.progress("sampling: estimating each node's Monte Carlo noise");
     const SamplingBoosts b = decide_sampling_boosts(model, settings, o.noise_target_K);
     nlohmann::json boosts = nlohmann::json::object();
-    std::string which;
     for (std::size_t k = 0; k < b.boost.size(); ++k) {
       model.nodes[k].sampling_boost = b.boost[k];
-      if (b.boost[k] > 1.0) {
-        boosts[model.nodes[k].name] = b.boost[k];
-        char buf[64];
-        std::snprintf(buf, sizeof buf, " x%g", b.boost[k]);
-        which += " " + model.nodes[k].name + buf;
-      }
+      if (b.boost[k] != Node::SamplingBoost{})
+        boosts[model.nodes[k].name] = {{"ir", b.boost[k].ir}, {"loads", b.boost[k].loads}};
     }
     if (settings.progress) {
-      char buf[128];
-      std::snprintf(buf, sizeof buf, "sampling: target %.3g K, +%.0f %% IR rays:", b.target_K, 100.0 * b.extra_rays);
-      settings.progress(which.empty() ? std::string("sampling: no node needs more samples") : buf + which);
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "sampling: target %.3g K, +%.0f %% IR rays, +%.0f %% sun/Earth samples: ",
+                    b.target_K, 100.0 * b.extra_ir_rays, 100.0 * b.extra_load_samples);
+      settings.progress(b.any() ? buf + b.summary(model.nodes) : std::string("sampling: no node needs more samples"));
     }
-    extra["sampling"] = {{"noise_target_K", b.target_K}, {"extra_ir_rays", b.extra_rays}, {"sampling_boost", boosts}};
+    extra["sampling"] = {{"noise_target_K", b.target_K}, {"extra_ir_rays", b.extra_ir_rays},
+                         {"extra_load_samples", b.extra_load_samples}, {"sampling_boost", boosts}};
   }
   SimulationResult result;
   if (o.noise_floor) {
@@ -121,8 +118,8 @@ void add_simulate(CLI::App& app) {
   sub->add_option("--noise-runs", opts->noise_runs, "runs for --noise-floor")->check(CLI::Range(2, 100));
   sub->add_option("--noise-target", opts->noise_target_K,
                   "noise-targeted sampling: nodes whose estimated Monte Carlo temperature noise exceeds this "
-                  "get more samples, at most 2x the model's IR rays in extra [K] (0 = off; boosts in the "
-                  "model file are kept)")
+                  "get more samples (IR rays and sun/Earth samples separately, at most 2x each in extra) [K] "
+                  "(0 = off; boosts in the model file are kept)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1e3));
   sub->add_option("--rays", opts->rays_per_face, "IR view-factor rays per face side (default: the model's)")

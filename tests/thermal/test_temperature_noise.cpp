@@ -34,6 +34,11 @@ TEST(TemperatureNoise, node_radiating_to_space_matches_the_linearised_balance) {
   T << 250.0, 300.0, 280.0;  // the largest over the steps
   const Eigen::VectorXd s = temperature_standard_error_K(net, nc, T);
   EXPECT_NEAR(s[0], 0.01 * 300.0 / (4.0 * 2.0), 1e-12);
+  // a load error dQ moves T by dQ / (4 sigma T^3 GR)
+  const Eigen::MatrixXd dQ = Eigen::MatrixXd::Constant(1, 3, 0.5);
+  const Eigen::VectorXd l = temperature_standard_error_from_loads_K(net, T, dQ);
+  EXPECT_NEAR(l[0], 0.5 / (4.0 * kStefanBoltzmann_W_per_m2_K4 * std::pow(250.0, 3) * 2.0), 1e-12);
+  EXPECT_THROW(temperature_standard_error_from_loads_K(net, T, Eigen::MatrixXd::Zero(1, 2)), InvalidInput);
 }
 
 TEST(TemperatureNoise, node_between_two_others_weighs_each_coupling_by_the_T4_difference) {

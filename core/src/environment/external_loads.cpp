@@ -426,10 +426,11 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
         frac[s] = 1.0;
         continue;
       }
-      const auto sd = side_seeds(seed, sides.key[s], 1);
       const int rays = side_rays[s], pilot = pilot_count(rays, pilot_rays);
       tracer.begin(&rays_out, pass.cursor(s));
-      auto trace = [&](int from, int to) {
+      // Traces sample points from..to of the side's scrambled net; returns how many see the sun.
+      auto trace = [&](const std::array<std::uint32_t, 4>& sd, int from, int to) {
+        const std::size_t first = rays_out.blocked.size();
         for (int k = from; k < to; ++k) {
           float o[3];
           on_side(g, scrambled(sobol[k][0], sd[0]), scrambled(sobol[k][1], sd[1]), o);
@@ -437,14 +438,15 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
         }
         tracer.flush();
         int open = 0;
-        for (int k = from; k < to; ++k) open += !rays_out.blocked[k];
+        for (std::size_t i = first; i < rays_out.blocked.size(); ++i) open += !rays_out.blocked[i];
         return open;
       };
-      const int open_pilot = trace(0, pilot);
+      const auto sd = side_seeds(seed, sides.key[s], 1);
+      const int open_pilot = trace(sd, 0, pilot);
       if (open_pilot == 0 || open_pilot == pilot || pilot == rays) {
         frac[s] = double(open_pilot) / pilot;
       } else {
-        frac[s] = double(open_pilot + trace(pilot, rays)) / rays;
+        frac[s] = double(open_pilot + trace(sd, pilot, rays)) / rays;
       }
       if (recording) pass.recorder->keep(*pass.record, s, rays_out);
     }
@@ -462,6 +464,9 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
 struct EarthHits {
   std::vector<std::vector<std::pair<float, Eigen::Vector3f>>> rays;  // per side: (weight, normal)
   Eigen::VectorXd view_factor;                                        // per side: sum of weights
+  // per side: binomial relative standard error of view_factor, sqrt((1 - p) / (p N)) for an
+  // unblocked share p of N rays (0 for unobstructed or fully blocked sides)
+  Eigen::VectorXd relative_error;
   // The same, flattened for the per-step albedo sums: columns (nx, ny, nz) and weights, side s
   // owning [begin[s], begin[s + 1]).
   Eigen::Matrix<float, Eigen::Dynamic, 3> normals;
@@ -530,6 +535,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   EarthHits out;
   out.rays.resize(ns);
   out.view_factor = Eigen::VectorXd::Zero(ns);
+  out.relative_error = Eigen::VectorXd::Zero(ns);
   const Eigen::Vector3d earth_dir = earth_dir_in.normalized();
   const double R2 = kEarthRadius_m * kEarthRadius_m;
   const double sin_half = kEarthRadius_m / distance_m;
@@ -620,6 +626,8 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
           f += weight * cos_theta[k];
         }
       out.view_factor[s] = f;
+      const double p = f_open > 0.0 ? f / f_open : 0.0;
+      if (p > 0.0 && p < 1.0 - 1e-12) out.relative_error[s] = std::sqrt((1.0 - p) / (p * double(cos_theta.size())));
     }
     pass.count(tracer);
   });
@@ -783,7 +791,8 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
   loads.times_s = Eigen::VectorXd::LinSpaced(steps, 0.0, loads.period_s * (steps - 1) / steps);
   if (!orbit) loads.times_s = Eigen::VectorXd::Zero(1);
   loads.in_shadow.assign(steps, 0);
-  for (auto* m : {&loads.solar_W, &loads.albedo_W, &loads.earth_ir_W, &loads.reflected_solar_W})
+  for (auto* m : {&loads.solar_W, &loads.albedo_W, &loads.earth_ir_W, &loads.reflected_solar_W,
+                 &loads.sampling_standard_error_W})
     *m = Eigen::MatrixXd::Zero(num_nodes, steps);
 
   double flux;
@@ -806,9 +815,9 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
   const LoadSamples* ref = reuse ? reuse->reference : nullptr;
   // Sample counts per side (small nodes get more): a side whose count differs from its
   // reference twin's (its node gained or lost faces) draws other samples and is not reused.
-  const Eigen::VectorXi sun_rays = rays_per_side_of_node(sides, settings.sun_rays_per_face, settings.sun_min_rays_per_node);
+  const Eigen::VectorXi sun_rays = rays_per_side_of_node(sides, settings.sun_rays_per_face, settings.sun_min_rays_per_node, sides.load_boost);
   const Eigen::VectorXi earth_rays =
-      rays_per_side_of_node(sides, settings.earth_rays_per_face, settings.earth_min_rays_per_node);
+      rays_per_side_of_node(sides, settings.earth_rays_per_face, settings.earth_min_rays_per_node, sides.load_boost);
   auto same_counts = [&](int s) {
     return ref_of[s] >= 0 && ref->sun_rays.size() == static_cast<Eigen::Index>(ref->key.size()) &&
            ref->sun_rays[ref_of[s]] == sun_rays[s] && ref->earth_rays[ref_of[s]] == earth_rays[s];
@@ -1084,7 +1093,12 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
         if (view_factor[s] == 0.0) continue;
         incident_albedo(s, k) = env.albedo * flux * geo[s].area * lit_sum[s];
         const int node = sides.node[s];
-        if (node >= 0) loads.earth_ir_W(node, k) += eps[s] * env.earth_ir_flux_W_per_m2 * geo[s].area * view_factor[s];
+        if (node < 0 || node >= num_nodes) continue;
+        const double ir = eps[s] * env.earth_ir_flux_W_per_m2 * geo[s].area * view_factor[s];
+        loads.earth_ir_W(node, k) += ir;
+        if (earth_fixed && hits.relative_error.size() == ns)  // both scale with the unblocked share
+          loads.sampling_standard_error_W(node, k) +=
+              std::pow(hits.relative_error[s] * (ir + alpha[s] * incident_albedo(s, k)), 2);
       }
     }
   }
@@ -1108,6 +1122,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     return true;
   }();
 
+  loads.sampling_standard_error_W = loads.sampling_standard_error_W.cwiseSqrt();  // variances summed above
   for (int s = 0; s < ns; ++s) {
     const int node = sides.node[s];
     if (node < 0 || node >= num_nodes) continue;

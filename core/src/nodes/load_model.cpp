@@ -397,7 +397,14 @@ ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& option
       if (v.contains("capacitance")) node.capacitance_J_per_K = k.number_in(v, key, "capacitance", 0, 1e15, false, " J/K");
       if (v.contains("power")) node.power_W = k.number(v, key, "power");
       if (v.contains("fixed_temperature")) node.fixed_temperature_K = k.number_in(v, key, "fixed_temperature", 0, 1e5, true, " K");
-      if (v.contains("sampling_boost")) node.sampling_boost = k.number_in(v, key, "sampling_boost", 1, 1e4, false, "");
+      if (v.contains("sampling_boost")) {
+        const json& b = v.at("sampling_boost");
+        const std::string bk = key + ".sampling_boost";
+        k.require_object(b, bk);
+        k.only_keys(b, bk, {"ir", "loads"});
+        if (b.contains("ir")) node.sampling_boost.ir = k.number_in(b, bk, "ir", 1, 1e4, false, "");
+        if (b.contains("loads")) node.sampling_boost.loads = k.number_in(b, bk, "loads", 1, 1e4, false, "");
+      }
       if (v.contains("two_sided")) sides[n].two_sided = k.boolean(v, key, "two_sided");
       if (v.contains("back_material")) {
         if (sides[n].two_sided == false) k.fail(key + ".back_material", "given for a node with \"two_sided\": false");
@@ -503,7 +510,8 @@ void save_model(const ThermalModel& model, const fs::path& json_path, const fs::
     v["capacitance"] = node.capacitance_J_per_K;
     v["power"] = node.power_W;
     if (node.fixed_temperature_K) v["fixed_temperature"] = *node.fixed_temperature_K;
-    if (node.sampling_boost != 1.0) v["sampling_boost"] = node.sampling_boost;
+    if (node.sampling_boost != Node::SamplingBoost{})
+      v["sampling_boost"] = {{"ir", node.sampling_boost.ir}, {"loads", node.sampling_boost.loads}};
     // Sidedness is stated here when it is uniform over the node; otherwise only the mesh
     // file (PLY property, OBJ comment) carries it per face.
     int back = -2;

@@ -21,7 +21,7 @@ Eigen::VectorXi side_ray_counts(const SurfaceSides& sides, const RadiationSettin
   // The statistical error of a node's couplings falls with its total rays: a 6-face node at
   // a fixed rays_per_face is ~30x noisier (in variance) than a 200-face one. Topping small
   // nodes up to a common total costs little (few faces) and evens the error out.
-  return rays_per_side_of_node(sides, settings.rays_per_face, settings.min_rays_per_node);
+  return rays_per_side_of_node(sides, settings.rays_per_face, settings.min_rays_per_node, sides.ir_boost);
 }
 
 namespace detail {

@@ -51,7 +51,8 @@ SurfaceSides surface_sides(const Mesh& mesh) {
   s.node = Eigen::Map<Eigen::VectorXi>(node.data(), n);
   s.material = Eigen::Map<Eigen::VectorXi>(mat.data(), n);
   s.area_m2 = Eigen::Map<Eigen::VectorXd>(area.data(), n);
-  s.boost = Eigen::VectorXd::Ones(n);
+  s.ir_boost = Eigen::VectorXd::Ones(n);
+  s.load_boost = Eigen::VectorXd::Ones(n);
   return s;
 }
 
@@ -73,11 +74,12 @@ SurfaceSides surface_sides(const ThermalModel& model) {
     if (s.node[i] >= 0 && model.nodes[s.node[i]].sampling_salt != 0)
       s.key[i] = sampling::hash_combine(s.key[i], model.nodes[s.node[i]].sampling_salt);
     if (s.node[i] >= 0) {
-      const double b = model.nodes[s.node[i]].sampling_boost;
-      if (!(b >= 1.0 && b <= 1e4))
-        throw InvalidInput("node '" + model.nodes[s.node[i]].name + "': sampling_boost " + std::to_string(b) +
-                           " is outside [1, 10000]");
-      s.boost[i] = b;
+      const Node& nd = model.nodes[s.node[i]];
+      for (double b : {nd.sampling_boost.ir, nd.sampling_boost.loads})
+        if (!(b >= 1.0 && b <= 1e4))
+          throw InvalidInput("node '" + nd.name + "': sampling_boost " + std::to_string(b) + " is outside [1, 10000]");
+      s.ir_boost[i] = nd.sampling_boost.ir;
+      s.load_boost[i] = nd.sampling_boost.loads;
     }
   }
   return s;
@@ -107,7 +109,8 @@ Eigen::VectorXd side_absorptivity(const ThermalModel& model, const SurfaceSides&
   return side_property(model, sides, false);
 }
 
-Eigen::VectorXi rays_per_side_of_node(const SurfaceSides& sides, int rays_per_side, int min_rays_per_node) {
+Eigen::VectorXi rays_per_side_of_node(const SurfaceSides& sides, int rays_per_side, int min_rays_per_node,
+                                      const Eigen::VectorXd& boost) {
   const int ns = sides.size();
   int num_nodes = 0;
   for (int s = 0; s < ns; ++s) num_nodes = std::max(num_nodes, sides.node[s] + 1);
@@ -124,7 +127,7 @@ Eigen::VectorXi rays_per_side_of_node(const SurfaceSides& sides, int rays_per_si
     if (a > 0.0) a = std::exp2(std::round(std::log2(a) * 64.0) / 64.0);
   Eigen::VectorXi rays(ns);
   for (int s = 0; s < ns; ++s) {
-    const double b = sides.boost.size() == ns ? sides.boost[s] : 1.0;
+    const double b = boost.size() == ns ? boost[s] : 1.0;
     double r = std::ceil(rays_per_side * b);
     const int n = sides.node[s];
     if (n >= 0 && min_rays_per_node > 0 && area[n] > 0.0)

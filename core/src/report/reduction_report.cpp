@@ -69,7 +69,8 @@ json reduction_report_json(const ReductionRun& run) {
   j["rays"] = {{"ir_rays_per_face", run.rays_per_face}, {"sun_rays_per_face", run.sun_rays_per_face}};
   nlohmann::json boosts = nlohmann::json::object();
   for (std::size_t k = 0; k < run.sampling_boost.size() && k < run.nodes.size(); ++k)
-    if (run.sampling_boost[k] != 1.0) boosts[run.nodes[k].name] = run.sampling_boost[k];
+    if (run.sampling_boost[k] != Node::SamplingBoost{})
+      boosts[run.nodes[k].name] = {{"ir", run.sampling_boost[k].ir}, {"loads", run.sampling_boost[k].loads}};
   j["rays"]["sampling_boost"] = boosts;
   if (run.mesh_cleanup) {
     const BareMeshCleanupReport& c = *run.mesh_cleanup;

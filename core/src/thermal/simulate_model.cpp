@@ -65,35 +65,75 @@ SimulationResult simulate_model(const ThermalModel& model, const ModelSimulation
 
 bool has_sampling_boosts(const ThermalModel& model) {
   for (const Node& n : model.nodes)
-    if (n.sampling_boost != 1.0) return true;
+    if (n.sampling_boost != Node::SamplingBoost{}) return true;
   return false;
 }
 
+bool SamplingBoosts::any() const {
+  for (const auto& b : boost)
+    if (b != Node::SamplingBoost{}) return true;
+  return false;
+}
+
+std::string SamplingBoosts::summary(const std::vector<Node>& nodes) const {
+  std::string out;
+  char buf[64];
+  for (std::size_t k = 0; k < boost.size() && k < nodes.size(); ++k) {
+    if (boost[k] == Node::SamplingBoost{}) continue;
+    out += (out.empty() ? "" : ", ") + nodes[k].name;
+    if (boost[k].ir != 1.0) out += (std::snprintf(buf, sizeof buf, " IR x%g", boost[k].ir), buf);
+    if (boost[k].loads != 1.0) out += (std::snprintf(buf, sizeof buf, " loads x%g", boost[k].loads), buf);
+  }
+  return out;
+}
+
 SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimulationSettings& settings,
-                                      double target_K, double max_extra_rays) {
+                                      double target_K, double max_extra) {
   if (!(target_K > 0.0)) throw InvalidInput("noise target must be > 0 K");
   SamplingBoosts out;
   NodeCouplings couplings;
   out.unboosted = simulate_model(model, settings, &couplings);
-  out.standard_error_K = temperature_standard_error_K(thermal_network(model, couplings), couplings,
-                                                      out.unboosted.temperature_K);
-  // IR rays per node at the model's counts: the boosts' cost (the loads' samples follow).
+  const ThermalNetwork net = thermal_network(model, couplings);
+  const Eigen::MatrixXd& T = out.unboosted.temperature_K;
+  out.ir_standard_error_K = temperature_standard_error_K(net, couplings, T);
+  // Steady runs solve the orbit-averaged loads at one time: average their errors alike (the
+  // errors of one side at different steps come from the same samples).
+  Eigen::MatrixXd load_se = out.unboosted.loads.sampling_standard_error_W;
+  if (load_se.cols() != T.cols() && T.cols() == 1 && load_se.cols() > 0) load_se = load_se.rowwise().mean().eval();
+  out.load_standard_error_K = load_se.rows() == T.rows() && load_se.cols() == T.cols()
+                                  ? temperature_standard_error_from_loads_K(net, T, load_se)
+                                  : Eigen::VectorXd::Zero(T.rows());
+  // Samples per node at the model's counts: what a boost multiplies.
   const SurfaceSides sides = surface_sides(model);
-  const Eigen::VectorXi rays =
-      rays_per_side_of_node(sides, model.radiation.rays_per_face, model.radiation.min_rays_per_node);
-  std::vector<double> node_rays(model.nodes.size(), 0.0);
-  double total = 0.0;
+  const Eigen::VectorXi ir = side_ray_counts(sides, model.radiation);
+  const ExternalLoadSettings& ls = settings.loads;
+  const Eigen::VectorXi sun = rays_per_side_of_node(sides, ls.sun_rays_per_face, ls.sun_min_rays_per_node, sides.load_boost);
+  const Eigen::VectorXi earth =
+      rays_per_side_of_node(sides, ls.earth_rays_per_face, ls.earth_min_rays_per_node, sides.load_boost);
+  const std::size_t n = model.nodes.size();
+  std::vector<double> ir_rays(n, 0.0), load_samples(n, 0.0);
+  double ir_total = 0.0, load_total = 0.0;
   for (int s = 0; s < sides.size(); ++s) {
-    total += rays[s];
-    if (sides.node[s] >= 0) node_rays[sides.node[s]] += rays[s] / sides.boost[s];
+    ir_total += ir[s];
+    load_total += sun[s] + earth[s];
+    if (sides.node[s] < 0) continue;
+    ir_rays[sides.node[s]] += ir[s];
+    load_samples[sides.node[s]] += sun[s] + earth[s];
   }
   out.target_K = target_K;
   for (int attempt = 0; attempt < 64; ++attempt, out.target_K *= std::sqrt(2.0)) {
-    out.boost = noise_targeted_sampling_boosts(out.standard_error_K, out.target_K);
-    double extra = 0.0;
-    for (std::size_t i = 0; i < node_rays.size(); ++i) extra += node_rays[i] * (out.boost[i] - 1.0);
-    out.extra_rays = total > 0.0 ? extra / total : 0.0;
-    if (out.extra_rays <= max_extra_rays) break;
+    const std::vector<double> b_ir = noise_targeted_sampling_boosts(out.ir_standard_error_K, out.target_K);
+    const std::vector<double> b_load = noise_targeted_sampling_boosts(out.load_standard_error_K, out.target_K);
+    double extra_ir = 0.0, extra_load = 0.0;
+    out.boost.assign(n, {});
+    for (std::size_t i = 0; i < n; ++i) {
+      out.boost[i] = {b_ir[i], b_load[i]};
+      extra_ir += ir_rays[i] * (b_ir[i] - 1.0);
+      extra_load += load_samples[i] * (b_load[i] - 1.0);
+    }
+    out.extra_ir_rays = ir_total > 0.0 ? extra_ir / ir_total : 0.0;
+    out.extra_load_samples = load_total > 0.0 ? extra_load / load_total : 0.0;
+    if (out.extra_ir_rays <= max_extra && out.extra_load_samples <= max_extra) break;
   }
   return out;
 }

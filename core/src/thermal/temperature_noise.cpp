@@ -8,6 +8,19 @@
 
 namespace thermodec {
 
+namespace {
+// G_i = dQ_i/dT_i [W/K] at temperature t: radiation to everything it sees plus conduction.
+double self_conductance(const ThermalNetwork& net, int i, double t) {
+  double gl = 0.0, gr = net.to_space_couplings_m2[i];
+  for (int j = 0; j < net.num_nodes(); ++j)
+    if (j != i) {
+      gl += net.conductance_W_per_K(i, j);
+      gr += net.radiative_couplings_m2(i, j);
+    }
+  return 4.0 * kStefanBoltzmann_W_per_m2_K4 * t * t * t * gr + gl;
+}
+}  // namespace
+
 Eigen::VectorXd temperature_standard_error_K(const ThermalNetwork& net, const NodeCouplings& nc,
                                             const Eigen::MatrixXd& T) {
   const int N = net.num_nodes();
@@ -18,12 +31,6 @@ Eigen::VectorXd temperature_standard_error_K(const ThermalNetwork& net, const No
   const double s = kStefanBoltzmann_W_per_m2_K4;
   for (int i = 0; i < N; ++i) {
     if (net.is_fixed(i)) continue;
-    double gl = 0.0, gr = net.to_space_couplings_m2[i];
-    for (int j = 0; j < N; ++j)
-      if (j != i) {
-        gl += net.conductance_W_per_K(i, j);
-        gr += net.radiative_couplings_m2(i, j);
-      }
     for (int k = 0; k < T.cols(); ++k) {
       const double ti = T(i, k), ti4 = ti * ti * ti * ti;
       double var = std::pow(s * nc.to_space_couplings_standard_error[i] * ti4, 2);
@@ -32,8 +39,24 @@ Eigen::VectorXd temperature_standard_error_K(const ThermalNetwork& net, const No
         const double tj = T(j, k);
         var += std::pow(s * nc.radiative_couplings_standard_error(i, j) * (tj * tj * tj * tj - ti4), 2);
       }
-      const double g = 4.0 * s * ti * ti * ti * gr + gl;
+      const double g = self_conductance(net, i, ti);
       if (g > 0.0) out[i] = std::max(out[i], std::sqrt(var) / g);
+    }
+  }
+  return out;
+}
+
+Eigen::VectorXd temperature_standard_error_from_loads_K(const ThermalNetwork& net, const Eigen::MatrixXd& T,
+                                                       const Eigen::MatrixXd& se) {
+  const int N = net.num_nodes();
+  if (T.rows() != N || se.rows() != N || se.cols() != T.cols())
+    throw InvalidInput("temperature_standard_error_from_loads_K: temperatures and load errors must be nodes x steps");
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(N);
+  for (int i = 0; i < N; ++i) {
+    if (net.is_fixed(i)) continue;
+    for (int k = 0; k < T.cols(); ++k) {
+      const double g = self_conductance(net, i, T(i, k));
+      if (g > 0.0) out[i] = std::max(out[i], se(i, k) / g);
     }
   }
   return out;

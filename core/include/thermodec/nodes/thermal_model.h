@@ -33,11 +33,17 @@ struct Node {
   //! how the trial noise floor (reduction/reduction_reference.h) measures the Monte Carlo
   //! noise a reduction trial sees. Not stored in model files.
   std::uint64_t sampling_salt = 0;
-  //! Multiplies the Monte Carlo samples of the node's faces (IR rays, sun points, Earth rays;
-  //! per face and per node budgets alike), >= 1. Set by noise_targeted_sampling
-  //! (thermal/noise_targeted_sampling.h) for the few nodes whose temperature the couplings'
-  //! noise moves most; 1 otherwise. Stored in model files as "sampling_boost".
-  double sampling_boost = 1.0;
+  //! Multipliers (>= 1) of the Monte Carlo samples of the node's faces, per face and per node
+  //! budgets alike: `ir` for the IR view-factor rays, `loads` for the sun points and Earth rays.
+  //! Set by noise-targeted sampling (thermal/simulate_model.h, decide_sampling_boosts) for the
+  //! nodes whose temperature the sampling noise moves most; 1 otherwise. Stored in model files
+  //! as "sampling_boost": {"ir": .., "loads": ..}.
+  struct SamplingBoost {
+    double ir = 1.0;
+    double loads = 1.0;
+    bool operator==(const SamplingBoost& o) const { return ir == o.ir && loads == o.loads; }
+    bool operator!=(const SamplingBoost& o) const { return !(*this == o); }
+  } sampling_boost;
 };
 
 //! Conductive link GL between two nodes [W/K].

@@ -20,7 +20,8 @@ struct SurfaceSides {
   //! #S identity: hash of the face's vertex coordinates (in F order), side, sidedness, and
   //! its occurrence number among identical faces. Independent of the face index.
   std::vector<std::uint64_t> key;
-  Eigen::VectorXd boost;      //!< #S sample multiplier of the side's node (Node::sampling_boost), 1 if none
+  Eigen::VectorXd ir_boost;    //!< #S IR ray multiplier of the side's node (Node::sampling_boost.ir)
+  Eigen::VectorXd load_boost;  //!< #S sun/Earth sample multiplier of the side's node (.loads)
   Eigen::VectorXi front_side;  //!< #F side index of each face's front, -1 if untraceable
   Eigen::VectorXi back_side;   //!< #F side index of each face's back, -1 if one-sided
 
@@ -44,8 +45,9 @@ Eigen::VectorXd side_absorptivity(const ThermalModel& model, const SurfaceSides&
 //! ceil(min_rays_per_node x A_side / A_node)), A_node rounded to 1/64 octave; sides without a
 //! node get rays_per_side. A side's count depends on its own area and its node's area only, so
 //! it stays the same when other faces of its node change (decimation keeps node areas).
-//! Both counts are multiplied by the side's `boost`.
-//! Returns #S (min_rays_per_node <= 0: rays_per_side for all).
-Eigen::VectorXi rays_per_side_of_node(const SurfaceSides& sides, int rays_per_side, int min_rays_per_node);
+//! Both counts are multiplied by the side's `boost` (SurfaceSides::ir_boost or load_boost;
+//! empty = 1). Returns #S (min_rays_per_node <= 0: rays_per_side for all).
+Eigen::VectorXi rays_per_side_of_node(const SurfaceSides& sides, int rays_per_side, int min_rays_per_node,
+                                      const Eigen::VectorXd& boost = Eigen::VectorXd());
 
 }  // namespace thermodec

@@ -71,7 +71,7 @@ struct ReductionRun {
   int rays_per_face = 0;       //!< IR rays per face side used (model.radiation)
   int sun_rays_per_face = 0;   //!< shadow samples per face side used
   //! Node::sampling_boost of every node (1 = not boosted), as the reduced model keeps them.
-  std::vector<double> sampling_boost;
+  std::vector<Node::SamplingBoost> sampling_boost;
   double seconds_total = 0.0, seconds_noise = 0.0, seconds_sensitivity = 0.0, seconds_search = 0.0;
 };
 

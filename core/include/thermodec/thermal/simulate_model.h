@@ -28,18 +28,23 @@ SimulationResult simulate_model(const ThermalModel& model, const ModelSimulation
 
 //! Noise-targeted sampling (docs/thermal.md, "Noise-targeted sampling"): simulates the model
 //! once at its own sample counts, estimates each node's temperature standard error from the
-//! couplings' (thermal/temperature_noise.h) and picks Node::sampling_boost for the nodes above
-//! target_K. The extra IR rays are capped at `max_extra_rays` x the model's total: while the
-//! boosts would cost more, the target is raised by sqrt(2).
+//! couplings' (IR rays) and from the loads' (sun and Earth samples), separately
+//! (thermal/temperature_noise.h), and picks Node::sampling_boost.ir / .loads for the nodes above
+//! target_K. The extra samples of each kind are capped at `max_extra` x the model's total of
+//! that kind: while the boosts would cost more, the target is raised by sqrt(2).
 struct SamplingBoosts {
-  std::vector<double> boost;                  //!< per node, >= 1
-  Eigen::VectorXd standard_error_K;           //!< per node, estimated at the unboosted counts
+  std::vector<Node::SamplingBoost> boost;     //!< per node
+  Eigen::VectorXd ir_standard_error_K;        //!< per node, estimated at the unboosted counts
+  Eigen::VectorXd load_standard_error_K;      //!< per node, the same for the loads
   double target_K = 0.0;                      //!< the target actually used (>= the one asked)
-  double extra_rays = 0.0;                    //!< extra IR rays / the unboosted total
+  double extra_ir_rays = 0.0;                 //!< extra IR rays / the unboosted total
+  double extra_load_samples = 0.0;            //!< extra sun + Earth samples / the unboosted total
   SimulationResult unboosted;                 //!< the simulation the estimate comes from
+  bool any() const;                           //!< some node boosted
+  std::string summary(const std::vector<Node>& nodes) const;  //!< "dish IR x4 loads x2, ..."
 };
 SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimulationSettings& settings,
-                                      double target_K, double max_extra_rays = 2.0);
+                                      double target_K, double max_extra = 2.0);
 
 //! Whether any node of `model` already has a sampling boost (e.g. from its model file).
 bool has_sampling_boosts(const ThermalModel& model);
