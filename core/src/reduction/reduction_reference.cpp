@@ -131,7 +131,15 @@ Candidate ReductionReference::candidate(const Eigen::VectorXd& ratios, bool full
   c.decimation = decimate_nodes(s.model.mesh, ratios, s.settings.decimation);
   c.model = s.model;
   c.model.mesh = c.decimation.mesh;
-  c.result = simulate_candidate(c.model, *s.radiation, s.load_samples, s.settings.simulation, full);
+  // A decimation that changed nothing (a node already at its fewest faces, common on CAD
+  // meshes: two-triangle panels) is the reference itself, face for face and sample for sample:
+  // its trial is the reference result, without re-sampling the loads.
+  const Mesh& m0 = s.model.mesh;
+  const Mesh& m1 = c.model.mesh;
+  const bool unchanged = !full && m1.V.rows() == m0.V.rows() && m1.F.rows() == m0.F.rows() && m1.V == m0.V &&
+                         m1.F == m0.F && m1.face_node == m0.face_node && m1.face_material == m0.face_material &&
+                         m1.face_back_material == m0.face_back_material;
+  c.result = unchanged ? s.result : simulate_candidate(c.model, *s.radiation, s.load_samples, s.settings.simulation, full);
   c.difference = compare_results(s.result, c.result);
   c.trial = trial_result(s.result, c.result, c.decimation);
   return c;
