@@ -56,12 +56,7 @@ void run_simulate(const SimulateOptions& o) {
       if (b.boost[k] != Node::SamplingBoost{})
         boosts[model.nodes[k].name] = {{"ir", b.boost[k].ir}, {"loads", b.boost[k].loads}};
     }
-    if (settings.progress) {
-      char buf[160];
-      std::snprintf(buf, sizeof buf, "sampling: target %.3g K, +%.0f %% IR rays, +%.0f %% sun/Earth samples: ",
-                    b.target_K, 100.0 * b.extra_ir_rays, 100.0 * b.extra_load_samples);
-      settings.progress(b.any() ? buf + b.summary(model.nodes) : std::string("sampling: no node needs more samples"));
-    }
+    if (settings.progress) settings.progress(b.describe(model.nodes));
     extra["sampling"] = {{"noise_target_K", b.target_K}, {"extra_ir_rays", b.extra_ir_rays},
                          {"extra_load_samples", b.extra_load_samples}, {"sampling_boost", boosts}};
   }

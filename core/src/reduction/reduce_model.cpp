@@ -52,10 +52,7 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
         decide_sampling_boosts(model_in, settings.reference.simulation, settings.noise_target_fraction * tol);
     boosted = model_in;
     for (std::size_t k = 0; k < b.boost.size(); ++k) boosted.nodes[k].sampling_boost = b.boost[k];
-    say(b.any() ? fmt("sampling: target %.3g K, +%.0f %% IR rays, +%.0f %% sun/Earth samples: ", b.target_K,
-                      100.0 * b.extra_ir_rays, 100.0 * b.extra_load_samples) +
-                      b.summary(model_in.nodes)
-                : std::string("sampling: no node needs more samples"));
+    say(b.describe(model_in.nodes));
   }
   const ThermalModel& model = boost ? boosted : model_in;
   ReductionRun run;

@@ -87,6 +87,14 @@ std::string SamplingBoosts::summary(const std::vector<Node>& nodes) const {
   return out;
 }
 
+std::string SamplingBoosts::describe(const std::vector<Node>& nodes) const {
+  if (!any()) return "sampling: no node needs more samples";
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "sampling: target %.3g K, +%.0f %% IR rays, +%.0f %% sun/Earth samples: ", target_K,
+                100.0 * extra_ir_rays, 100.0 * extra_load_samples);
+  return buf + summary(nodes);
+}
+
 SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimulationSettings& settings,
                                       double target_K, double max_extra) {
   if (!(target_K > 0.0)) throw InvalidInput("noise target must be > 0 K");

@@ -42,6 +42,8 @@ struct SamplingBoosts {
   SimulationResult unboosted;                 //!< the simulation the estimate comes from
   bool any() const;                           //!< some node boosted
   std::string summary(const std::vector<Node>& nodes) const;  //!< "dish IR x4 loads x2, ..."
+  //! One line for progress output: the target, the extra samples and the summary.
+  std::string describe(const std::vector<Node>& nodes) const;
 };
 SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimulationSettings& settings,
                                       double target_K, double max_extra = 2.0);
