@@ -26,6 +26,7 @@ xtst.XTestFakeMotionEvent.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_in
 xtst.XTestFakeButtonEvent.argtypes = [ctypes.c_void_p, ctypes.c_uint, ctypes.c_int, ctypes.c_ulong]
 
 MODIFIERS = {"ctrl": "Control_L", "alt": "Alt_L", "shift": "Shift_L"}
+SHIFTED = {"underscore", "colon", "plus", "question", "greater", "less", "parenleft", "parenright"}
 CHARS = {" ": "space", "-": "minus", ".": "period", ":": "colon", "_": "underscore", "/": "slash"}
 
 
@@ -39,7 +40,9 @@ def keycode(display, name):
 def press(display, combo):
     names = combo.split("+")
     keys = [MODIFIERS.get(n.lower(), n) for n in names]
-    shift = len(keys) == 1 and len(keys[0]) == 1 and keys[0].isupper()
+    # Keysyms that share a key with another and need Shift on a US layout (underscore is on the
+    # minus key: typed without Shift it comes out as "-").
+    shift = len(keys) == 1 and ((len(keys[0]) == 1 and keys[0].isupper()) or keys[0] in SHIFTED)
     codes = ([keycode(display, "Shift_L")] if shift else []) + [keycode(display, k) for k in keys]
     for c in codes:
         xtst.XTestFakeKeyEvent(display, c, 1, 0)
