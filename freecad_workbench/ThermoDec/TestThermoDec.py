@@ -116,7 +116,7 @@ class SampleSatellite(_DocTest):
         self.assertEqual(len(data["nodes"]), 10)
         self.assertEqual(data["nodes"]["body_px"]["power"], 40.0)
         self.assertEqual(data["nodes"]["body_pz"]["material"], "osr")
-        self.assertEqual(data["materials"]["solar_cell"], {"absorptivity": 0.82, "emissivity": 0.85})
+        self.assertEqual(data["materials"]["solar_cell"], {"absorptivity": 0.75, "emissivity": 0.82})
         self.assertEqual(data["_material_sources"]["solar_cell"], coatings.coating("solar_cell")[2])
         self.assertEqual(data["environment"]["type"], "orbit")
         self.assertAlmostEqual(data["environment"]["altitude_km"], 600.0)
