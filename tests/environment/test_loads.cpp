@@ -126,6 +126,27 @@ TEST(SolarLoads, a_blocker_over_half_a_plate_halves_its_direct_sun) {
   EXPECT_EQ(l.earth_ir_W.sum(), 0.0);
 }
 
+TEST(SolarLoads, a_sliver_shadow_on_a_huge_triangle_is_caught_whatever_the_seed) {
+  // A 10 m x 10 m plate (two 50 m^2 triangles, like a CAD panel) and a 0.2 m x 0.2 m blocker
+  // 1 m above it: a shadow of 0.04 m^2, 1/1250 of its triangle. A fixed 256-point pilot misses
+  // it for most seeds (then the side counts as fully lit); the pilot grows to 1/32 of the
+  // side's 200 000 samples and catches it for every seed.
+  ThermalModel model = model_with({"panel", "blocker"}, {{"black", 1.0, 0.9}});
+  add_quad(model.mesh, V3(-5, -5, 0), V3(10, 0, 0), V3(0, 10, 0), 0, 0, -1, 1);
+  add_quad(model.mesh, V3(2.9, -1.1, 1), V3(0.2, 0, 0), V3(0, 0.2, 0), 1, 0, -1, 1);
+  model.environment.type = EnvironmentType::fixed_sun;
+  model.environment.sun_direction = V3::UnitZ();
+  model.environment.solar_flux_W_per_m2 = 1000.0;
+  ExternalLoadSettings s;
+  s.sun_rays_per_face = 256;
+  s.sun_min_rays_per_node = 400000;
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    s.seed = seed;
+    const Loads l = loads_of(model, s, false);
+    EXPECT_NEAR(l.solar_W(0, 0), 1000.0 * (100.0 - 0.04), 4.0) << "seed " << seed;
+  }
+}
+
 TEST(SolarLoads, sunlight_reflected_by_a_grey_plate_reaches_a_black_neighbour_by_the_view_factor) {
   // Perpendicular unit squares sharing an edge: A (z = 0, facing +Z, alpha 0.4) is lit along
   // +Z; B (x = 0, facing +X, black) is edge-on to the sun. B absorbs what A reflects towards
