@@ -30,13 +30,18 @@ int main(int argc, char** argv) {
   if (argc > 5) ls.earth_min_rays_per_node = std::stoi(argv[5]);
   if (argc > 6) model.radiation.min_rays_per_node = std::stoi(argv[6]);
   if (argc > 7) ls.sun_min_rays_per_node = std::stoi(argv[7]);
-  // BENCH_BOOST="dish=4,boom=2": Node::sampling_boost (IR and loads) per node (experiments).
+  // BENCH_BOOST="dish=4,boom=8/2": Node::sampling_boost per node, both or IR/loads (experiments).
   if (const char* b = std::getenv("BENCH_BOOST")) {
     std::string spec = b;
     for (std::size_t at = 0; at < spec.size();) {
       const std::size_t end = std::min(spec.find(',', at), spec.size()), eq = spec.find('=', at);
       for (Node& n : model.nodes)
-        if (eq < end && n.name == spec.substr(at, eq - at)) n.sampling_boost.ir = n.sampling_boost.loads = std::stod(spec.substr(eq + 1, end - eq - 1));
+        if (eq < end && n.name == spec.substr(at, eq - at)) {
+          const std::string v = spec.substr(eq + 1, end - eq - 1);  // "4" (both) or "8/2" (IR/loads)
+          const std::size_t slash = v.find('/');
+          n.sampling_boost.ir = std::stod(v.substr(0, slash));
+          n.sampling_boost.loads = slash == std::string::npos ? n.sampling_boost.ir : std::stod(v.substr(slash + 1));
+        }
       at = end + 1;
     }
   }

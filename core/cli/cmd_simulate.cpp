@@ -25,6 +25,7 @@ struct SimulateOptions {
   ExternalLoadSettings loads;
   bool sun_rays_set = false;
   double noise_target_K = 0.01;
+  double noise_budget = 2.0;
 };
 
 void run_simulate(const SimulateOptions& o) {
@@ -49,7 +50,7 @@ void run_simulate(const SimulateOptions& o) {
   // temperature noise; the nodes above the target get more samples (docs/thermal.md).
   if (o.noise_target_K > 0.0 && !has_sampling_boosts(model)) {
     if (settings.progress) settings.progress("sampling: estimating each node's Monte Carlo noise");
-    const SamplingBoosts b = decide_sampling_boosts(model, settings, o.noise_target_K);
+    const SamplingBoosts b = decide_sampling_boosts(model, settings, o.noise_target_K, o.noise_budget);
     nlohmann::json boosts = nlohmann::json::object();
     for (std::size_t k = 0; k < b.boost.size(); ++k) {
       model.nodes[k].sampling_boost = b.boost[k];
@@ -115,6 +116,11 @@ void add_simulate(CLI::App& app) {
                   "noise-targeted sampling: nodes whose estimated Monte Carlo temperature noise exceeds this "
                   "get more samples (IR rays and sun/Earth samples separately, at most 2x each in extra) [K] "
                   "(0 = off; boosts in the model file are kept)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e3));
+  sub->add_option("--noise-budget", opts->noise_budget,
+                  "noise-targeted sampling: at most this many extra IR rays, and extra sun/Earth samples, as a "
+                  "multiple of the model's totals (the target is raised until the boosts fit)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1e3));
   sub->add_option("--rays", opts->rays_per_face, "IR view-factor rays per face side (default: the model's)")
