@@ -1,6 +1,7 @@
 // Issue 5 acceptance on the sample satellite (sample_models/satellite, 13 nodes): 50 % global
 // reduction keeps every node's area within 0.5 % and each closed part's volume within 1 %, no
 // face changes node, interfaces stay watertight, reruns are identical; and the CLI commands.
+#include <unistd.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -90,7 +91,8 @@ void check_half_reduction(const fs::path& model_path) {
 }
 
 int run_cli(const std::string& args, std::string& out) {
-  const fs::path log = fs::temp_directory_path() / "thermodec_test_decimation_cli.txt";
+  // note: one log per process: CTest runs this binary's tests as concurrent processes.
+  const fs::path log = fs::temp_directory_path() / ("thermodec_test_decimation_cli_" + std::to_string(::getpid()) + ".txt");
   const std::string cmd = std::string("\"") + THERMODEC_CLI + "\" " + args + " > \"" + log.string() + "\" 2>&1";
   const int status = std::system(cmd.c_str());
   std::ifstream in(log);

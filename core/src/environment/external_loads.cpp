@@ -24,6 +24,7 @@
 #include "../radiation/sampling.h"
 #include "../radiation/ray_scene_impl.h"
 #include "../radiation/tracing.h"
+#include "sphere_tree.h"
 
 namespace thermodec {
 namespace {
@@ -319,20 +320,23 @@ bool below_plane_of(const Side& s, const Side& t) {
 }
 
 // For the conservative "can anything block this side's rays" tests: per side, a bounding
-// sphere (plus its ray lift and float rounding: Embree works in single precision) and the
-// faces that could block it in some direction at all, i.e. that are not below its plane
-// (below_plane_of; each face once, whichever side). Direction-independent: built once per run.
+// sphere (plus its ray lift and float rounding: Embree works in single precision), and a
+// sphere tree over the faces that could block (each face once, whichever side). A face can
+// block side s in some direction only if it is not below s's plane (below_plane_of).
+// Direction-independent: built once per run.
 struct Occluders {
   std::vector<Eigen::Vector3d> centre;
   std::vector<double> radius;  // < 0 for sides without area
-  std::vector<int> begin, list;  // side s: potential blockers list[begin[s] .. begin[s + 1])
+  std::vector<int> face;       // per side: its face
+  blockers::SphereTree tree;   // over one side per face
 };
 
 Occluders occluders(const std::vector<Side>& geo, const SurfaceSides& sides) {
   const int ns = sides.size();
   Occluders o;
-  o.centre.resize(ns);
+  o.centre.assign(ns, Eigen::Vector3d::Zero());
   o.radius.assign(ns, -1.0);
+  o.face.assign(sides.face.data(), sides.face.data() + ns);
   std::vector<int> blockers;  // one side per face
   for (int s = 0; s < ns; ++s) {
     const Side& g = geo[s];
@@ -344,19 +348,28 @@ Occluders occluders(const std::vector<Side>& geo, const SurfaceSides& sides) {
     const int f = sides.face[s];
     if (sides.front_side[f] < 0 || sides.front_side[f] == s) blockers.push_back(s);
   }
-  std::vector<std::vector<int>> per_side(ns);
-  tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
-    for (int s = range.begin(); s < range.end(); ++s) {
-      if (o.radius[s] < 0.0) continue;
-      for (int t : blockers)
-        if (sides.face[t] != sides.face[s] && !below_plane_of(geo[s], geo[t])) per_side[s].push_back(t);
-    }
+  o.tree = blockers::sphere_tree(blockers, o.centre, o.radius, [&](int t, int k) -> const Eigen::Vector3d& {
+    return k == 0 ? geo[t].a : k == 1 ? geo[t].b : geo[t].c;
   });
-  o.begin.assign(ns + 1, 0);
-  for (int s = 0; s < ns; ++s) o.begin[s + 1] = o.begin[s] + static_cast<int>(per_side[s].size());
-  o.list.reserve(o.begin[ns]);
-  for (auto& l : per_side) o.list.insert(o.list.end(), l.begin(), l.end());
   return o;
+}
+
+// True if some potential blocker t of side s (another face, not below s's plane) passes
+// `meets(centre, reach)` with reach = radius(s) + radius(t); `meets` must be monotone in reach
+// (a bigger sphere passes whenever a smaller one inside it does).
+template <class Meets>
+bool any_blocker(const std::vector<Side>& geo, const Occluders& occ, int s, Meets&& meets) {
+  const Side& g = geo[s];
+  const double h = 0.5 * g.offset;  // as below_plane_of
+  const double slack = 1e-9 * (g.a.cwiseAbs().maxCoeff() + 1.0);
+  return blockers::any_member(
+      occ.tree,
+      [&](const blockers::SphereTree::Node& n) {
+        return blockers::height_above_plane(n, g.normal, g.a) > h - slack && meets(n.centre, occ.radius[s] + n.radius);
+      },
+      [&](int t) {
+        return occ.face[t] != occ.face[s] && !below_plane_of(g, geo[t]) && meets(occ.centre[t], occ.radius[s] + occ.radius[t]);
+      });
 }
 
 // Which sides facing `toward` (unit) may be shadowed at all: some potential blocker's bounding
@@ -373,17 +386,13 @@ std::vector<char> may_be_shadowed(const std::vector<Side>& geo, const Occluders&
         out[s] = 1;
         continue;
       }
-      for (int k = occ.begin[s]; k < occ.begin[s + 1]; ++k) {
-        const int t = occ.list[k];
-        const double reach = occ.radius[s] + occ.radius[t];
-        const Eigen::Vector3d v = occ.centre[t] - occ.centre[s];
+      // a blocker's sphere meets the prism the side's sphere sweeps along `toward`
+      out[s] = any_blocker(geo, occ, s, [&](const Eigen::Vector3d& centre, double reach) {
+        const Eigen::Vector3d v = centre - occ.centre[s];
         const double along = v.dot(toward);
-        if (along < -reach) continue;  // wholly behind the rays' start
-        if (v.squaredNorm() - along * along <= reach * reach) {
-          out[s] = 1;
-          break;
-        }
-      }
+        if (along < -reach) return false;  // wholly behind the rays' start
+        return v.squaredNorm() - along * along <= reach * reach;
+      });
     }
   });
   return out;
@@ -502,24 +511,16 @@ std::vector<char> may_be_blocked_from_earth(const std::vector<Side>& geo, const 
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
     for (int s = range.begin(); s < range.end(); ++s) {
       if (occ.radius[s] < 0.0 || (todo && !(*todo)[s])) continue;
-      for (int k = occ.begin[s]; k < occ.begin[s + 1]; ++k) {
-        const int t = occ.list[k];
-        const Eigen::Vector3d v = occ.centre[t] - occ.centre[s];
-        const double reach = occ.radius[s] + occ.radius[t];
-        if (v.dot(geo[s].normal) < -reach) continue;  // wholly behind the side
+      out[s] = any_blocker(geo, occ, s, [&](const Eigen::Vector3d& centre, double reach) {
+        const Eigen::Vector3d v = centre - occ.centre[s];
+        if (v.dot(geo[s].normal) < -reach) return false;  // wholly behind the side
         const double dist2 = v.squaredNorm();
-        if (dist2 <= reach * reach) {
-          out[s] = 1;
-          break;
-        }
+        if (dist2 <= reach * reach) return true;
         // angle(v, earth) <= half + asin(reach / dist), compared through cosines (both angles
         // in [0, pi], cos decreasing there): cos(half + beta) = cos_half cos_beta - sin_half sin_beta.
         const double dist = std::sqrt(dist2), sin_b = reach / dist, cos_b = std::sqrt(1.0 - sin_b * sin_b);
-        if (v.dot(earth_dir) / dist >= cos_half * cos_b - sin_half * sin_b - 1e-6) {  // (float ray directions)
-          out[s] = 1;
-          break;
-        }
-      }
+        return v.dot(earth_dir) / dist >= cos_half * cos_b - sin_half * sin_b - 1e-6;  // (float ray directions)
+      });
     }
   });
   return out;
