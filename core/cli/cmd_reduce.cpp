@@ -1,4 +1,5 @@
 // `thermodec reduce MODEL --tolerance K [--strategy informed|uniform] --out DIR`
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 
@@ -41,7 +42,16 @@ void run_reduce(const ReduceCliOptions& o) {
   s.strategy = o.strategy == "uniform" ? ReductionStrategy::uniform : ReductionStrategy::informed;
   s.sensitivity_cap_factor = o.cap_factor;
   s.noise_target_fraction = o.noise_target_fraction;
-  if (!o.quiet) s.progress = [](const std::string& m) { std::cerr << "reduce: " << m << "\n"; };
+  if (!o.quiet) {
+    // Elapsed wall time on every line: on CAD meshes a reduction runs for an hour.
+    const auto start = std::chrono::steady_clock::now();
+    s.progress = [start](const std::string& m) {
+      const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      char stamp[32];
+      std::snprintf(stamp, sizeof stamp, "[%7.1f s] ", t);
+      std::cerr << "reduce: " << stamp << m << "\n";
+    };
+  }
   std::cerr << "reduce: " << o.model << ": " << model.mesh.num_faces() << " faces, " << model.nodes.size()
             << " nodes, " << model.radiation.rays_per_face << " IR rays and "
             << s.reference.simulation.loads.sun_rays_per_face << " sun samples per face side, tolerance " << o.tolerance_K << " K, strategy " << o.strategy << "\n";

@@ -102,12 +102,15 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   } else {
     SensitivityOptions so = settings.sensitivity;
     so.cap_K = settings.sensitivity_cap_factor * tol;
+    const auto ts = Clock::now();
     so.progress = [&](int done, int total) {
+      // Time left, extrapolated from the nodes swept so far (rough: sweeps differ in length).
+      const double spent = since(ts), left = done > 0 ? spent / done * (total - done) : 0.0;
       say("  sensitivity: " + std::to_string(done) + "/" + std::to_string(total) + " nodes swept (" +
-          std::to_string(ref.trials_evaluated()) + " trials)");
+          std::to_string(ref.trials_evaluated()) + " trials, " +
+          (done < total ? fmt("about %.0f s left)", left) : fmt("%.0f s)", spent)));
     };
     say("sensitivity analysis: each node alone, increasing ratios, cap " + fmt("%.3g K", so.cap_K));
-    const auto ts = Clock::now();
     run.curves = sensitivity_analysis(n, trial, so);
     run.seconds_sensitivity = since(ts);
     InformedOptions io = settings.informed;
