@@ -1,6 +1,7 @@
 #include "thermodec/reduction/reduction_reference.h"
 
 #include <atomic>
+#include <chrono>
 #include <tbb/parallel_for.h>
 #include <map>
 #include <memory>
@@ -100,12 +101,25 @@ namespace {
 // reusing the reference's rays and load samples. Same chain as simulate_model; incrementally,
 // the IR couplings reuse the reference's rays and the loads are sampled with the same per-side
 // seeds, so unchanged faces see unchanged rays.
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
 SimulationResult simulate_candidate(const ThermalModel& cand, const RadiationReference& radiation,
-                                    const LoadSamples& load_samples, const ModelSimulationSettings& settings, bool full) {
-  if (full) return simulate_model(cand, settings);
+                                    const LoadSamples& load_samples, const ModelSimulationSettings& settings, bool full,
+                                    TrialResult::Timing* timing = nullptr) {
+  TrialResult::Timing ignored;
+  TrialResult::Timing& t = timing ? *timing : ignored;
+  auto t0 = Clock::now();
+  if (full) {
+    SimulationResult r = simulate_model(cand, settings);
+    t.simulation_s = since(t0);
+    return r;
+  }
   FaceViewFactors vf;
   IncrementalStats stats;
   const NodeCouplings couplings = radiative_couplings_incremental(radiation, cand, &stats, &vf);
+  t.couplings_s = since(t0);
+  t0 = Clock::now();
   const RayScene scene(cand.mesh);
   ExternalLoadSettings load_settings = settings.loads;
   load_settings.seed = cand.radiation.seed;
@@ -114,7 +128,11 @@ SimulationResult simulate_candidate(const ThermalModel& cand, const RadiationRef
   reuse.changed_region = stats.changed_box;
   const Loads loads = external_loads(cand, scene, vf.sides, load_settings.solar_reflections ? &vf : nullptr,
                                      load_settings, {}, nullptr, stats.changed_box.isEmpty() ? nullptr : &reuse);
-  return simulate(cand, couplings, loads, settings.solver);
+  t.loads_s = since(t0);
+  t0 = Clock::now();
+  SimulationResult r = simulate(cand, couplings, loads, settings.solver);
+  t.solve_s = since(t0);
+  return r;
 }
 }  // namespace
 
@@ -128,7 +146,9 @@ Candidate ReductionReference::candidate(const Eigen::VectorXd& ratios, bool full
     if (it != s.verified.end()) return *it->second;
   }
   Candidate c;
+  const auto t0 = Clock::now();
   c.decimation = decimate_nodes(s.model.mesh, ratios, s.settings.decimation);
+  const double decimation_s = since(t0);
   c.model = s.model;
   c.model.mesh = c.decimation.mesh;
   // A decimation that changed nothing (a node already at its fewest faces, common on CAD
@@ -139,9 +159,13 @@ Candidate ReductionReference::candidate(const Eigen::VectorXd& ratios, bool full
   const bool unchanged = !full && m1.V.rows() == m0.V.rows() && m1.F.rows() == m0.F.rows() && m1.V == m0.V &&
                          m1.F == m0.F && m1.face_node == m0.face_node && m1.face_material == m0.face_material &&
                          m1.face_back_material == m0.face_back_material;
-  c.result = unchanged ? s.result : simulate_candidate(c.model, *s.radiation, s.load_samples, s.settings.simulation, full);
+  TrialResult::Timing timing;
+  timing.decimation_s = decimation_s;
+  c.result = unchanged ? s.result
+                       : simulate_candidate(c.model, *s.radiation, s.load_samples, s.settings.simulation, full, &timing);
   c.difference = compare_results(s.result, c.result);
   c.trial = trial_result(s.result, c.result, c.decimation);
+  c.trial.timing = timing;
   return c;
 }
 

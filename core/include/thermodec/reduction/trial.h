@@ -14,6 +14,11 @@ struct TrialResult {
   Eigen::VectorXd node_max_abs_dT_K;   //!< per node: max over time of |dT| [K]
   Eigen::VectorXi node_faces_after;    //!< per node: faces kept by the decimator
   int faces_after = 0;                 //!< total faces of the candidate mesh
+  //! Wall time of the trial's phases [s] (for benchmarks; 0 for a phase it skipped). A full
+  //! (non-incremental) simulation puts its couplings, loads and solve all in `simulation_s`.
+  struct Timing {
+    double decimation_s = 0.0, couplings_s = 0.0, loads_s = 0.0, solve_s = 0.0, simulation_s = 0.0;
+  } timing;
 };
 
 //! Evaluates a candidate defined by `ratio_per_node` (fraction of each node's faces to
