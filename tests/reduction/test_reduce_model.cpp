@@ -178,6 +178,11 @@ TEST(SamplingBoosts, noisy_nodes_are_boosted_within_the_extra_ray_cap_and_kept_b
   EXPECT_LE(b.extra_ir_rays, 2.0);
   EXPECT_LE(b.extra_load_samples, 2.0);
   EXPECT_TRUE(b.any());
+  // a tighter cap (simulate --noise-budget) gives fewer extra samples for a looser target
+  const SamplingBoosts tight = decide_sampling_boosts(model, ss, 1e-4, 0.5);
+  EXPECT_LE(tight.extra_ir_rays, 0.5);
+  EXPECT_LE(tight.extra_load_samples, 0.5);
+  EXPECT_GE(tight.target_K, b.target_K);
   for (std::size_t k = 0; k < b.boost.size(); ++k) model.nodes[k].sampling_boost = b.boost[k];
   EXPECT_TRUE(has_sampling_boosts(model));
   const fs::path dir = fs::temp_directory_path() / ("thermodec_test_boost_" + std::to_string(::getpid()));
