@@ -3,7 +3,9 @@
 // default one trial per node (every node once, as the first step of a sensitivity sweep), so
 // the total is representative of a sweep, not of a chosen node. Also prints the trial noise
 // floor (each node's samples redrawn in turn).
-//   bench_reduction [model.json] [trials (default: number of nodes)] [--sweep]
+//   bench_reduction [MODEL] [trials (default: number of nodes)] [--sweep] [--no-trial-noise]
+// MODEL is a model.json or a bare mesh; a bare mesh gets `reduce`'s size-aware ray budgets
+// (apply_bare_mesh_reduction_budget), not its noise-targeted boosts.
 // --sweep also runs the whole sensitivity sweep of `reduce` (every node, its ratios, cap 1 K)
 // twice, serially: with incremental trials, then with every trial simulated from scratch; the
 // ratio includes the trials that change nothing (answered by the reference) as a real sweep
@@ -11,9 +13,12 @@
 #include <chrono>
 #include <ctime>
 #include <cstdio>
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "thermodec/nodes/load_model.h"
+#include "thermodec/reduction/reduce_model.h"
 #include "thermodec/reduction/reduction_reference.h"
 #include "thermodec/reduction/sensitivity.h"
 
@@ -22,18 +27,25 @@ using Clock = std::chrono::steady_clock;
 
 int main(int argc, char** argv) {
   std::vector<std::string> args;
-  bool sweep = false;
-  for (int i = 1; i < argc; ++i) (std::string(argv[i]) == "--sweep" ? (void)(sweep = true) : args.push_back(argv[i]));
+  bool sweep = false, trial_noise = true;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--sweep") sweep = true;
+    else if (a == "--no-trial-noise") trial_noise = false;
+    else args.push_back(a);
+  }
   const std::string path = args.size() > 0 ? args[0] : THERMODEC_SOURCE_DIR "/sample_models/satellite/model.json";
-  const ThermalModel model = load_model(path);
+  ThermalModel model = load_model(path);
+  ReduceSettings settings;
+  apply_bare_mesh_reduction_budget(model, settings);  // no-op for a model.json
   const int n = static_cast<int>(model.nodes.size());
   const int trials = args.size() > 1 ? std::stoi(args[1]) : n;
   auto t0 = Clock::now();
-  const ReductionReference ref(model, {});
+  const ReductionReference ref(model, settings.reference);
   const double t_ref = std::chrono::duration<double>(Clock::now() - t0).count();
   std::printf("%s: %d faces, %d nodes; reference simulation + reusable state %.2f s\n", path.c_str(),
               model.mesh.num_faces(), n, t_ref);
-  {
+  if (trial_noise) {
     t0 = Clock::now();
     const TrialNoiseFloor tn = ref.trial_noise_floor();
     std::printf("trial noise floor (one node's samples redrawn at a time): max |dT| %.4f K (node %s redrawn, at %s, t = %.0f s) in %.2f s\n",
@@ -43,11 +55,17 @@ int main(int argc, char** argv) {
   }
   // CPU time (all threads) as well as wall time: on a shared machine the wall ratio moves with
   // the load of other processes, the CPU (work) ratio does not.
+  // Fewer trials than nodes: the nodes with the most faces first (the costliest trials, and
+  // the ones a reduction is about; 2-face CAD nodes would be answered by the reference).
+  std::vector<int> order(n);
+  for (int k = 0; k < n; ++k) order[k] = k;
+  if (trials < n)
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return ref.faces_per_node()[a] > ref.faces_per_node()[b]; });
   double inc_s = 0.0, full_s = 0.0, inc_cpu = 0.0, full_cpu = 0.0, max_gap = 0.0;
   TrialResult::Timing phases;  // incremental trials, summed
   for (int i = 0; i < trials; ++i) {
     Eigen::VectorXd r = Eigen::VectorXd::Zero(n);
-    r[i % n] = 0.5 + 0.07 * (i % 5);  // a different single node each case
+    r[order[i % n]] = 0.5 + 0.07 * (i % 5);  // a different single node each case
     t0 = Clock::now();
     std::clock_t c0 = std::clock();
     const TrialResult a = ref.trial(r);
@@ -66,7 +84,7 @@ int main(int argc, char** argv) {
     full_s += tf;
     max_gap = std::max(max_gap, std::abs(a.max_abs_dT_K - b.max_abs_dT_K));
     std::printf("node %-12s ratio %.2f: %4d faces, max|dT| %.4f K incremental in %6.3f s | naive %.4f K in %6.3f s | %.1fx\n",
-                model.nodes[i % n].name.c_str(), r.maxCoeff(), a.faces_after, a.max_abs_dT_K, ti,
+                model.nodes[order[i % n]].name.c_str(), r.maxCoeff(), a.faces_after, a.max_abs_dT_K, ti,
                 b.max_abs_dT_K, tf, tf / ti);
   }
   std::printf("incremental vs naive: %.2f s vs %.2f s over %d trials = %.1fx faster; max |dT| gap %.2e K\n", inc_s,
@@ -78,12 +96,12 @@ int main(int argc, char** argv) {
               full_cpu / inc_cpu);
   if (sweep) {
     // Fresh references, so that neither sweep finds the other's (or the trials') results cached.
-    SensitivityOptions so;
+    SensitivityOptions so = settings.sensitivity;  // (the coarse sweep on big bare meshes)
     so.parallel = false;  // one trial at a time, each using both cores, as above
     double wall[2], cpu[2];
     int count[2];
     for (int full = 0; full < 2; ++full) {
-      const ReductionReference sweep_ref(model, {});
+      const ReductionReference sweep_ref(model, settings.reference);
       const TrialFunction trial = [&](const Eigen::VectorXd& r) { return full ? sweep_ref.verify(r) : sweep_ref.trial(r); };
       t0 = Clock::now();
       const std::clock_t c0 = std::clock();
