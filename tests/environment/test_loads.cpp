@@ -325,6 +325,60 @@ TEST(LoadReuse, rays_shadowed_by_a_shrunk_body_panel_are_traced_again_and_match_
   EXPECT_GT(reuse.traced_earth_rays, 0);
 }
 
+// The removed and added triangles of a reuse case (faces with a moved vertex, before and after).
+Mesh changed_triangles(const ReuseCase& c) {
+  const Mesh& a = c.model.mesh;
+  const Mesh& b = c.trial.mesh;
+  std::vector<Eigen::Vector3d> corners;
+  for (int f = 0; f < a.num_faces(); ++f) {
+    bool moved = false;
+    for (int k = 0; k < 3; ++k) moved |= a.V.row(a.F(f, k)) != b.V.row(b.F(f, k));
+    if (!moved) continue;
+    for (const Mesh* m : {&a, &b})
+      for (int k = 0; k < 3; ++k) corners.push_back(m->V.row(m->F(f, k)).transpose());
+  }
+  Mesh m;
+  const int n = static_cast<int>(corners.size()) / 3;
+  m.V.resize(3 * n, 3);
+  m.F.resize(n, 3);
+  for (int i = 0; i < 3 * n; ++i) m.V.row(i) = corners[i].transpose();
+  for (int f = 0; f < n; ++f) m.F.row(f) << 3 * f, 3 * f + 1, 3 * f + 2;
+  m.face_node = Eigen::VectorXi::Zero(n);
+  m.face_material = Eigen::VectorXi::Constant(n, -1);
+  m.face_back_material = Eigen::VectorXi::Constant(n, -1);
+  return m;
+}
+
+TEST(LoadReuse, the_changed_faces_themselves_reuse_more_and_still_equal_a_full_recompute) {
+  // With LoadReuse::changed_faces, sides are tested against the changed triangles (sphere
+  // tree) instead of their box, and rays that enter the box but meet none of them keep their
+  // records: fewer rays traced, the same loads bit for bit.
+  const ExternalLoadSettings s = small_budgets();
+  for (const char* name : {"body_pz", "wing_py", "dish"}) {
+    ReuseCase c = reuse_case(name, s);
+    ASSERT_GE(c.node, 0) << name;
+    const RayScene scene(c.trial.mesh), changed(changed_triangles(c));
+    ASSERT_GT(changed.num_traced_faces(), 0) << name;
+    const SurfaceSides sides = surface_sides(c.trial);
+    const Loads full = external_loads(c.trial, scene, sides, nullptr, s);
+    LoadReuse box_only{&c.reference, c.changed};
+    external_loads(c.trial, scene, sides, nullptr, s, {}, nullptr, &box_only);
+    LoadReuse exact{&c.reference, c.changed, &changed};
+    const Loads incremental = external_loads(c.trial, scene, sides, nullptr, s, {}, nullptr, &exact);
+    EXPECT_EQ(incremental.solar_W, full.solar_W) << name;
+    EXPECT_EQ(incremental.albedo_W, full.albedo_W) << name;
+    EXPECT_EQ(incremental.earth_ir_W, full.earth_ir_W) << name;
+    EXPECT_GE(exact.reused_sun, box_only.reused_sun) << name;
+    EXPECT_GE(exact.reused_earth, box_only.reused_earth) << name;
+    EXPECT_LE(exact.traced_sun_rays, box_only.traced_sun_rays) << name;
+    EXPECT_LE(exact.traced_earth_rays, box_only.traced_earth_rays) << name;
+    EXPECT_LT(exact.traced_sun_rays + exact.traced_earth_rays, box_only.traced_sun_rays + box_only.traced_earth_rays)
+        << name;
+    std::printf("%s: rays traced, box only / changed faces: sun %ld / %ld, Earth %ld / %ld\n", name,
+                box_only.traced_sun_rays, exact.traced_sun_rays, box_only.traced_earth_rays, exact.traced_earth_rays);
+  }
+}
+
 TEST(LoadReuse, over_the_record_budget_trials_fall_back_to_side_tests_with_the_same_result) {
   ExternalLoadSettings s = small_budgets();
   s.ray_record_budget_bytes = 1000;  // far too small for the sample

@@ -113,12 +113,16 @@ void orthonormal_frame(const Eigen::Vector3d& n, Eigen::Vector3d& t, Eigen::Vect
 
 // The changed region of a trial as the ray tests see it: a float box grown by a margin that
 // covers the slab test's rounding, so "does not enter" is never wrong.
+// With `exact` (a scene of just the removed and added faces), a ray that enters the box is
+// still clear if it meets none of those faces up to (just past) t_stop.
 struct ChangeBox {
   bool nothing = true;  // nothing changed: every recorded ray is reusable
   Eigen::AlignedBox3f box;
   float margin = 0.0f;
+  const RayScene::Impl* exact = nullptr;
   ChangeBox() = default;
-  explicit ChangeBox(const Eigen::AlignedBox3d& b) {
+  explicit ChangeBox(const Eigen::AlignedBox3d& b, const RayScene* changed_faces = nullptr) {
+    if (changed_faces) exact = &changed_faces->impl();
     if (b.isEmpty()) return;
     nothing = false;
     const double scale = std::max({b.min().cwiseAbs().maxCoeff(), b.max().cwiseAbs().maxCoeff(), b.diagonal().norm()});
@@ -131,7 +135,12 @@ struct ChangeBox {
   bool clear(const float* o, const float* d, float t_stop) const {
     if (nothing) return true;
     const float entry = tracing::ray_box_entry(o, d, box);
-    return entry == kInf || entry > t_stop * (1.0f + 1e-4f) + margin;
+    const float reach = t_stop * (1.0f + 1e-4f) + margin;  // +inf for an escaped ray, NaN unknown
+    if (entry == kInf || entry > reach) return true;
+    // note: an added face cannot unblock a ray and a removed one cannot block it, so "meets
+    // no changed face before its blocker" is exact for both; NaN (blocker distance unknown)
+    // stays "not clear".
+    return exact && !std::isnan(reach) && !tracing::segment_meets(*exact, o, d, reach);
   }
 };
 
@@ -849,7 +858,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
   }
   // Per-ray reuse: a side with the same sample counts as its reference twin reads the
   // reference's record of its rays (same rays, same order); the others trace everything.
-  const ChangeBox change_box = ref ? ChangeBox(reuse->changed_region) : ChangeBox();
+  const ChangeBox change_box = ref ? ChangeBox(reuse->changed_region, reuse->changed_faces) : ChangeBox();
   const bool per_ray_reuse = ref && ref->per_ray;
   std::vector<int> ref_side(ns, -1);
   if (per_ray_reuse)
@@ -892,8 +901,48 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     const double support = n.dot(box.center()) + n.cwiseAbs().dot(0.5 * box.diagonal());
     return support < n.dot(c) - rho - 1e-9 * (1.0 + box.diagonal().norm() + c.norm());
   };
+  // With the changed faces themselves (LoadReuse::changed_faces): a sphere tree over them, so
+  // that a side is tested against the changed faces, not against their bounding box (a
+  // decimated CAD part spread along the craft has a box that covers most of it).
+  std::vector<Eigen::Vector3d> changed_centre;
+  std::vector<double> changed_radius;
+  blockers::SphereTree changed_tree;
+  if (ref && reuse->changed_faces) {
+    const Mesh& m = reuse->changed_faces->mesh();
+    std::vector<int> members(m.num_faces());
+    changed_centre.resize(m.num_faces());
+    changed_radius.resize(m.num_faces());
+    auto corner = [&](int f, int k) -> Eigen::Vector3d { return m.V.row(m.F(f, k)).transpose(); };
+    for (int f = 0; f < m.num_faces(); ++f) {
+      members[f] = f;
+      changed_centre[f] = (corner(f, 0) + corner(f, 1) + corner(f, 2)) / 3.0;
+      double r = 0.0;
+      for (int k = 0; k < 3; ++k) r = std::max(r, (corner(f, k) - changed_centre[f]).norm());
+      // float rounding of the traced coordinates, as the box's margin
+      changed_radius[f] = r + 1e-6 * (changed_centre[f].cwiseAbs().maxCoeff() + r) + 1e-9;
+    }
+    std::vector<std::array<Eigen::Vector3d, 3>> corners(m.num_faces());
+    for (int f = 0; f < m.num_faces(); ++f) corners[f] = {corner(f, 0), corner(f, 1), corner(f, 2)};
+    changed_tree = blockers::sphere_tree(members, changed_centre, changed_radius,
+                                         [&](int f, int k) -> const Eigen::Vector3d& { return corners[f][k]; });
+  }
+  // Some changed face's sphere meets the side's sphere swept along d (`swept`) or the cone
+  // it sees the Earth through (`cone`); conservative, as the box tests.
+  auto changed_face_meets = [&](int s, auto&& meets) {
+    Eigen::Vector3d c;
+    const double rho = side_sphere(s, c);
+    return blockers::any_member(
+        changed_tree, [&](const blockers::SphereTree::Node& n) { return meets(n.centre - c, rho + n.radius); },
+        [&](int f) { return meets(changed_centre[f] - c, rho + changed_radius[f]); });
+  };
   auto clear_of_change_along = [&](int s, const Eigen::Vector3d& d) {  // half-line family c + t d
     if (change_radius < 0.0 || change_behind(s)) return true;
+    if (!changed_tree.nodes.empty() &&
+        !changed_face_meets(s, [&](const Eigen::Vector3d& v, double reach) {
+          const double along = v.dot(d);
+          return along >= -reach && v.squaredNorm() - along * along <= reach * reach * (1.0 + 1e-9);
+        }))
+      return true;
     Eigen::Vector3d c;
     const double rho = side_sphere(s, c);
     const Eigen::Vector3d bc = change_centre - c;
@@ -920,6 +969,14 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
   };
   auto clear_of_change_in_cone = [&](int s, const Eigen::Vector3d& axis, double half_angle) {
     if (change_radius < 0.0 || change_behind(s)) return true;
+    if (!changed_tree.nodes.empty() &&
+        !changed_face_meets(s, [&](const Eigen::Vector3d& v, double reach) {
+          const double dist = v.norm();
+          if (dist <= reach) return true;
+          const double angle = std::acos(std::clamp(v.dot(axis) / dist, -1.0, 1.0));
+          return angle <= half_angle + std::asin(std::min(1.0, reach / dist)) + 1e-9;
+        }))
+      return true;
     Eigen::Vector3d c;
     const double rho = side_sphere(s, c);
     const Eigen::Vector3d bc = change_centre - c;

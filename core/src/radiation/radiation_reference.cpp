@@ -208,19 +208,6 @@ Mesh changed_faces(const Mesh& a, const std::vector<char>& in_a, const Mesh& b, 
   return m;
 }
 
-// True if the segment origin + t dir, t in [0, t_max], meets a face of `scene`.
-bool segment_meets(const RayScene::Impl& scene, const float* o, const float* d, float t_max) {
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  RTCRay ray;
-  ray.org_x = o[0]; ray.org_y = o[1]; ray.org_z = o[2];
-  ray.dir_x = d[0]; ray.dir_y = d[1]; ray.dir_z = d[2];
-  ray.tnear = 0.0f;
-  ray.tfar = t_max;
-  ray.time = 0.0f; ray.mask = 0xFFFFFFFFu; ray.id = 0; ray.flags = 0;
-  rtcOccluded1(scene.scene, &ctx, &ray);
-  return ray.tfar < 0.0f;
-}
 }  // namespace
 
 NodeCouplings radiative_couplings_incremental(const RadiationReference& reference, const ThermalModel& candidate,
@@ -266,7 +253,9 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
         extend_by_face(st.changed_box, ref.model.mesh, ref.vf.sides.face[r]);
       }
     }
-  const RayScene changed_scene(changed_faces(ref.model.mesh, removed_face, candidate.mesh, added_face));
+  Mesh changed_mesh = changed_faces(ref.model.mesh, removed_face, candidate.mesh, added_face);
+  const RayScene changed_scene(changed_mesh);
+  if (stats) st.changed_faces = std::move(changed_mesh);  // (the scene keeps its own copy)
   st.rays_total = rays.cast<std::int64_t>().sum();
   // The filter box in float, padded by far more than the rounding of float coordinates, so a
   // ray that reaches a changed face can never be judged to miss the box.
@@ -378,7 +367,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
               if (!(entry < std::numeric_limits<float>::infinity() && entry <= rec[i].t)) return false;
               // Exact test: a ray that meets no removed or added face up to (just past) its
               // reference hit keeps that hit (every face it could reach first is unchanged).
-              return segment_meets(changed, o, d, rec[i].t * (1.0f + 1e-5f));
+              return tracing::segment_meets(changed, o, d, rec[i].t * (1.0f + 1e-5f));
             },
             [&](int i, int hit, bool b, float) {
               cnt.add(to_cand(rec[i].side()), -1);
@@ -391,7 +380,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
       } else if (box_in_front) {
         auto meets = [&](int, const float* o, const float* d) {
           return tracing::ray_box_entry(o, d, box) < std::numeric_limits<float>::infinity() &&
-                 segment_meets(changed, o, d, std::numeric_limits<float>::infinity());
+                 tracing::segment_meets(changed, o, d, std::numeric_limits<float>::infinity());
         };
         tracing::trace_emitter(ref.scene.impl(), ref.prims, e, sobol, R, meets, [&](int, int hit, bool b, float) {
           cnt.add(to_cand(hit), -1);

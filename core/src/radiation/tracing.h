@@ -44,6 +44,21 @@ inline float ray_box_entry(const float* o, const float* d, const Eigen::AlignedB
   return t0;
 }
 
+//! True if the segment origin + t dir, t in [0, t_max], meets a face of `scene` (the exact
+//! changed-face test of the reuse paths: `scene` holds only the removed and added faces).
+inline bool segment_meets(const RayScene::Impl& scene, const float* o, const float* d, float t_max) {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRay ray;
+  ray.org_x = o[0]; ray.org_y = o[1]; ray.org_z = o[2];
+  ray.dir_x = d[0]; ray.dir_y = d[1]; ray.dir_z = d[2];
+  ray.tnear = 0.0f;
+  ray.tfar = t_max;
+  ray.time = 0.0f; ray.mask = 0xFFFFFFFFu; ray.id = 0; ray.flags = 0;
+  rtcOccluded1(scene.scene, &ctx, &ray);
+  return ray.tfar < 0.0f;
+}
+
 //! Per Embree primitive, what the hot loop needs to classify a hit, packed in one cache line
 //! access: unit front normal and the surface sides of its face.
 struct PrimInfo {

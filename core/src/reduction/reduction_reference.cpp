@@ -126,6 +126,8 @@ SimulationResult simulate_candidate(const ThermalModel& cand, const RadiationRef
   LoadReuse reuse;
   reuse.reference = &load_samples;
   reuse.changed_region = stats.changed_box;
+  const RayScene changed_faces(stats.changed_faces);
+  reuse.changed_faces = &changed_faces;
   const Loads loads = external_loads(cand, scene, vf.sides, load_settings.solar_reflections ? &vf : nullptr,
                                      load_settings, {}, nullptr, stats.changed_box.isEmpty() ? nullptr : &reuse);
   t.loads_s = since(t0);

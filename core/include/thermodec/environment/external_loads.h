@@ -63,8 +63,10 @@ struct ExternalLoadSettings {
   std::uint64_t seed = 1;         //!< sampling seed (combined with each side's identity)
   bool solar_reflections = true;  //!< solar-band diffuse reflections between faces
   //! Memory cap [bytes] for the per-ray records of LoadSamples (what each sun and Earth ray
-  //! met); beyond it none are kept and trials fall back to per-side reuse tests.
-  std::size_t ray_record_budget_bytes = std::size_t(512) << 20;
+  //! met); beyond it none are kept and trials fall back to per-side reuse tests, which re-trace
+  //! every ray of a side whose rays may meet the change. Juno's 17 k faces need 816 MB (402 M
+  //! sun rays over 72 steps); at 512 MB its trials lost per-ray reuse.
+  std::size_t ray_record_budget_bytes = std::size_t(2) << 30;
 };
 
 //! View factor from each side to the Earth, F_side->Earth = (1/pi) int cos(theta) V dw over
@@ -134,9 +136,14 @@ struct LoadSamples {
 //! `changed_region` [m, body axes] must bound the changed geometry before AND after the change
 //! (what was removed can have shadowed others). Same environment and settings as the
 //! reference run. A run given `reuse` records no per-ray records in its own `samples`.
+//! `changed_faces` (optional): a scene of exactly the removed and the added triangles; a ray
+//! that enters `changed_region` but meets none of them up to (just past) its recorded blocker,
+//! or at all if it escaped, keeps its recorded result too (its blocker is unchanged, and no
+//! new face lies on its way), instead of being traced again in the whole candidate.
 struct LoadReuse {
   const LoadSamples* reference = nullptr;
   Eigen::AlignedBox3d changed_region;
+  const RayScene* changed_faces = nullptr;
   // out: how much came from the reference: (side, sun direction) shadow evaluations and
   // sides' Earth rays reused whole / total; then, on the sides not reused whole, single rays
   // reused from the per-ray records / rays traced again.

@@ -62,6 +62,9 @@ struct IncrementalStats {
   std::int64_t rays_retraced = 0;   //!< rays traced (both scenes counted)
   std::int64_t rays_total = 0;      //!< rays a full recompute would trace
   Eigen::AlignedBox3d changed_box;  //!< region whose geometry changed [m]
+  //! The removed (reference) and added (candidate) triangles, for exact "does this ray meet
+  //! the change" tests (LoadReuse::changed_faces).
+  Mesh changed_faces;
 };
 
 //! Couplings of `candidate` with the reference's settings, reusing the reference's rays.
