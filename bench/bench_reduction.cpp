@@ -3,7 +3,7 @@
 // default one trial per node (every node once, as the first step of a sensitivity sweep), so
 // the total is representative of a sweep, not of a chosen node. Also prints the trial noise
 // floor (each node's samples redrawn in turn).
-//   bench_reduction [MODEL] [trials (default: number of nodes)] [--sweep] [--no-trial-noise]
+//   bench_reduction [MODEL] [trials (default: number of nodes)] [--sweep] [--no-trial-noise] [--incremental-only]
 // MODEL is a model.json or a bare mesh; a bare mesh gets `reduce`'s size-aware ray budgets
 // (apply_bare_mesh_reduction_budget), not its noise-targeted boosts.
 // --sweep also runs the whole sensitivity sweep of `reduce` (every node, its ratios, cap 1 K)
@@ -27,11 +27,12 @@ using Clock = std::chrono::steady_clock;
 
 int main(int argc, char** argv) {
   std::vector<std::string> args;
-  bool sweep = false, trial_noise = true;
+  bool sweep = false, trial_noise = true, incremental_only = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--sweep") sweep = true;
     else if (a == "--no-trial-noise") trial_noise = false;
+    else if (a == "--incremental-only") incremental_only = true;  // for profilers: no naive trials
     else args.push_back(a);
   }
   const std::string path = args.size() > 0 ? args[0] : THERMODEC_SOURCE_DIR "/sample_models/satellite/model.json";
@@ -77,7 +78,7 @@ int main(int argc, char** argv) {
     inc_cpu += double(std::clock() - c0) / CLOCKS_PER_SEC;
     t0 = Clock::now();
     c0 = std::clock();
-    const TrialResult b = ref.verify(r);
+    const TrialResult b = incremental_only ? a : ref.verify(r);
     const double tf = std::chrono::duration<double>(Clock::now() - t0).count();
     full_cpu += double(std::clock() - c0) / CLOCKS_PER_SEC;
     inc_s += ti;

@@ -13,7 +13,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <unordered_map>
 #include <vector>
 
@@ -50,17 +49,6 @@ std::array<std::uint32_t, 4> side_seeds(std::uint64_t seed, std::uint64_t key, s
   const std::uint64_t h = sampling::hash_combine(sampling::hash_combine(key, seed), 0x10ad5000ull + purpose);
   for (int d = 0; d < 4; ++d) out[d] = std::uint32_t(sampling::hash_combine(h, d) >> 32);
   return out;
-}
-
-// The bit-reversed Sobol table with at least n points, shared by all runs of the process (its
-// first n points do not depend on its length; building 1e5 points costs a few ms per run).
-std::shared_ptr<const tracing::SobolTable> sobol_table(int n) {
-  static std::mutex mutex;
-  static std::shared_ptr<const tracing::SobolTable> cached;
-  std::lock_guard<std::mutex> lock(mutex);
-  if (!cached || static_cast<int>(cached->size()) < n)
-    cached = std::make_shared<const tracing::SobolTable>(sampling::sobol_4d_reversed(n));
-  return cached;
 }
 
 // Owen-scrambled coordinate in (0, 1] of a bit-reversed Sobol value (sampling::sobol_4d_reversed):
@@ -768,7 +756,7 @@ Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& si
   if (rays < 1) throw InvalidInput("earth_rays_per_face must be >= 1");
   if (!(distance_m > kEarthRadius_m)) throw InvalidInput("Earth view factors: distance must exceed the Earth radius");
   const auto geo = side_geometry(scene.mesh(), sides);
-  const auto table = sobol_table(rays);
+  const auto table = tracing::shared_sobol_table(rays);
   const tracing::SobolTable& sobol = *table;
   const auto may_be_blocked = may_be_blocked_from_earth(geo, occluders(geo, sides), earth_direction_body.normalized(),
                                                         kEarthRadius_m / distance_m, nullptr);
@@ -835,7 +823,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
   // One Sobol table for every pass (the largest count any side or pilot draws).
   int max_rays = std::max({settings.sun_pilot_rays, settings.earth_pilot_rays, settings.earth_rays_per_face, 1});
   if (ns > 0) max_rays = std::max({max_rays, sun_rays.maxCoeff(), earth_rays.maxCoeff()});
-  const auto table = sobol_table(max_rays);
+  const auto table = tracing::shared_sobol_table(max_rays);
   const tracing::SobolTable& sobol = *table;
   const Occluders occ = occluders(geo, sides);
   Eigen::Vector3d change_centre = Eigen::Vector3d::Zero();

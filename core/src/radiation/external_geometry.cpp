@@ -8,6 +8,7 @@
 
 #include "ray_scene_impl.h"
 #include "sampling.h"
+#include "tracing.h"
 #include "thermodec/common/errors.h"
 #include "thermodec/radiation/surface_sides.h"
 
@@ -18,7 +19,8 @@ ExternalFaces external_faces(const RayScene& scene, const ExternalSettings& sett
     throw InvalidInput("external: rays per face must be >= 1 (got " + std::to_string(settings.rays_per_face) + ")");
   const Mesh& mesh = scene.mesh();
   const int nf = mesh.num_faces(), R = settings.rays_per_face;
-  const auto sobol = sampling::sobol_4d_reversed(R);
+  const auto sobol_table = tracing::shared_sobol_table(R);
+  const tracing::SobolTable& sobol = *sobol_table;
   const SurfaceSides sides = surface_sides(mesh);  // identity keys: same face => same rays
   ExternalFaces out;
   out.external = Eigen::VectorXi::Zero(nf);

@@ -31,7 +31,8 @@ FaceViewFactors trace_all(const RayScene& scene, const SurfaceSides& sides, cons
     throw InvalidInput("face_view_factors: the surface sides do not belong to the scene's mesh");
   const int S = sides.size();
   const Eigen::VectorXi rays = side_ray_counts(sides, settings);
-  const tracing::SobolTable sobol = sampling::sobol_4d_reversed(S ? rays.maxCoeff() : 0);
+  const auto sobol_table = tracing::shared_sobol_table(S ? rays.maxCoeff() : 0);
+  const tracing::SobolTable& sobol = *sobol_table;
   std::vector<std::int64_t> begin = record_offsets(rays);
   if (records) records->resize(begin.back());
   const tracing::PrimTable prims = tracing::prim_table(scene.impl(), sides);

@@ -70,7 +70,8 @@ RadiationReference prepare_radiation(const ThermalModel& reference, const Radiat
   if (keep) {
     // Directions, compressed, so that a candidate can skip most rays without generating them.
     impl->record_dir.resize(impl->records.size());
-    const tracing::SobolTable sobol = sampling::sobol_4d_reversed(sides.size() ? rays.maxCoeff() : 0);
+    const auto sobol_table = tracing::shared_sobol_table(sides.size() ? rays.maxCoeff() : 0);
+    const tracing::SobolTable& sobol = *sobol_table;
     tbb::parallel_for(tbb::blocked_range<int>(0, sides.size(), 8), [&](const tbb::blocked_range<int>& range) {
       for (int s = range.begin(); s != range.end(); ++s) {
         const sampling::Emitter e = tracing::side_emitter(impl->model.mesh, sides, s, settings.seed);
@@ -270,7 +271,8 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
   const RayScene::Impl& changed = changed_scene.impl();
   const RayScene scene(candidate.mesh);
   const tracing::PrimTable prims = tracing::prim_table(scene.impl(), sides);
-  const tracing::SobolTable sobol = sampling::sobol_4d_reversed(S ? rays.maxCoeff() : 0);
+  const auto sobol_table = tracing::shared_sobol_table(S ? rays.maxCoeff() : 0);
+  const tracing::SobolTable& sobol = *sobol_table;
   const bool records = !ref.records.empty();
   detail::SideRows rows(S);
   std::atomic<std::int64_t> retraced{0};
