@@ -4,6 +4,9 @@
 // the total is representative of a sweep, not of a chosen node. Also prints the trial noise
 // floor (each node's samples redrawn in turn).
 //   bench_reduction [MODEL] [trials (default: number of nodes)] [--sweep] [--no-trial-noise] [--incremental-only]
+//                   [--reduce-sampling]
+// --reduce-sampling first multiplies the noisy nodes' samples as `reduce` does (its noise
+// target, decide_sampling_boosts), so the trials cost what they cost inside `reduce`.
 // MODEL is a model.json or a bare mesh; a bare mesh gets `reduce`'s size-aware ray budgets
 // (apply_bare_mesh_reduction_budget), not its noise-targeted boosts.
 // --sweep also runs the whole sensitivity sweep of `reduce` (every node, its ratios, cap 1 K)
@@ -21,24 +24,33 @@
 #include "thermodec/reduction/reduce_model.h"
 #include "thermodec/reduction/reduction_reference.h"
 #include "thermodec/reduction/sensitivity.h"
+#include "thermodec/thermal/simulate_model.h"
 
 using namespace thermodec;
 using Clock = std::chrono::steady_clock;
 
 int main(int argc, char** argv) {
   std::vector<std::string> args;
-  bool sweep = false, trial_noise = true, incremental_only = false;
+  bool sweep = false, trial_noise = true, incremental_only = false, reduce_sampling = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--sweep") sweep = true;
     else if (a == "--no-trial-noise") trial_noise = false;
     else if (a == "--incremental-only") incremental_only = true;  // for profilers: no naive trials
+    else if (a == "--reduce-sampling") reduce_sampling = true;
     else args.push_back(a);
   }
   const std::string path = args.size() > 0 ? args[0] : THERMODEC_SOURCE_DIR "/sample_models/satellite/model.json";
   ThermalModel model = load_model(path);
   ReduceSettings settings;
   apply_bare_mesh_reduction_budget(model, settings);  // no-op for a model.json
+  if (reduce_sampling && !has_sampling_boosts(model)) {
+    // What `reduce` traces: the noisy nodes' samples multiplied for its noise target.
+    const SamplingBoosts b = decide_sampling_boosts(model, settings.reference.simulation,
+                                                    settings.noise_target_fraction * settings.tolerance_K);
+    for (std::size_t k = 0; k < b.boost.size(); ++k) model.nodes[k].sampling_boost = b.boost[k];
+    std::printf("%s\n", b.describe(model.nodes).c_str());
+  }
   const int n = static_cast<int>(model.nodes.size());
   const int trials = args.size() > 1 ? std::stoi(args[1]) : n;
   auto t0 = Clock::now();
