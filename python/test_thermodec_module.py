@@ -106,5 +106,34 @@ class ModelErrors(unittest.TestCase):
                 thermodec.load_model(path)
 
 
+class LoadCases(unittest.TestCase):
+    def test_case_file_moves_only_what_it_names_and_reaches_reduce_settings(self):
+        V, F = unit_cube()
+        with tempfile.TemporaryDirectory() as folder:
+            mesh = thermodec.Mesh(V, F)
+            mesh.node_names = ["cube"]
+            mesh.face_node = np.zeros(12, dtype=int)
+            thermodec.write_mesh(os.path.join(folder, "cube.obj"), mesh)
+            path = os.path.join(folder, "model.json")
+            with open(path, "w") as f:
+                f.write('{"mesh": "cube.obj", "environment": {"type": "orbit", "altitude_km": 650, "day_of_year": 172}}')
+            model = thermodec.load_model(path)
+            case_path = os.path.join(folder, "cold.json")
+            with open(case_path, "w") as f:
+                f.write('{"environment": {"type": "orbit", "day_of_year": 355}}')
+            case = thermodec.load_case(case_path, model)
+            self.assertEqual(case.name, "cold")
+            self.assertEqual(case.environment.day_of_year, 355)
+            self.assertEqual(case.environment.altitude_km, 650)
+            self.assertEqual(thermodec.with_case(model, case).environment.day_of_year, 355)
+            settings = thermodec.ReduceSettings()
+            settings.extra_cases = [case]
+            self.assertEqual(settings.extra_cases[0].name, "cold")
+            with open(case_path, "w") as f:
+                f.write('{"environment": {"type": "orbit", "day_of_yaer": 355}}')
+            with self.assertRaisesRegex(thermodec.InvalidInput, "day_of_yaer"):
+                thermodec.load_case(case_path, model)
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -20,6 +20,7 @@
 #include "thermodec/mesh/mesh_stats.h"
 #include "thermodec/mesh/weld.h"
 #include "thermodec/nodes/automatic_nodes.h"
+#include "thermodec/nodes/load_case.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/nodes/thermal_model.h"
 #include "thermodec/reduction/reduce_model.h"
@@ -139,7 +140,13 @@ void bind_model(py::module_& m) {
   py::class_<Node>(m, "Node", "Isothermal node (SI: J/K, W, K).")
       .def(py::init([](std::string name, int material, double capacitance_J_per_K, double power_W,
                        std::optional<double> fixed_temperature_K) {
-             return Node{std::move(name), material, capacitance_J_per_K, power_W, fixed_temperature_K};
+             Node n;
+             n.name = std::move(name);
+             n.material = material;
+             n.capacitance_J_per_K = capacitance_J_per_K;
+             n.power_W = power_W;
+             n.fixed_temperature_K = fixed_temperature_K;
+             return n;
            }),
            py::arg("name") = "", py::arg("material") = -1, py::arg("capacitance_J_per_K") = 0.0,
            py::arg("power_W") = 0.0, py::arg("fixed_temperature_K") = py::none())
@@ -190,6 +197,11 @@ void bind_model(py::module_& m) {
       .def_readwrite("type", &Analysis::type)
       .def_readwrite("steps_per_orbit", &Analysis::steps_per_orbit)
       .def_readwrite("orbits", &Analysis::orbits);
+  py::class_<LoadCase>(m, "LoadCase", "Another environment + analysis for the same model (nodes/load_case.h).")
+      .def(py::init<>())
+      .def_readwrite("name", &LoadCase::name)
+      .def_readwrite("environment", &LoadCase::environment)
+      .def_readwrite("analysis", &LoadCase::analysis);
 
   py::class_<RadiationSettings>(m, "RadiationSettings")
       .def(py::init<>())
@@ -288,6 +300,8 @@ void bind_reduction(py::module_& m) {
       .def_readwrite("noise_runs", &ReduceSettings::noise_runs)
       .def_readwrite("sensitivity_cap_factor", &ReduceSettings::sensitivity_cap_factor)
       .def_readwrite("prediction_targets", &ReduceSettings::prediction_targets)
+      .def_readwrite("extra_cases", &ReduceSettings::extra_cases,
+                     "further load cases (LoadCase) the reduced model must also meet; trials take the worst")
       .def_readwrite("progress", &ReduceSettings::progress,
                      "progress(line): may be called from worker threads");
   py::class_<NodeReduction>(m, "NodeReduction")
@@ -300,6 +314,12 @@ void bind_reduction(py::module_& m) {
       .def_readonly("max_abs_dT_K", &NodeReduction::max_abs_dT_K)
       .def_readonly("area_before_m2", &NodeReduction::area_before_m2)
       .def_readonly("area_after_m2", &NodeReduction::area_after_m2);
+  py::class_<CaseResult>(m, "CaseResult", "The verified reduced model in one load case.")
+      .def_readonly("name", &CaseResult::name)
+      .def_readonly("noise_floor_K", &CaseResult::noise_floor_K)
+      .def_readonly("max_temperature_difference_K", &CaseResult::max_temperature_difference_K)
+      .def_readonly("max_difference_node", &CaseResult::max_difference_node)
+      .def_readonly("max_difference_time_s", &CaseResult::max_difference_time_s);
   py::class_<ReductionRun>(m, "ReductionRun", "Outcome of reduce_model (verified by a full recompute).")
       .def_readonly("strategy", &ReductionRun::strategy)
       .def_readonly("tolerance_K", &ReductionRun::tolerance_K)
@@ -310,6 +330,7 @@ void bind_reduction(py::module_& m) {
       .def_readonly("max_difference_node", &ReductionRun::max_difference_node)
       .def_readonly("max_difference_time_s", &ReductionRun::max_difference_time_s)
       .def_readonly("nodes", &ReductionRun::nodes)
+      .def_readonly("cases", &ReductionRun::cases, "the model's own case first, then extra_cases")
       .def_readonly("trials", &ReductionRun::trials)
       .def_readonly("seconds_total", &ReductionRun::seconds_total)
       .def_property_readonly("reduced_model", [](const ReductionRun& r) { return r.reduced.model; })
@@ -353,6 +374,10 @@ void bind_functions(py::module_& m) {
         release{}, "Reads a model.json (or a bare mesh) into a ThermalModel. Raises InvalidInput naming the key.");
   m.def("load_model", py::overload_cast<const std::filesystem::path&, const MeshReadOptions&>(&load_model),
         py::arg("path"), py::arg("mesh_options"), release{});
+  m.def("load_case", &load_case, py::arg("path"), py::arg("base"), release{},
+        "Reads a load case file over base's environment and analysis. Raises InvalidInput naming the key.");
+  m.def("own_case", &own_case, py::arg("model"), py::arg("name") = "model");
+  m.def("with_case", &with_case, py::arg("model"), py::arg("case"), "the model in that case's environment");
   m.def("save_model", &save_model, py::arg("model"), py::arg("json_path"), py::arg("mesh_path"), release{},
         "Writes the model JSON and its mesh atomically.");
 

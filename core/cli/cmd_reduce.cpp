@@ -1,10 +1,12 @@
-// `thermodec reduce MODEL --tolerance K [--strategy informed|uniform] --out DIR`
+// `thermodec reduce MODEL --tolerance K [--strategy informed|uniform] [--case FILE ...] --out DIR`
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
 
 #include "commands.h"
 #include "thermodec/common/errors.h"
+#include "thermodec/nodes/load_case.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/reduction/reduce_model.h"
 #include "thermodec/report/reduction_report.h"
@@ -26,6 +28,7 @@ struct ReduceCliOptions {
   bool raw_mesh = false;
   bool max_evaluations_set = false;
   double noise_target_fraction = 0.05;
+  std::vector<std::string> case_files;
 };
 
 void run_reduce(const ReduceCliOptions& o) {
@@ -42,6 +45,15 @@ void run_reduce(const ReduceCliOptions& o) {
   s.strategy = o.strategy == "uniform" ? ReductionStrategy::uniform : ReductionStrategy::informed;
   s.sensitivity_cap_factor = o.cap_factor;
   s.noise_target_fraction = o.noise_target_fraction;
+  // Load cases read (and checked) before any simulation; names must tell them apart.
+  std::vector<std::string> names{"model"};
+  for (const auto& f : o.case_files) {
+    s.extra_cases.push_back(load_case(f, model));
+    const std::string& nm = s.extra_cases.back().name;
+    if (std::find(names.begin(), names.end(), nm) != names.end())
+      throw InvalidInput(f + ": load case name '" + nm + "' is used twice (the model's own case is 'model')");
+    names.push_back(nm);
+  }
   if (!o.quiet) {
     // Elapsed wall time on every line: on CAD meshes a reduction runs for an hour.
     const auto start = std::chrono::steady_clock::now();
@@ -54,7 +66,8 @@ void run_reduce(const ReduceCliOptions& o) {
   }
   std::cerr << "reduce: " << o.model << ": " << model.mesh.num_faces() << " faces, " << model.nodes.size()
             << " nodes, " << model.radiation.rays_per_face << " IR rays and "
-            << s.reference.simulation.loads.sun_rays_per_face << " sun samples per face side, tolerance " << o.tolerance_K << " K, strategy " << o.strategy << "\n";
+            << s.reference.simulation.loads.sun_rays_per_face << " sun samples per face side, tolerance " << o.tolerance_K << " K, strategy " << o.strategy
+            << (s.extra_cases.empty() ? std::string() : ", " + std::to_string(1 + s.extra_cases.size()) + " load cases") << "\n";
   const ReductionRun run = reduce_model(model, s);
   const auto warnings = write_reduction_outputs(run, o.out_dir, {o.model, model.mesh_path}, !o.no_plots);
   for (const auto& w : warnings) std::cerr << "reduce: warning: plot not written: " << w << "\n";
@@ -97,6 +110,11 @@ void add_reduce(CLI::App& app) {
                   "fraction of the tolerance get more samples (0 = off; boosts already in the model file are kept)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  sub->add_option("--case", o->case_files,
+                  "another load case the reduced model must also meet (repeatable): a JSON file "
+                  "{\"name\": .., \"environment\": {..}, \"analysis\": {..}} read over the model's own "
+                  "(e.g. a cold case on another day of the year); every trial takes the worst case")
+      ->check(CLI::ExistingFile);
   sub->add_flag("--raw-mesh", o->raw_mesh,
                 "bare mesh: skip the cleanup (duplicates, open sheets two-sided, touching faces) and the "
                 "size-aware ray budgets");

@@ -6,10 +6,12 @@
 #include <unistd.h>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "thermodec/common/errors.h"
 #include "thermodec/decimation/decimate_nodes.h"
+#include "thermodec/nodes/load_case.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/radiation/surface_sides.h"
 #include "thermodec/reduction/reduce_model.h"
@@ -223,6 +225,77 @@ TEST(ReduceModel, informed_result_is_verified_within_tolerance_by_an_independent
   EXPECT_EQ(run.curves.size(), 7u);
 }
 
+TEST(ReduceModel, extra_load_cases_are_all_verified_and_the_worst_one_is_reported) {
+  const ThermalModel model = small_model();
+  const double tol = 0.5;
+  ReduceSettings s = quick_settings(tol);
+  LoadCase other = own_case(model, "other_sun");
+  other.environment.sun_direction = Eigen::Vector3d(-0.5, 0.8, -0.2).normalized();  // lights the panel's other face
+  s.extra_cases.push_back(other);
+  const ReductionRun run = reduce_model(model, s);
+  ASSERT_EQ(run.cases.size(), 2u);
+  EXPECT_EQ(run.cases[0].name, "model");
+  EXPECT_EQ(run.cases[1].name, "other_sun");
+  EXPECT_LT(run.faces_after, run.faces_before);
+  double worst = 0.0;
+  for (const auto& c : run.cases) {
+    EXPECT_LE(c.max_temperature_difference_K, tol) << c.name;
+    EXPECT_GT(c.noise_floor_K, 0.0) << c.name;
+    worst = std::max(worst, c.max_temperature_difference_K);
+  }
+  EXPECT_EQ(run.max_temperature_difference_K, worst);
+  // independent check in both environments: plain simulations, nothing shared with the driver
+  ModelSimulationSettings ss;
+  ss.loads.earth_rays_per_face = 16;
+  ss.loads.sun_rays_per_face = 256;
+  for (const LoadCase& c : {own_case(model), other}) {
+    const auto a = simulate_model(with_case(model, c), ss);
+    const auto b = simulate_model(with_case(run.reduced.model, c), ss);
+    EXPECT_LE(compare_results(a, b).max_abs_K, tol) << c.name;
+  }
+  // per node: the worst over the cases
+  for (const auto& n : run.nodes) EXPECT_LE(n.max_abs_dT_K, run.max_temperature_difference_K + 1e-12);
+}
+
+TEST(LoadCase, case_files_override_the_models_environment_and_name_their_bad_keys) {
+  const fs::path dir = fs::temp_directory_path() / ("thermodec_test_load_case_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  ThermalModel model = small_model();
+  model.environment.type = EnvironmentType::orbit;
+  model.environment.day_of_year = 172;
+  model.environment.altitude_km = 700.0;
+  auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    return dir / name;
+  };
+  const LoadCase c = load_case(write("cold.json", R"({"environment": {"type": "orbit", "day_of_year": 355}})"), model);
+  EXPECT_EQ(c.name, "cold");  // the file's stem
+  EXPECT_EQ(c.environment.day_of_year, 355);
+  EXPECT_EQ(c.environment.altitude_km, 700.0);  // kept from the model
+  EXPECT_EQ(with_case(model, c).environment.day_of_year, 355);
+  EXPECT_EQ(with_case(model, c).mesh.num_faces(), model.mesh.num_faces());
+  const LoadCase named = load_case(write("n.json", R"({"name": "hot", "analysis": {"type": "steady"}})"), model);
+  EXPECT_EQ(named.name, "hot");
+  for (const auto& [text, needle] : std::vector<std::pair<std::string, std::string>>{
+           {R"({"environment": {"type": "orbit", "day_of_yaer": 3}})", "day_of_yaer"},
+           {R"({"environment": {"type": "orbit", "day_of_year": 400}})", "day_of_year"},
+           {R"({"enviroment": {}})", "enviroment"},
+           {R"({"environment": {"type": "fixed_sun"}, "analysis": {"type": "transient_orbit"}})", "transient_orbit"},
+           {R"([1, 2])", "object"},
+           {R"({"name": ""})", "name"},
+           {R"({"environment": )", "invalid JSON"}}) {
+    try {
+      load_case(write("bad.json", text), model);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(load_case(dir / "missing.json", model), IOError);
+  fs::remove_all(dir);
+}
+
 TEST(ReduceModel, uniform_result_is_verified_within_tolerance) {
   const ThermalModel model = small_model();
   ReduceSettings s = quick_settings(0.5);
@@ -284,4 +357,15 @@ TEST(ReduceCli, writes_loadable_model_and_report_with_required_keys) {
   const std::string bad = std::string(THERMODEC_CLI) + " reduce " + (dir / "in.json").string() +
                           " --tolerance -1 --out " + (dir / "bad").string() + " -q 2> " + (dir / "err.txt").string();
   EXPECT_EQ(WEXITSTATUS(std::system(bad.c_str())), 1);
+
+  // a load case named like the model's own: refused before any simulation, with the reason
+  std::ofstream(dir / "model_case.json") << R"({"name": "model", "environment": {"type": "fixed_sun"}})";
+  const std::string dup = std::string(THERMODEC_CLI) + " reduce " + (dir / "in.json").string() + " --case " +
+                          (dir / "model_case.json").string() + " --out " + (dir / "dup").string() + " -q 2> " +
+                          (dir / "dup_err.txt").string();
+  EXPECT_EQ(WEXITSTATUS(std::system(dup.c_str())), 1);
+  std::stringstream err;
+  err << std::ifstream(dir / "dup_err.txt").rdbuf();
+  EXPECT_NE(err.str().find("used twice"), std::string::npos) << err.str();
+  EXPECT_FALSE(fs::exists(dir / "dup"));
 }

@@ -17,6 +17,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/mesh/io.h"
 #include "thermodec/nodes/automatic_nodes.h"
+#include "thermodec/nodes/load_case.h"
 
 namespace thermodec {
 namespace {
@@ -473,6 +474,33 @@ ThermalModel load_model(const fs::path& path, const ModelLoadOptions& options) {
 }
 
 ThermalModel load_model(const fs::path& path) { return load_model(path, ModelLoadOptions{}); }
+
+LoadCase own_case(const ThermalModel& model, const std::string& name) {
+  return LoadCase{name, model.environment, model.analysis};
+}
+
+LoadCase load_case(const fs::path& path, const ThermalModel& base) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw IOError(path.string() + ": no such file");
+  const Keys k(path.string());
+  const json j = read_json(path);
+  k.require_object(j, "");
+  k.only_keys(j, "", {"name", "description", "environment", "analysis"}, " in a load case file");
+  LoadCase c = own_case(base, path.stem().string());
+  if (j.contains("name")) c.name = k.string(j, "", "name");
+  if (j.contains("environment")) parse_environment(j.at("environment"), k, c.environment);
+  if (j.contains("analysis")) parse_analysis(j.at("analysis"), k, c.analysis);
+  if (c.analysis.type == AnalysisType::transient_orbit && c.environment.type != EnvironmentType::orbit)
+    k.fail("analysis.type", "transient_orbit needs an environment of type orbit (there is no orbit period otherwise)");
+  return c;
+}
+
+ThermalModel with_case(const ThermalModel& model, const LoadCase& c) {
+  ThermalModel m = model;
+  m.environment = c.environment;
+  m.analysis = c.analysis;
+  return m;
+}
 
 void save_model(const ThermalModel& model, const fs::path& json_path, const fs::path& mesh_path) {
   const std::string ext = lower_extension(mesh_path);

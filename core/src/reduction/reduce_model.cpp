@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <tbb/parallel_for.h>
 
 #include "thermodec/common/errors.h"
@@ -63,29 +64,64 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   for (const Node& nd : model.nodes) run.sampling_boost.push_back(nd.sampling_boost);
   run.sun_rays_per_face = settings.reference.simulation.loads.sun_rays_per_face;
 
-  // The reference (simulated once, with its reusable rays and samples), then the noise floor:
-  // the same simulation with other seeds. A tolerance the Monte Carlo noise could eat is
-  // refused before any reduction work.
-  say("reference: simulating and keeping reusable rays and samples");
-  const ReductionReference ref(model, settings.reference);
-  say("noise floor: simulating the reference with " + std::to_string(settings.noise_runs - 1) + " other seed(s)");
-  const NoiseFloor noise = noise_floor(model, settings.noise_runs, settings.reference.simulation, &ref.result());
-  run.noise_floor_K = noise.worst.max_abs_K;
+  // The reference of each load case (simulated once, with its reusable rays and samples), then
+  // its noise floor: the same simulation with other seeds. A tolerance the Monte Carlo noise
+  // could eat is refused before any reduction work.
+  std::vector<LoadCase> cases{own_case(model)};
+  for (const LoadCase& c : settings.extra_cases) cases.push_back(c);
+  const bool several = cases.size() > 1;
+  std::vector<ThermalModel> case_models;
+  for (const LoadCase& c : cases) case_models.push_back(with_case(model, c));
+  std::vector<std::unique_ptr<ReductionReference>> refs;
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    const std::string tag = several ? "case " + cases[c].name + ": " : "";
+    say(tag + "reference: simulating and keeping reusable rays and samples");
+    refs.push_back(std::make_unique<ReductionReference>(case_models[c], settings.reference));
+    say(tag + "noise floor: simulating the reference with " + std::to_string(settings.noise_runs - 1) + " other seed(s)");
+    const NoiseFloor noise = noise_floor(case_models[c], settings.noise_runs, settings.reference.simulation, &refs[c]->result());
+    CaseResult cr;
+    cr.name = cases[c].name;
+    cr.noise_floor_K = noise.worst.max_abs_K;
+    run.cases.push_back(cr);
+    run.noise_floor_K = std::max(run.noise_floor_K, cr.noise_floor_K);
+    say(tag + fmt("noise floor %.4f K (%.1f s per simulation)", cr.noise_floor_K,
+                  noise.run_time_s.empty() ? 0.0 : noise.run_time_s.front()));
+  }
   run.seconds_noise = since(t0);
-  say(fmt("noise floor %.4f K (%.1f s per simulation)", run.noise_floor_K,
-          noise.run_time_s.empty() ? 0.0 : noise.run_time_s.front()));
   if (tol < 2.0 * run.noise_floor_K)
     throw InvalidInput(fmt("tolerance %.4g K is below twice the measured noise floor (%.4g K): "
                            "ask for at least %.4g K or raise radiation.rays_per_face",
                            tol, run.noise_floor_K, 2.0 * run.noise_floor_K));
 
+  const ReductionReference& ref = *refs.front();
   run.reference = ref.result();
   run.reference_mesh = model.mesh;
   const int n = static_cast<int>(model.nodes.size());
   const Eigen::VectorXi faces = ref.faces_per_node();
   run.faces_before = faces.sum();
-  auto trial = [&](const Eigen::VectorXd& r) { return ref.trial(r); };
-  auto verify = [&](const Eigen::VectorXd& r) { return ref.verify(r); };
+  // Every case sees the same decimated mesh (decimation does not depend on the environment);
+  // a candidate's difference is the worst over the cases, node by node.
+  auto worst_over_cases = [&](const Eigen::VectorXd& r, bool full) {
+    TrialResult t = full ? ref.verify(r) : ref.trial(r);
+    for (std::size_t c = 1; c < refs.size(); ++c) {
+      const TrialResult o = full ? refs[c]->verify(r) : refs[c]->trial(r);
+      t.max_abs_dT_K = std::max(t.max_abs_dT_K, o.max_abs_dT_K);
+      t.node_max_abs_dT_K = t.node_max_abs_dT_K.cwiseMax(o.node_max_abs_dT_K);
+      t.timing.decimation_s += o.timing.decimation_s;
+      t.timing.couplings_s += o.timing.couplings_s;
+      t.timing.loads_s += o.timing.loads_s;
+      t.timing.solve_s += o.timing.solve_s;
+      t.timing.simulation_s += o.timing.simulation_s;
+    }
+    return t;
+  };
+  auto trial = [&](const Eigen::VectorXd& r) { return worst_over_cases(r, false); };
+  auto verify = [&](const Eigen::VectorXd& r) { return worst_over_cases(r, true); };
+  auto trials_evaluated = [&] {
+    int k = 0;
+    for (const auto& rf : refs) k += rf->trials_evaluated();
+    return k;
+  };
   auto log = [&](const std::string& s) { say("  " + s); };
 
   const auto t_search = Clock::now();
@@ -107,7 +143,7 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
       // Time left, extrapolated from the nodes swept so far (rough: sweeps differ in length).
       const double spent = since(ts), left = done > 0 ? spent / done * (total - done) : 0.0;
       say("  sensitivity: " + std::to_string(done) + "/" + std::to_string(total) + " nodes swept (" +
-          std::to_string(ref.trials_evaluated()) + " trials, " +
+          std::to_string(trials_evaluated()) + " trials, " +
           (done < total ? fmt("about %.0f s left)", left) : fmt("%.0f s)", spent)));
     };
     say("sensitivity analysis: each node alone, increasing ratios, cap " + fmt("%.3g K", so.cap_K));
@@ -130,19 +166,34 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
         r[c.node] = feasible_ratio(c, p.target_K);
         p.predicted_K = std::max(p.predicted_K, predicted_difference_K(c, r[c.node]));
       }
-      const TrialResult t = ref.trial(r);
+      const TrialResult t = trial(r);
       p.real_K = t.max_abs_dT_K;
       p.faces_after = t.faces_after;
     });
   }
   run.seconds_search = since(t_search);
 
-  // The returned model is the verified candidate, rebuilt in full (nothing reused).
+  // The returned model is the verified candidate, rebuilt in full (nothing reused), and its
+  // difference in every case (already verified: taken from memory).
   run.reduced = ref.candidate(run.outcome.ratio_per_node, true);
   run.faces_after = run.reduced.model.mesh.num_faces();
-  run.max_temperature_difference_K = run.reduced.difference.max_abs_K;
-  run.max_difference_node = run.reduced.difference.node;
-  run.max_difference_time_s = run.reduced.difference.time_s;
+  Eigen::VectorXd node_max = run.reduced.trial.node_max_abs_dT_K;
+  for (std::size_t c = 0; c < refs.size(); ++c) {
+    TemperatureDifference d = run.reduced.difference;
+    if (c > 0) {
+      const Candidate other = refs[c]->candidate(run.outcome.ratio_per_node, true);
+      d = other.difference;
+      node_max = node_max.cwiseMax(other.trial.node_max_abs_dT_K);
+    }
+    run.cases[c].max_temperature_difference_K = d.max_abs_K;
+    run.cases[c].max_difference_node = d.node;
+    run.cases[c].max_difference_time_s = d.time_s;
+    if (c == 0 || d.max_abs_K > run.max_temperature_difference_K) {
+      run.max_temperature_difference_K = d.max_abs_K;
+      run.max_difference_node = several ? d.node + " (case " + cases[c].name + ")" : d.node;
+      run.max_difference_time_s = d.time_s;
+    }
+  }
   if (!(run.max_temperature_difference_K <= tol))  // cannot happen: the strategies verified it
     throw SolverError("internal: the verified model exceeds the tolerance on rebuild");
   for (int k = 0; k < n; ++k) {
@@ -154,12 +205,12 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
     nr.requested_ratio = run.outcome.ratio_per_node[k];
     nr.ratio = 1.0 - static_cast<double>(st.faces_after) / std::max(1, st.faces_before);
     nr.predicted_ratio = run.outcome.predicted_ratio_per_node.size() ? run.outcome.predicted_ratio_per_node[k] : 0.0;
-    nr.max_abs_dT_K = run.reduced.trial.node_max_abs_dT_K[k];
+    nr.max_abs_dT_K = node_max[k];
     nr.area_before_m2 = st.area_before_m2;
     nr.area_after_m2 = st.area_after_m2;
     run.nodes.push_back(nr);
   }
-  run.trials = ref.trials_evaluated();
+  run.trials = trials_evaluated();
   run.seconds_total = since(t0);
   return run;
 }

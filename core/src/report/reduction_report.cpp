@@ -45,6 +45,12 @@ json reduction_report_json(const ReductionRun& run) {
   j["max_temperature_difference_at"] = {{"node", run.max_difference_node}, {"time_s", run.max_difference_time_s}};
   j["noise_floor_K"] = run.noise_floor_K;
   j["verified"] = "full recompute of the reduced model (no reuse) compared with the reference";
+  json cases = json::array();
+  for (const auto& c : run.cases)
+    cases.push_back({{"name", c.name}, {"noise_floor_K", c.noise_floor_K},
+                     {"max_temperature_difference_K", c.max_temperature_difference_K},
+                     {"max_temperature_difference_at", {{"node", c.max_difference_node}, {"time_s", c.max_difference_time_s}}}});
+  j["load_cases"] = cases;
   json nodes = json::object();
   for (const auto& n : run.nodes)
     nodes[n.name] = {{"faces_before", n.faces_before}, {"faces_after", n.faces_after}, {"ratio", n.ratio},
@@ -164,6 +170,13 @@ std::string reduction_summary(const ReductionRun& run) {
                 run.max_temperature_difference_K, run.max_difference_node.c_str(), run.tolerance_K,
                 run.noise_floor_K, run.trials, run.seconds_total);
   o << buf;
+  if (run.cases.size() > 1)
+    for (const auto& c : run.cases) {
+      std::snprintf(buf, sizeof buf, "  case %-12s verified max |dT| %.4f K (node %s, t = %.0f s); noise floor %.4f K\n",
+                    c.name.c_str(), c.max_temperature_difference_K, c.max_difference_node.c_str(),
+                    c.max_difference_time_s, c.noise_floor_K);
+      o << buf;
+    }
   for (const auto& n : run.nodes) {
     std::snprintf(buf, sizeof buf, "  %-16s %5d -> %5d faces  ratio %.2f  max|dT| %.4f K\n", n.name.c_str(),
                   n.faces_before, n.faces_after, n.ratio, n.max_abs_dT_K);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "thermodec/nodes/load_case.h"
 #include "thermodec/reduction/reduction_reference.h"
 #include "thermodec/reduction/sensitivity.h"
 #include "thermodec/reduction/strategies.h"
@@ -30,6 +31,11 @@ struct ReduceSettings {
   double noise_target_fraction = 0.05;
   //! Extra trials for the predicted-vs-real plot: targets as multiples of the tolerance.
   std::vector<double> prediction_targets{0.1, 0.25, 0.5, 1.0, 2.0};
+  //! Further load cases the reduced model must also meet (hot and cold cases, ...): the
+  //! model's own environment is the first case; each extra one gets its own reference,
+  //! noise floor and incremental trials, and every trial and verification takes the largest
+  //! |dT| over all cases. Costs about one reduction's simulations per case.
+  std::vector<LoadCase> extra_cases;
   std::function<void(const std::string&)> progress;  //!< human-readable progress lines
 };
 
@@ -50,20 +56,30 @@ struct PredictionPoint {
   int faces_after = 0;
 };
 
+//! What the verified reduced model gives in one load case.
+struct CaseResult {
+  std::string name;
+  double noise_floor_K = 0.0;                 //!< that case's independent-seed noise floor
+  double max_temperature_difference_K = 0.0;  //!< reduced vs reference, full recompute [K]
+  std::string max_difference_node;
+  double max_difference_time_s = 0.0;
+};
+
 struct ReductionRun {
   std::string strategy;
   double tolerance_K = 0.0;
-  double noise_floor_K = 0.0;     //!< max |dT| between independent-seed reference runs
+  double noise_floor_K = 0.0;     //!< max |dT| between independent-seed reference runs (max over cases)
   int faces_before = 0, faces_after = 0;
-  double max_temperature_difference_K = 0.0;  //!< of the verified reduced model (full recompute)
+  double max_temperature_difference_K = 0.0;  //!< of the verified reduced model (full recompute; max over cases)
   std::string max_difference_node;
   double max_difference_time_s = 0.0;
   std::vector<NodeReduction> nodes;
   std::vector<SensitivityCurve> curves;       //!< informed only
   std::vector<PredictionPoint> prediction;    //!< informed only
   ReductionOutcome outcome;
-  Candidate reduced;                          //!< the verified reduced model and its result
-  SimulationResult reference;
+  std::vector<CaseResult> cases;              //!< the model's own case first, then extra_cases
+  Candidate reduced;                          //!< the verified reduced model and its result (own case)
+  SimulationResult reference;                 //!< own case
   Mesh reference_mesh;                         //!< the input mesh (for pictures)
   int trials = 0;
   //! What the loader's bare-mesh cleanup changed (ThermalModel::mesh_cleanup), if it ran.
