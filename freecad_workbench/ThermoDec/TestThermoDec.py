@@ -402,6 +402,12 @@ class CoreRuns(_DocTest):
         self.analysis.MaxEdgeLength = "500 mm"
         with self.assertRaisesRegex(thermodec.InvalidInput, "below twice the measured noise floor"):
             results.reduce(self.analysis, tolerance_K=0.01, plots=False)
+        os.makedirs(self.analysis.OutputDirectory, exist_ok=True)
+        bad_case = os.path.join(self.analysis.OutputDirectory, "bad_case.json")
+        with open(bad_case, "w") as f:
+            f.write('{"environment": {"type": "fixed_sun", "sun_direktion": [0, 1, 0]}}')
+        with self.assertRaisesRegex(thermodec.InvalidInput, "sun_direktion"):  # before any simulation
+            results.reduce(self.analysis, tolerance_K=5.0, plots=False, cases=[bad_case])
         feature, summary = results.reduce(self.analysis, tolerance_K=5.0, plots=False)
         self.assertLessEqual(summary["max_temperature_difference_K"], 5.0)
         self.assertLess(summary["faces"], 0.5 * summary["faces_before"])
@@ -411,6 +417,7 @@ class CoreRuns(_DocTest):
         self.assertEqual(sorted(reduced.mesh.node_names), sorted(self.analysis.ThermalMesh.NodeNames))
         with open(summary["report"]) as f:
             self.assertEqual(json.load(f)["faces_after"], summary["faces"])
+        self.assertEqual(list(summary["cases"]), ["model"])
         self.assertEqual(len(feature.FaceTemperature), summary["faces"])
         FreeCAD.Console.PrintMessage("ThermoDec test: reduce %d -> %d faces, max |dT| %.3f K, noise %.3f K\n"
                                      % (summary["faces_before"], summary["faces"],

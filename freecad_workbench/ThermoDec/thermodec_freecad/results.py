@@ -158,12 +158,14 @@ def decimate(analysis, global_ratio=None, json_path=None):
     return feature, summary
 
 
-def reduce(analysis, tolerance_K=None, json_path=None, plots=True):
+def reduce(analysis, tolerance_K=None, json_path=None, plots=True, cases=()):
     """Simulation-driven reduction through the core (thermodec.reduce_model, what
     `thermodec reduce` runs): exports the analysis, reduces its mesh as far as the temperature
     tolerance [K] allows (verified by a full recompute), writes the core's outputs (model.json +
     reduced.obj, report.json, plots) into reduced/ beside the export and imports the reduced
-    mesh coloured by its own simulated node temperatures. Returns (feature, summary)."""
+    mesh coloured by its own simulated node temperatures. Returns (feature, summary).
+    `cases`: load case files (`thermodec reduce --case`, docs/model-format.md) the reduced model
+    must also meet, e.g. a cold case; they are read (and checked) before any simulation."""
     td = core.module()
     core.require("reduce_model")
     json_path, mesh_path = export.write_model(analysis, json_path or export.default_paths(analysis)[0])
@@ -180,6 +182,7 @@ def reduce(analysis, tolerance_K=None, json_path=None, plots=True):
     _progress("reducing %s (tolerance %.3g K, %s)" % (json_path, settings.tolerance_K,
                                                       analysis.ReductionStrategy))
     model = td.load_model(json_path)
+    settings.extra_cases = [td.load_case(path, model) for path in cases]
     run = td.reduce_model(model, settings)
     folder = os.path.join(os.path.dirname(json_path), "reduced")
     for warning in td.write_reduction_outputs(run, folder, [json_path, mesh_path], plots):
@@ -195,6 +198,7 @@ def reduce(analysis, tolerance_K=None, json_path=None, plots=True):
                    noise_floor_K=run.noise_floor_K,
                    max_temperature_difference_K=run.max_temperature_difference_K,
                    max_difference_node=run.max_difference_node, trials=run.trials,
+                   cases={c.name: c.max_temperature_difference_K for c in run.cases},
                    seconds=run.seconds_total, report=os.path.join(folder, "report.json"))
     FreeCAD.Console.PrintMessage(td.reduction_summary(run) + "\n")
     _progress("reduced %d -> %d faces, max |dT| %.3g K (tolerance %.3g K)" % (
