@@ -10,6 +10,7 @@
 
 #include "thermodec/common/errors.h"
 #include "thermodec/mesh/io.h"
+#include "thermodec/nodes/load_case.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/common/atomic_write.h"
 #ifdef THERMODEC_FILTER_REDUCE
@@ -168,7 +169,8 @@ NodeTemperatures simulate_document(const thermodec::Mesh& mesh, const std::vecto
 
 #ifdef THERMODEC_FILTER_REDUCE
 DocumentReduction reduce_document(const DocumentModelRequest& request, double tolerance_K,
-                                  bool informed, const std::string& out_dir, bool plots) {
+                                  bool informed, const std::string& out_dir, bool plots,
+                                  const std::vector<std::string>& case_files) {
   std::vector<int> model_node;
   std::string description;
   const thermodec::ThermalModel model =
@@ -181,6 +183,7 @@ DocumentReduction reduce_document(const DocumentModelRequest& request, double to
   settings.strategy = informed ? thermodec::ReductionStrategy::informed : thermodec::ReductionStrategy::uniform;
   settings.progress = request.progress;
   settings.reference.simulation.progress = nullptr;
+  for (const auto& f : case_files) settings.extra_cases.push_back(thermodec::load_case(f, model));
   const thermodec::ReductionRun run = thermodec::reduce_model(model, settings);
 
   std::vector<fs::path> inputs;

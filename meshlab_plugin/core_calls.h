@@ -62,11 +62,13 @@ struct DocumentReduction {
 
 //! `thermodec reduce` on the document: reduce_model with the tolerance [K] and strategy
 //! (informed = sensitivity-guided, else uniform), then write_reduction_outputs into `out_dir`
-//! (model.json + reduced.obj, report.json, PNG plots when `plots`).
+//! (model.json + reduced.obj, report.json, PNG plots when `plots`). `case_files`: further load
+//! cases (thermodec::load_case) the reduced model must also meet.
 //! \throw thermodec::InvalidInput (tolerance not positive or below twice the noise floor, two
-//! document nodes mapped to one model node, ...), IOError, SolverError.
+//! document nodes mapped to one model node, a bad case file, ...), IOError, SolverError.
 DocumentReduction reduce_document(const DocumentModelRequest& request, double tolerance_K,
-                                  bool informed, const std::string& out_dir, bool plots);
+                                  bool informed, const std::string& out_dir, bool plots,
+                                  const std::vector<std::string>& case_files = {});
 
 //! Result of sensitivity_document, per document node.
 struct DocumentSensitivity {

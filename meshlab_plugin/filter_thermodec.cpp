@@ -317,6 +317,12 @@ void ThermodecFilterPlugin::initParameterSet(QAction* action, MeshModel& /*m*/,
                  : "Folder for sensitivity.csv and sensitivity.png. Empty: "
                    "'<layer file>_thermodec_sensitivity' beside the current layer's file."));
       if (reduce)
+        params.addParam(RichString(
+            "case_files", "", "Load case files",
+            "Optional: further load cases the reduced model must also meet (e.g. a cold case), "
+            "separated by ';'. Each is a JSON file {\"name\", \"environment\", \"analysis\"} read "
+            "over the model's own (thermodec reduce --case; docs/model-format.md)."));
+      if (reduce)
         params.addParam(RichBool("plots", true, "Write plots",
                                  "Also write the PNG plots (sensitivity, predicted vs real, "
                                  "temperatures, mesh) with matplotlib."));
@@ -600,7 +606,10 @@ bool ThermodecFilterPlugin::reduce(MeshDocument& md, const RichParameterList& pa
     progress(cb, step, what.c_str());
     Log("  %s", what.c_str());
   };
-  const DocumentReduction r = reduce_document(request, tolerance, informed, out_dir, plots);
+  std::vector<std::string> case_files;
+  for (const QString& f : params.getString("case_files").split(';', Qt::SkipEmptyParts))
+    if (!f.trimmed().isEmpty()) case_files.push_back(f.trimmed().toStdString());
+  const DocumentReduction r = reduce_document(request, tolerance, informed, out_dir, plots, case_files);
   const auto layers = add_layers(md, dm, r.mesh, "reduced");
 
   Log("Thermal: physics-informed decimation (%s, tolerance %.3g K): %d -> %d faces, verified "

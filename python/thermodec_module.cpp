@@ -328,6 +328,7 @@ void bind_reduction(py::module_& m) {
       .def_readonly("faces_after", &ReductionRun::faces_after)
       .def_readonly("max_temperature_difference_K", &ReductionRun::max_temperature_difference_K)
       .def_readonly("max_difference_node", &ReductionRun::max_difference_node)
+      .def_readonly("max_difference_case", &ReductionRun::max_difference_case)
       .def_readonly("max_difference_time_s", &ReductionRun::max_difference_time_s)
       .def_readonly("nodes", &ReductionRun::nodes)
       .def_readonly("cases", &ReductionRun::cases, "the model's own case first, then extra_cases")

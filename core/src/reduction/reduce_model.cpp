@@ -190,7 +190,8 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
     run.cases[c].max_difference_time_s = d.time_s;
     if (c == 0 || d.max_abs_K > run.max_temperature_difference_K) {
       run.max_temperature_difference_K = d.max_abs_K;
-      run.max_difference_node = several ? d.node + " (case " + cases[c].name + ")" : d.node;
+      run.max_difference_node = d.node;
+      run.max_difference_case = cases[c].name;
       run.max_difference_time_s = d.time_s;
     }
   }

@@ -42,7 +42,8 @@ json reduction_report_json(const ReductionRun& run) {
   j["faces_before"] = run.faces_before;
   j["faces_after"] = run.faces_after;
   j["max_temperature_difference_K"] = run.max_temperature_difference_K;
-  j["max_temperature_difference_at"] = {{"node", run.max_difference_node}, {"time_s", run.max_difference_time_s}};
+  j["max_temperature_difference_at"] = {
+      {"node", run.max_difference_node}, {"time_s", run.max_difference_time_s}, {"load_case", run.max_difference_case}};
   j["noise_floor_K"] = run.noise_floor_K;
   j["verified"] = "full recompute of the reduced model (no reuse) compared with the reference";
   json cases = json::array();

@@ -72,6 +72,7 @@ struct ReductionRun {
   int faces_before = 0, faces_after = 0;
   double max_temperature_difference_K = 0.0;  //!< of the verified reduced model (full recompute; max over cases)
   std::string max_difference_node;
+  std::string max_difference_case;            //!< load case where it occurs ("model": the model's own)
   double max_difference_time_s = 0.0;
   std::vector<NodeReduction> nodes;
   std::vector<SensitivityCurve> curves;       //!< informed only
