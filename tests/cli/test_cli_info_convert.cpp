@@ -156,10 +156,18 @@ TEST(SharedModelsCliInfo, info_succeeds_on_every_sample_and_nasa_model) {
     if (!fs::exists(dir)) continue;
     for (const auto& e : fs::recursive_directory_iterator(dir)) {
       const std::string ext = e.path().extension().string();
+      if (e.path().parent_path().filename() == "cases") continue;  // load case files, not models
       if (ext == ".json" || ext == ".obj" || ext == ".ply" || ext == ".stl") models.push_back(e.path());
     }
   }
   if (models.empty()) GTEST_SKIP() << "no sample or NASA models found";
+  // A load case file given as a model: exit 1 with a message that says what it is.
+  const fs::path case_file = samples / "satellite" / "cases" / "december.json";
+  if (fs::exists(case_file)) {
+    const CliRun r = run_cli("info " + q(case_file), d);
+    EXPECT_EQ(r.exit_code, 1);
+    EXPECT_NE(r.err.find("--case"), std::string::npos) << r.err;
+  }
   std::sort(models.begin(), models.end());
   for (const auto& m : models) {
     const CliRun r = run_cli("info " + q(m), d);

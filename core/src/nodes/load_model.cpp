@@ -323,6 +323,9 @@ ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& option
   const Keys k(file);
   const json j = read_json(path);
   k.require_object(j, "");
+  if (!j.contains("mesh") && j.contains("environment") && !j.contains("nodes") && !j.contains("materials"))
+    k.fail("", "this looks like a load case file (environment/analysis only, no mesh): give it to "
+               "`thermodec reduce MODEL --case FILE`; a model file needs a 'mesh' key");
   for (const auto& item : j.items()) {
     static const std::set<std::string> known = {"mesh", "unit_scale", "materials", "default_material", "nodes",
                                                 "conductances", "environment", "analysis", "radiation"};
