@@ -54,6 +54,18 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
     boosted = model_in;
     for (std::size_t k = 0; k < b.boost.size(); ++k) boosted.nodes[k].sampling_boost = b.boost[k];
     say(b.describe(model_in.nodes));
+    // Every load case decides too (another attitude samples the Earth differently, another
+    // date shadows other nodes); a node keeps the largest boost any case asks for.
+    for (const LoadCase& c : settings.extra_cases) {
+      const SamplingBoosts bc = decide_sampling_boosts(with_case(model_in, c), settings.reference.simulation,
+                                                       settings.noise_target_fraction * tol);
+      for (std::size_t k = 0; k < bc.boost.size(); ++k) {
+        auto& nb = boosted.nodes[k].sampling_boost;
+        nb.ir = std::max(nb.ir, bc.boost[k].ir);
+        nb.loads = std::max(nb.loads, bc.boost[k].loads);
+      }
+      say("case " + c.name + ": " + bc.describe(model_in.nodes));
+    }
   }
   const ThermalModel& model = boost ? boosted : model_in;
   ReductionRun run;
