@@ -47,6 +47,19 @@ def unit_cube():
     return V, F
 
 
+def write_cube_model(folder, model_json):
+    """cube.obj (one node "cube") and model.json with the given text in `folder`; the path."""
+    V, F = unit_cube()
+    mesh = thermodec.Mesh(V, F)
+    mesh.node_names = ["cube"]
+    mesh.face_node = np.zeros(12, dtype=int)
+    thermodec.write_mesh(os.path.join(folder, "cube.obj"), mesh)
+    path = os.path.join(folder, "model.json")
+    with open(path, "w") as f:
+        f.write(model_json)
+    return path
+
+
 class CoreFunctions(unittest.TestCase):
     def test_obj_round_trip_keeps_groups_and_materials(self):
         V, F = unit_cube()
@@ -92,31 +105,18 @@ class CoreFunctions(unittest.TestCase):
 
 class ModelErrors(unittest.TestCase):
     def test_unknown_material_is_named_with_its_key(self):
-        V, F = unit_cube()
         with tempfile.TemporaryDirectory() as folder:
-            mesh = thermodec.Mesh(V, F)
-            mesh.node_names = ["cube"]
-            mesh.face_node = np.zeros(12, dtype=int)
-            thermodec.write_mesh(os.path.join(folder, "cube.obj"), mesh)
-            path = os.path.join(folder, "model.json")
-            with open(path, "w") as f:
-                f.write('{"mesh": "cube.obj", "materials": {"osr": {"absorptivity": 0.08, "emissivity": 0.8}},'
-                        ' "nodes": {"cube": {"material": "gold"}}}')
+            path = write_cube_model(folder, '{"mesh": "cube.obj", "materials": {"osr": {"absorptivity": 0.08,'
+                                            ' "emissivity": 0.8}}, "nodes": {"cube": {"material": "gold"}}}')
             with self.assertRaisesRegex(thermodec.InvalidInput, "nodes.cube.material"):
                 thermodec.load_model(path)
 
 
 class LoadCases(unittest.TestCase):
     def test_case_file_moves_only_what_it_names_and_reaches_reduce_settings(self):
-        V, F = unit_cube()
         with tempfile.TemporaryDirectory() as folder:
-            mesh = thermodec.Mesh(V, F)
-            mesh.node_names = ["cube"]
-            mesh.face_node = np.zeros(12, dtype=int)
-            thermodec.write_mesh(os.path.join(folder, "cube.obj"), mesh)
-            path = os.path.join(folder, "model.json")
-            with open(path, "w") as f:
-                f.write('{"mesh": "cube.obj", "environment": {"type": "orbit", "altitude_km": 650, "day_of_year": 172}}')
+            path = write_cube_model(folder, '{"mesh": "cube.obj", "environment": {"type": "orbit",'
+                                            ' "altitude_km": 650, "day_of_year": 172}}')
             model = thermodec.load_model(path)
             case_path = os.path.join(folder, "cold.json")
             with open(case_path, "w") as f:
