@@ -643,11 +643,11 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
 struct EscapingRays {
   Eigen::Matrix<float, Eigen::Dynamic, 3> directions;  // all sides, side s owning [begin[s], begin[s+1])
   std::vector<int> begin;
-  int rays = 0;
+  Eigen::VectorXi rays;  // per side: rays traced (escaping or not)
 };
 
 std::vector<std::vector<Eigen::Vector3f>> escaping_directions(const RayScene& scene, const std::vector<Side>& geo,
-                                                             const SurfaceSides& sides, int rays, std::uint64_t seed,
+                                                             const SurfaceSides& sides, const Eigen::VectorXi& rays, std::uint64_t seed,
                                                              const tracing::SobolTable& sobol, const PassContext& pass,
                                                              const std::vector<char>* todo) {
   const int ns = sides.size();
@@ -666,7 +666,7 @@ std::vector<std::vector<Eigen::Vector3f>> escaping_directions(const RayScene& sc
       const auto sd = side_seeds(seed, sides.key[s], 3);
       tracer.begin(&rays_out, pass.cursor(s));
       dirs.clear();
-      for (int k = 0; k < rays; ++k) {
+      for (int k = 0; k < rays[s]; ++k) {
         const auto& q = sobol[k];
         const float r2 = scrambled(q[2], sd[2]);
         const float st = std::sqrt(r2), ct = std::sqrt(std::max(0.0f, 1.0f - r2));  // Malley
@@ -680,7 +680,7 @@ std::vector<std::vector<Eigen::Vector3f>> escaping_directions(const RayScene& sc
       }
       tracer.flush();
       if (recording) pass.recorder->keep(*pass.record, s, rays_out);
-      for (int k = 0; k < rays; ++k)
+      for (int k = 0; k < rays[s]; ++k)
         if (!rays_out.blocked[k]) per_side[s].push_back(dirs[k]);
     }
     pass.count(tracer);
@@ -688,7 +688,7 @@ std::vector<std::vector<Eigen::Vector3f>> escaping_directions(const RayScene& sc
   return per_side;
 }
 
-EscapingRays pack_escaping(const std::vector<std::vector<Eigen::Vector3f>>& per_side, int rays) {
+EscapingRays pack_escaping(const std::vector<std::vector<Eigen::Vector3f>>& per_side, const Eigen::VectorXi& rays) {
   const int ns = static_cast<int>(per_side.size());
   EscapingRays out;
   out.rays = rays;
@@ -707,12 +707,12 @@ void earth_view_from_escaping(const EscapingRays& esc, const Eigen::Vector3d& ea
   const Eigen::Vector3d e = earth_dir_in.normalized();
   const double sin_half = kEarthRadius_m / distance_m, cos_half = std::sqrt(1.0 - sin_half * sin_half);
   const double R2 = kEarthRadius_m * kEarthRadius_m, r2 = distance_m * distance_m;
-  const double w = 1.0 / esc.rays;
   view_factor.setZero(ns);
   lit_sum.setZero(ns);
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
     for (int s = range.begin(); s < range.end(); ++s) {
       double f = 0.0, lit = 0.0;
+      const double w = 1.0 / std::max(1, esc.rays[s]);
       for (int k = esc.begin[s]; k < esc.begin[s + 1]; ++k) {
         const Eigen::Vector3d d = esc.directions.row(k).transpose().cast<double>();
         const double c = d.dot(e);
@@ -1082,7 +1082,10 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       }
       hits.flatten();
     } else {
-      auto dirs = escaping_directions(scene, geo, sides, settings.earth_rays_per_face, settings.seed, sobol, pass,
+      // The same per-side counts as the cone sampling of the nadir case (per-node budgets,
+      // noise-targeted boosts): a sun-pointing or inertial craft's Earth loads are as noisy
+      // as a nadir one's at equal counts, or more (the cone's edge cuts these rays).
+      auto dirs = escaping_directions(scene, geo, sides, earth_rays, settings.seed, sobol, pass,
                                       ref ? &earth_todo : nullptr);
       if (ref)
         for (int s = 0; s < ns; ++s)
@@ -1092,8 +1095,8 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
           }
       if (samples)
         for (int s = 0; s < ns; ++s)
-          for (const auto& d : dirs[s]) samples->earth[s].emplace_back(1.0f / settings.earth_rays_per_face, d);
-      escaping = pack_escaping(dirs, settings.earth_rays_per_face);
+          for (const auto& d : dirs[s]) samples->earth[s].emplace_back(1.0f / std::max(1, earth_rays[s]), d);
+      escaping = pack_escaping(dirs, earth_rays);
     }
     if (pass.recording() && recorder.active()) samples->earth_records = pack_records(recorded);
     Eigen::VectorXd view_factor, lit_sum(ns);
@@ -1145,6 +1148,11 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
         if (earth_fixed && hits.relative_error.size() == ns)  // both scale with the unblocked share
           loads.sampling_standard_error_W(node, k) +=
               std::pow(hits.relative_error[s] * (ir + alpha[s] * incident_albedo(s, k)), 2);
+        if (!earth_fixed && view_factor[s] < 1.0) {
+          // F = hits / N of cosine-weighted rays: binomial relative error sqrt((1 - F) / (F N)).
+          const double rel = std::sqrt((1.0 - view_factor[s]) / (view_factor[s] * std::max(1, earth_rays[s])));
+          loads.sampling_standard_error_W(node, k) += std::pow(rel * (ir + alpha[s] * incident_albedo(s, k)), 2);
+        }
       }
     }
   }

@@ -56,8 +56,9 @@ struct ExternalLoadSettings {
   int earth_pilot_rays = 256;     //!< see earth_rays_per_face
   //! Minimum Earth rays for a node's partly blocked sides: a node with n faces gives each
   //! such side max(earth_rays_per_face, ceil(earth_min_rays_per_node / n)) (small nodes are
-  //! otherwise the noisiest); 0 = earth_rays_per_face for all. Earth fixed in body axes
-  //! (nadir attitude) only.
+  //! otherwise the noisiest); 0 = earth_rays_per_face for all. Attitudes in which the Earth
+  //! moves in body axes (sun, inertial) trace that many escaping hemisphere rays from every
+  //! side (no pilot), with the same per-node minimum and noise-targeted boosts.
   int earth_min_rays_per_node = 200000;
   int steps_per_orbit = 0;        //!< orbit samples; 0 = model.analysis.steps_per_orbit
   std::uint64_t seed = 1;         //!< sampling seed (combined with each side's identity)
