@@ -195,10 +195,10 @@ TEST(OrbitLoads, eclipse_steps_get_no_direct_sun_and_same_seed_is_bit_identical)
   EXPECT_EQ(a.reflected_solar_W.sum(), 0.0);  // convex: nothing reflects onto itself
 }
 
-TEST(CubeLoads, inertial_attitude_earth_view_from_escaping_rays_matches_closed_form) {
-  // Equatorial orbit, inertial attitude: at t = 0 the spacecraft is on ECI +X, so the Earth is
-  // along body -X. The Earth moves in body axes, so the escaping-hemisphere path is used:
-  // cosine-weighted Sobol rays, the cone edge a discontinuity: ~N^-3/4 (4096 rays: < 0.5 %).
+namespace {
+// A 1 m cube, one node per face, inertial attitude on an equatorial 600 km orbit, 4 steps: at
+// t = 0 the Earth is along body -X, a quarter orbit later along -Y.
+ThermalModel inertial_equatorial_cube() {
   ThermalModel model = model_with({"px", "mx", "py", "my", "pz", "mz"}, {{"paint", 0.5, 0.8}});
   add_cube(model.mesh, 0.5, {0, 1, 2, 3, 4, 5});
   model.environment.type = EnvironmentType::orbit;
@@ -206,6 +206,15 @@ TEST(CubeLoads, inertial_attitude_earth_view_from_escaping_rays_matches_closed_f
   model.environment.inclination_deg = 0.0;
   model.environment.altitude_km = 600.0;
   model.analysis.steps_per_orbit = 4;
+  return model;
+}
+}  // namespace
+
+TEST(CubeLoads, inertial_attitude_earth_view_from_escaping_rays_matches_closed_form) {
+  // Equatorial orbit, inertial attitude: at t = 0 the spacecraft is on ECI +X, so the Earth is
+  // along body -X. The Earth moves in body axes, so the escaping-hemisphere path is used:
+  // cosine-weighted Sobol rays, the cone edge a discontinuity: ~N^-3/4 (4096 rays: < 0.5 %).
+  const ThermalModel model = inertial_equatorial_cube();
   const Loads l = loads_of(model, {}, false);
   const double r = orbit_radius_m(600.0), H = r / kEarthRadius_m, x = std::sqrt(H * H - 1.0);
   const double F_nadir = 1.0 / (H * H), F_side = (std::atan(1.0 / x) - x / (H * H)) / 3.14159265358979323846;
@@ -220,12 +229,7 @@ TEST(CubeLoads, inertial_attitude_earth_view_from_escaping_rays_matches_closed_f
 TEST(CubeLoads, moving_earth_rays_follow_the_per_node_budget) {
   // Inertial attitude (escaping hemisphere rays): the per-node minimum applies as in the nadir
   // case. The cube is convex, so every ray of a side escapes and is kept as a sample.
-  ThermalModel model = model_with({"px", "mx", "py", "my", "pz", "mz"}, {{"paint", 0.5, 0.8}});
-  add_cube(model.mesh, 0.5, {0, 1, 2, 3, 4, 5});
-  model.environment.type = EnvironmentType::orbit;
-  model.environment.attitude = Attitude::inertial;
-  model.environment.inclination_deg = 0.0;
-  model.analysis.steps_per_orbit = 4;
+  const ThermalModel model = inertial_equatorial_cube();
   const RayScene scene(model.mesh);
   const SurfaceSides sides = surface_sides(model);
   for (const int min_per_node : {0, 16 * 256 * 8}) {  // 8 triangles per cube face
