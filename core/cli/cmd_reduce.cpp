@@ -1,5 +1,4 @@
 // `thermodec reduce MODEL --tolerance K [--strategy informed|uniform] [--case FILE ...] --out DIR`
-#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <iostream>
@@ -45,15 +44,8 @@ void run_reduce(const ReduceCliOptions& o) {
   s.strategy = o.strategy == "uniform" ? ReductionStrategy::uniform : ReductionStrategy::informed;
   s.sensitivity_cap_factor = o.cap_factor;
   s.noise_target_fraction = o.noise_target_fraction;
-  // Load cases read (and checked) before any simulation; names must tell them apart.
-  std::vector<std::string> names{"model"};
-  for (const auto& f : o.case_files) {
-    s.extra_cases.push_back(load_case(f, model));
-    const std::string& nm = s.extra_cases.back().name;
-    if (std::find(names.begin(), names.end(), nm) != names.end())
-      throw InvalidInput(f + ": load case name '" + nm + "' is used twice (the model's own case is 'model')");
-    names.push_back(nm);
-  }
+  // Load cases read (and checked) before any simulation.
+  for (const auto& f : o.case_files) s.extra_cases.push_back(load_case(f, model));
   if (!o.quiet) {
     // Elapsed wall time on every line: on CAD meshes a reduction runs for an hour.
     const auto start = std::chrono::steady_clock::now();

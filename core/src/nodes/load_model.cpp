@@ -303,6 +303,12 @@ void parse_analysis(const json& j, const Keys& k, Analysis& a) {
   }
 }
 
+// Model files and load case files alike: an orbit transient needs an orbit.
+void check_analysis_fits_environment(const Analysis& a, const Environment& e, const Keys& k) {
+  if (a.type == AnalysisType::transient_orbit && e.type != EnvironmentType::orbit)
+    k.fail("analysis.type", "transient_orbit needs an environment of type orbit (there is no orbit period otherwise)");
+}
+
 void parse_radiation(const json& j, const Keys& k, RadiationSettings& r) {
   const std::string key = "radiation";
   k.require_object(j, key);
@@ -443,8 +449,7 @@ ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& option
   }
   if (j.contains("environment")) parse_environment(j.at("environment"), k, model.environment);
   if (j.contains("analysis")) parse_analysis(j.at("analysis"), k, model.analysis);
-  if (model.analysis.type == AnalysisType::transient_orbit && model.environment.type != EnvironmentType::orbit)
-    k.fail("analysis.type", "transient_orbit needs an environment of type orbit (there is no orbit period otherwise)");
+  check_analysis_fits_environment(model.analysis, model.environment, k);
   if (j.contains("radiation")) parse_radiation(j.at("radiation"), k, model.radiation);
   return model;
 }
@@ -493,8 +498,7 @@ LoadCase load_case(const fs::path& path, const ThermalModel& base) {
   if (j.contains("name")) c.name = k.string(j, "", "name");
   if (j.contains("environment")) parse_environment(j.at("environment"), k, c.environment);
   if (j.contains("analysis")) parse_analysis(j.at("analysis"), k, c.analysis);
-  if (c.analysis.type == AnalysisType::transient_orbit && c.environment.type != EnvironmentType::orbit)
-    k.fail("analysis.type", "transient_orbit needs an environment of type orbit (there is no orbit period otherwise)");
+  check_analysis_fits_environment(c.analysis, c.environment, k);
   return c;
 }
 

@@ -41,6 +41,13 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   if (settings.noise_runs < 2) throw InvalidInput("noise_runs must be >= 2");
   if (!(settings.noise_target_fraction >= 0.0)) throw InvalidInput("noise_target_fraction must be >= 0");
   auto say = [&](const std::string& s) { if (settings.progress) settings.progress(s); };
+  // Case names tell the per-case results apart (every front end passes cases through here).
+  for (std::size_t i = 0; i < settings.extra_cases.size(); ++i) {
+    const std::string& nm = settings.extra_cases[i].name;
+    bool twice = nm == own_case(model_in).name;
+    for (std::size_t j = 0; j < i; ++j) twice |= settings.extra_cases[j].name == nm;
+    if (twice) throw InvalidInput("load case name '" + nm + "' is used twice (the model's own case is 'model')");
+  }
   const auto t0 = Clock::now();
 
   // Noise-targeted sampling: the few nodes whose temperature the couplings' noise moves most

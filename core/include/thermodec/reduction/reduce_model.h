@@ -34,7 +34,8 @@ struct ReduceSettings {
   //! Further load cases the reduced model must also meet (hot and cold cases, ...): the
   //! model's own environment is the first case; each extra one gets its own reference,
   //! noise floor and incremental trials, and every trial and verification takes the largest
-  //! |dT| over all cases. Costs about one reduction's simulations per case.
+  //! |dT| over all cases. Costs about one reduction's simulations per case. Names must differ
+  //! from each other and from "model" (the model's own case), else InvalidInput.
   std::vector<LoadCase> extra_cases;
   std::function<void(const std::string&)> progress;  //!< human-readable progress lines
 };
