@@ -89,15 +89,13 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   std::vector<LoadCase> cases{own_case(model)};
   for (const LoadCase& c : settings.extra_cases) cases.push_back(c);
   const bool several = cases.size() > 1;
-  std::vector<ThermalModel> case_models;
-  for (const LoadCase& c : cases) case_models.push_back(with_case(model, c));
   std::vector<std::unique_ptr<ReductionReference>> refs;
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const std::string tag = several ? "case " + cases[c].name + ": " : "";
     say(tag + "reference: simulating and keeping reusable rays and samples");
-    refs.push_back(std::make_unique<ReductionReference>(case_models[c], settings.reference));
+    refs.push_back(std::make_unique<ReductionReference>(with_case(model, cases[c]), settings.reference));
     say(tag + "noise floor: simulating the reference with " + std::to_string(settings.noise_runs - 1) + " other seed(s)");
-    const NoiseFloor noise = noise_floor(case_models[c], settings.noise_runs, settings.reference.simulation, &refs[c]->result());
+    const NoiseFloor noise = noise_floor(refs[c]->model(), settings.noise_runs, settings.reference.simulation, &refs[c]->result());
     CaseResult cr;
     cr.name = cases[c].name;
     cr.noise_floor_K = noise.worst.max_abs_K;
