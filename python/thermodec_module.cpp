@@ -299,6 +299,9 @@ void bind_reduction(py::module_& m) {
       .def_readwrite("strategy", &ReduceSettings::strategy)
       .def_readwrite("noise_runs", &ReduceSettings::noise_runs)
       .def_readwrite("sensitivity_cap_factor", &ReduceSettings::sensitivity_cap_factor)
+      .def_readwrite("noise_target_fraction", &ReduceSettings::noise_target_fraction)
+      .def_readwrite("area_error_fraction", &ReduceSettings::area_error_fraction,
+                     "area drift may cost at most this fraction of the tolerance (sets the decimator's area bound)")
       .def_readwrite("prediction_targets", &ReduceSettings::prediction_targets)
       .def_readwrite("extra_cases", &ReduceSettings::extra_cases,
                      "further load cases (LoadCase) the reduced model must also meet; trials take the worst")
@@ -324,6 +327,7 @@ void bind_reduction(py::module_& m) {
       .def_readonly("strategy", &ReductionRun::strategy)
       .def_readonly("tolerance_K", &ReductionRun::tolerance_K)
       .def_readonly("noise_floor_K", &ReductionRun::noise_floor_K)
+      .def_readonly("max_relative_area_change", &ReductionRun::max_relative_area_change)
       .def_readonly("faces_before", &ReductionRun::faces_before)
       .def_readonly("faces_after", &ReductionRun::faces_after)
       .def_readonly("max_temperature_difference_K", &ReductionRun::max_temperature_difference_K)

@@ -27,6 +27,7 @@ struct ReduceCliOptions {
   bool raw_mesh = false;
   bool max_evaluations_set = false;
   double noise_target_fraction = 0.05;
+  double max_area_change = -1.0;  // < 0: the default
   std::vector<std::string> case_files;
 };
 
@@ -44,6 +45,7 @@ void run_reduce(const ReduceCliOptions& o) {
   s.strategy = o.strategy == "uniform" ? ReductionStrategy::uniform : ReductionStrategy::informed;
   s.sensitivity_cap_factor = o.cap_factor;
   s.noise_target_fraction = o.noise_target_fraction;
+  if (o.max_area_change >= 0.0) s.reference.decimation.max_relative_area_change = o.max_area_change;
   // Load cases read (and checked) before any simulation.
   for (const auto& f : o.case_files) s.extra_cases.push_back(load_case(f, model));
   if (!o.quiet) {
@@ -102,6 +104,9 @@ void add_reduce(CLI::App& app) {
                   "fraction of the tolerance get more samples (0 = off; boosts already in the model file are kept)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  sub->add_option("--max-area-change", o->max_area_change,
+                  "bound on each node's relative area change by the decimator")
+      ->check(CLI::NonNegativeNumber);
   sub->add_option("--case", o->case_files,
                   "another load case the reduced model must also meet (repeatable): a JSON file "
                   "{\"name\": .., \"environment\": {..}, \"analysis\": {..}} read over the model's own "

@@ -105,7 +105,8 @@ TEST(ReductionReference, incremental_trials_match_full_recompute) {
   ReductionReferenceSettings rs;
   rs.simulation.loads.earth_rays_per_face = 16;
   rs.simulation.loads.sun_rays_per_face = 256;
-  const ReductionReference ref(model, rs);
+  ReductionReference ref(model, rs);
+  EXPECT_NO_THROW(ref.set_decimation_options(rs.decimation));  // before any trial: allowed
   const Eigen::VectorXd none = Eigen::VectorXd::Zero(7);
   EXPECT_EQ(ref.trial(none).max_abs_dT_K, 0.0);  // unchanged model: no difference at all
   // ... because nothing was decimated: the same mesh, so the trial is the reference itself
@@ -117,6 +118,8 @@ TEST(ReductionReference, incremental_trials_match_full_recompute) {
   const TrialResult full = ref.verify(one);
   EXPECT_LT(inc.node_faces_after[6], 72);
   EXPECT_NEAR(inc.max_abs_dT_K, full.max_abs_dT_K, 1e-6);
+  // Memoised trials were decimated with the current options: changing them now is refused.
+  EXPECT_THROW(ref.set_decimation_options(rs.decimation), InvalidInput);
 }
 
 TEST(ReductionReference, trial_noise_floor_redraws_one_node_at_a_time_as_a_full_run_would) {
@@ -223,6 +226,13 @@ TEST(ReduceModel, informed_result_is_verified_within_tolerance_by_an_independent
   ASSERT_EQ(run.nodes.size(), 7u);
   for (const auto& n : run.nodes) EXPECT_GE(n.faces_after, 1);
   EXPECT_EQ(run.curves.size(), 7u);
+  // The decimator's area bound comes from the tolerance: area drift dT = T dA / (4 A) may
+  // cost at most area_error_fraction (0.1) of it at the hottest reference temperature.
+  const double t_max = run.reference.temperature_K.maxCoeff();
+  EXPECT_DOUBLE_EQ(run.max_relative_area_change, std::min(0.005, 4.0 * 0.1 * tol / t_max));
+  EXPECT_LT(run.max_relative_area_change, 0.005);
+  for (const auto& n : run.nodes)
+    EXPECT_LE(std::abs(n.area_after_m2 / n.area_before_m2 - 1.0), run.max_relative_area_change + 1e-12) << n.name;
 }
 
 TEST(ReduceModel, extra_load_cases_are_all_verified_and_the_worst_one_is_reported) {
@@ -319,6 +329,11 @@ TEST(ReduceModel, impossible_tolerances_are_refused) {
   const ThermalModel model = small_model();
   for (double tol : {0.0, -1.0, std::nan(""), std::numeric_limits<double>::infinity()})
     EXPECT_THROW(reduce_model(model, quick_settings(tol)), InvalidInput) << tol;
+  for (double f : {-0.1, 1.5, std::nan("")}) {
+    ReduceSettings s = quick_settings(0.5);
+    s.area_error_fraction = f;
+    EXPECT_THROW(reduce_model(model, s), InvalidInput) << f;
+  }
   // below twice the measured Monte Carlo noise floor (noise is > 0 with few rays)
   ThermalModel noisy = model;
   noisy.radiation.rays_per_face = 50;

@@ -85,6 +85,14 @@ const ThermalModel& ReductionReference::model() const { return impl_->model; }
 const SimulationResult& ReductionReference::result() const { return impl_->result; }
 const Eigen::VectorXi& ReductionReference::faces_per_node() const { return impl_->faces_per_node; }
 int ReductionReference::trials_evaluated() const { return impl_->evaluated; }
+const DecimationOptions& ReductionReference::decimation_options() const { return impl_->settings.decimation; }
+
+void ReductionReference::set_decimation_options(const DecimationOptions& options) {
+  std::lock_guard<std::mutex> lock(impl_->cache_mutex);
+  if (impl_->evaluated > 0 || !impl_->cache.empty() || !impl_->verified.empty())
+    throw InvalidInput("set_decimation_options: trials were already evaluated with the previous options");
+  impl_->settings.decimation = options;
+}
 
 Eigen::VectorXd ReductionReference::max_ratio_per_node() const {
   const int n = static_cast<int>(impl_->model.nodes.size());

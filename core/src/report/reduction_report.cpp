@@ -45,6 +45,7 @@ json reduction_report_json(const ReductionRun& run) {
   j["max_temperature_difference_at"] = {
       {"node", run.max_difference_node}, {"time_s", run.max_difference_time_s}, {"load_case", run.max_difference_case}};
   j["noise_floor_K"] = run.noise_floor_K;
+  j["max_relative_area_change"] = run.max_relative_area_change;  // the decimator's node-area bound used
   j["verified"] = "full recompute of the reduced model (no reuse) compared with the reference";
   json cases = json::array();
   for (const auto& c : run.cases)

@@ -29,6 +29,12 @@ struct ReduceSettings {
   //! decide_sampling_boosts): nodes whose estimated temperature noise exceeds this fraction of
   //! the tolerance get more samples. 0 = off; models that already carry boosts keep them.
   double noise_target_fraction = 0.05;
+  //! Area drift is a bias of every decimated node, not noise: a node that keeps its heat input
+  //! and radiates it away (sigma eps A T^4 fixed) moves by dT = -T dA / (4 A). The decimator's
+  //! area bound (reference.decimation.max_relative_area_change) is lowered, if needed, to
+  //! 4 area_error_fraction tolerance / T_max (T_max: the hottest node of any case's reference)
+  //! so that area drift alone costs at most this fraction of the tolerance. 0 = keep the bound.
+  double area_error_fraction = 0.1;
   //! Extra trials for the predicted-vs-real plot: targets as multiples of the tolerance.
   std::vector<double> prediction_targets{0.1, 0.25, 0.5, 1.0, 2.0};
   //! Further load cases the reduced model must also meet (hot and cold cases, ...): the
@@ -70,6 +76,9 @@ struct ReductionRun {
   std::string strategy;
   double tolerance_K = 0.0;
   double noise_floor_K = 0.0;     //!< max |dT| between independent-seed reference runs (max over cases)
+  //! The decimator's bound on each node's relative area change used by every trial (see
+  //! ReduceSettings::area_error_fraction) [-].
+  double max_relative_area_change = 0.0;
   int faces_before = 0, faces_after = 0;
   double max_temperature_difference_K = 0.0;  //!< of the verified reduced model (full recompute; max over cases)
   std::string max_difference_node;

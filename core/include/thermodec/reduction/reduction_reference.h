@@ -72,6 +72,12 @@ class ReductionReference {
   //! \throw InvalidInput if salt == 0.
   TrialNoiseFloor trial_noise_floor(std::uint64_t salt = 1) const;
 
+  //! Replaces the decimation options of every later trial and verification (e.g. an area
+  //! bound derived from the reference temperatures). \throw InvalidInput once a trial has
+  //! been evaluated: memoised results would mix two decimations.
+  void set_decimation_options(const DecimationOptions& options);
+  const DecimationOptions& decimation_options() const;
+
   //! Trials evaluated so far (memoised repeats not counted) and their wall time [s].
   int trials_evaluated() const;
 
