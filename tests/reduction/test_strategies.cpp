@@ -174,3 +174,35 @@ TEST(InformedReduction, refuses_when_the_reference_itself_exceeds_tolerance) {
   io.tolerance_K = 0.5;
   EXPECT_THROW(informed_reduction({}, 2, noisy, noisy, io), SolverError);
 }
+
+TEST(InformedReduction, leave_one_out_is_bounded_to_the_most_suspect_nodes) {
+  // 20 nodes, mildly coupled: the combined prediction fails and needs several back-off steps.
+  Synthetic s;
+  s.sensitivity_K = Eigen::VectorXd::Constant(20, 0.02);
+  s.sensitivity_K[7] = 2.0;  // the one a user would suspect
+  s.faces = Eigen::VectorXi::Constant(20, 100);
+  s.coupling_K = 0.004;
+  const auto curves = sensitivity_analysis(20, s, SensitivityOptions{});
+  for (int bound : {3, 0}) {
+    int calls = 0;
+    auto counted = [&](const Eigen::VectorXd& r) { ++calls; return s(r); };
+    InformedOptions io;
+    io.tolerance_K = 0.5;
+    io.push = false;
+    io.parallel = false;
+    io.max_evaluations = 100000;
+    io.max_leave_one_out = bound;
+    const auto out = informed_reduction(curves, 20, counted, s, io);
+    EXPECT_GT(s(out.predicted_ratio_per_node).max_abs_dT_K, 0.5);
+    EXPECT_LE(out.verified.max_abs_dT_K, 0.5);
+    int steps = 0;
+    for (const auto& h : out.history) steps += h.action.rfind("back off", 0) == 0;
+    ASSERT_GT(steps, 0);
+    if (bound > 0) {
+      EXPECT_EQ(calls, 1 + bound * steps);  // the prediction, then `bound` trials per step
+      EXPECT_LT(out.ratio_per_node[7], out.predicted_ratio_per_node[7]);  // the suspect gave way first
+    } else {
+      EXPECT_GT(calls, 1 + 3 * steps);  // every reduced node measured
+    }
+  }
+}

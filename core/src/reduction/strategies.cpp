@@ -112,6 +112,19 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       std::vector<int> reduced;
       for (int k = 0; k < num_nodes; ++k)
         if (ratios[k] > 0) reduced.push_back(k);
+      if (o.max_leave_one_out > 0 && static_cast<int>(reduced.size()) > o.max_leave_one_out) {
+        // Suspects first: what the node did alone on its curve at this ratio, or how far it
+        // moved itself in the failing candidate. Ties by index (deterministic).
+        auto suspicion = [&](int k) {
+          const double alone = curve_of[k] ? predicted_difference_K(*curve_of[k], ratios[k]) : 0.0;
+          const double own = res.node_max_abs_dT_K.size() > k ? res.node_max_abs_dT_K[k] : 0.0;
+          return std::max(alone, std::isnan(own) ? std::numeric_limits<double>::infinity() : own);
+        };
+        std::stable_sort(reduced.begin(), reduced.end(), [&](int a, int b) { return suspicion(a) > suspicion(b); });
+        reduced.resize(o.max_leave_one_out);
+        std::sort(reduced.begin(), reduced.end());
+        log("back-off: leave-one-out on the " + std::to_string(reduced.size()) + " most suspect reduced nodes");
+      }
       std::vector<TrialResult> loo(reduced.size());
       std::vector<Eigen::VectorXd> cand(reduced.size(), ratios);
       for (size_t i = 0; i < reduced.size(); ++i)

@@ -105,7 +105,8 @@ struct ReductionRun {
 //! Bounded run time for bare meshes (ThermalModel::mesh_cleanup set; no-op otherwise): the
 //! simulation ray budgets of apply_bare_mesh_ray_budgets, and above
 //! kBareMeshCoarseSweepFaces faces a coarse sensitivity sweep (ratios 0.5, 0.8, 0.93: at most
-//! 3 trials per node instead of 11) and at most 20 trials after the prediction. Measured
+//! 3 trials per node instead of 11), at most 20 trials after the prediction and 8 leave-one-out
+//! trials per back-off step. Measured
 //! effect in docs/reduction.md ("NASA models").
 void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& settings);
 constexpr int kBareMeshCoarseSweepFaces = 2000;

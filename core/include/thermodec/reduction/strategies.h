@@ -47,6 +47,11 @@ struct InformedOptions {
   int max_evaluations = 40;   //!< bound on trials after the prediction (back-off + push); once
                               //!< spent while backing off, all ratios are scaled back together
                               //!< (bisection, 6 trials per pass) instead
+  //! Leave-one-out trials per back-off step: when more nodes are reduced, only this many are
+  //! measured, those most suspect of the excess (largest of: the node's own curve at its
+  //! ratio, its own |dT| in the failing candidate). 0 = every reduced node (a step on a CAD
+  //! model with 64 nodes otherwise costs 64 trials, ~45-75 min).
+  int max_leave_one_out = 16;
   bool push = true;           //!< use remaining slack to reduce nodes further
   bool parallel = true;       //!< leave-one-out contributions measured concurrently
   std::function<void(const std::string&)> log;
@@ -55,7 +60,8 @@ struct InformedOptions {
 //! §V.B and beyond. Starts from each node's feasible ratio on its own curve (the paper's
 //! prediction). While the combined candidate exceeds the tolerance (coupled nodes make the
 //! prediction optimistic), measures each reduced node's contribution by a leave-one-out
-//! trial and backs off the largest contributor one sample on its curve. Then, while slack
+//! trial (the max_leave_one_out most suspect ones) and backs off the largest contributor one
+//! sample on its curve. Then, while slack
 //! remains, pushes nodes one sample further in order of smallest predicted increase, keeping
 //! only pushes that stay within tolerance. The returned candidate always passed `verify`
 //! (a full, non-incremental evaluation); if nothing else does, the unreduced model is returned.
