@@ -118,7 +118,8 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
         auto suspicion = [&](int k) {
           const double alone = curve_of[k] ? predicted_difference_K(*curve_of[k], ratios[k]) : 0.0;
           const double own = res.node_max_abs_dT_K.size() > k ? res.node_max_abs_dT_K[k] : 0.0;
-          return std::max(alone, std::isnan(own) ? std::numeric_limits<double>::infinity() : own);
+          const double s = std::max(alone, own);
+          return std::isnan(alone) || std::isnan(own) ? std::numeric_limits<double>::infinity() : s;  // NaN: most suspect
         };
         std::stable_sort(reduced.begin(), reduced.end(), [&](int a, int b) { return suspicion(a) > suspicion(b); });
         reduced.resize(o.max_leave_one_out);
