@@ -109,7 +109,7 @@ void add_reduce(CLI::App& app) {
       ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--max-area-change", o->max_area_change,
                   "bound on each node's relative area change by the decimator, used as given (default: from the "
-                  "tolerance, so that area drift dT = T dA/4A costs at most 20 % of it at the hottest node)")
+                  "tolerance, so that area drift dT = T dA/4A costs at most 10 % of it at the hottest node)")
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--case", o->case_files,
                   "another load case the reduced model must also meet (repeatable): a JSON file "

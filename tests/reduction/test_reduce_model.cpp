@@ -227,7 +227,7 @@ TEST(ReduceModel, informed_result_is_verified_within_tolerance_by_an_independent
   for (const auto& n : run.nodes) EXPECT_GE(n.faces_after, 1);
   EXPECT_EQ(run.curves.size(), 7u);
   // The decimator's area bound comes from the tolerance: area drift dT = T dA / (4 A) may
-  // cost at most area_error_fraction (default 0.2) of it at the hottest reference temperature.
+  // cost at most area_error_fraction (default 0.1) of it at the hottest reference temperature.
   const double t_max = run.reference.temperature_K.maxCoeff();
   EXPECT_DOUBLE_EQ(run.max_relative_area_change, std::min(0.005, 4.0 * ReduceSettings{}.area_error_fraction * tol / t_max));
   EXPECT_LT(run.max_relative_area_change, 0.005);
