@@ -115,13 +115,14 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       if (o.max_leave_one_out > 0 && static_cast<int>(reduced.size()) > o.max_leave_one_out) {
         // Suspects first: what the node did alone on its curve at this ratio, or how far it
         // moved itself in the failing candidate. Ties by index (deterministic).
-        auto suspicion = [&](int k) {
+        Eigen::VectorXd suspicion = Eigen::VectorXd::Zero(num_nodes);
+        for (int k : reduced) {
           const double alone = curve_of[k] ? predicted_difference_K(*curve_of[k], ratios[k]) : 0.0;
           const double own = res.node_max_abs_dT_K.size() > k ? res.node_max_abs_dT_K[k] : 0.0;
-          const double s = std::max(alone, own);
-          return std::isnan(alone) || std::isnan(own) ? std::numeric_limits<double>::infinity() : s;  // NaN: most suspect
-        };
-        std::stable_sort(reduced.begin(), reduced.end(), [&](int a, int b) { return suspicion(a) > suspicion(b); });
+          suspicion[k] = std::isnan(alone) || std::isnan(own) ? std::numeric_limits<double>::infinity()  // NaN: most suspect
+                                                             : std::max(alone, own);
+        }
+        std::stable_sort(reduced.begin(), reduced.end(), [&](int a, int b) { return suspicion[a] > suspicion[b]; });
         reduced.resize(o.max_leave_one_out);
         std::sort(reduced.begin(), reduced.end());
         log("back-off: leave-one-out on the " + std::to_string(reduced.size()) + " most suspect reduced nodes");
