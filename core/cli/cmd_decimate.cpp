@@ -123,7 +123,7 @@ void add_decimate(CLI::App& app) {
   auto* sub = app.add_subcommand(
       "decimate",
       "thermodec decimate MODEL (--ratio R | --node-ratios FILE.json) -o OUT: node-preserving,\n"
-      "volume-preserving decimation of the shared mesh. A ratio is the fraction of faces REMOVED\n"
+      "area-preserving decimation of the shared mesh. A ratio is the fraction of faces REMOVED\n"
       "(0 = keep all, 0.9 = keep 10 %). --ratio applies the paper's global rule (nodes smallest\n"
       "first, deficits carried to the next); --node-ratios reads {\"node\": ratio} or [ratios].\n"
       "Faces never change node or material, interfaces are coarsened only along themselves,\n"

@@ -1,9 +1,10 @@
 #pragma once
-//! Node-preserving, volume-preserving decimation of the one shared mesh of a thermal model.
+//! Node-preserving, area-preserving decimation of the one shared mesh of a thermal model.
 //!
 //! Edge collapses on vcglib's local-optimisation framework, with a Lindstrom-Turk style cost
 //! and placement (volume preservation, volume optimisation, boundary preservation, triangle
-//! shape; P. Lindstrom, G. Turk, "Fast and memory efficient polygonal simplification", 1998).
+//! shape; P. Lindstrom, G. Turk, "Fast and memory efficient polygonal simplification", 1998),
+//! the placement then moved to keep the node's area (area_neutral_placement).
 //! Constraints, so that the coarse mesh has the same nodes, the same interfaces and no holes:
 //!  - a face never changes node, material or sidedness: "regions" are the sets of faces with
 //!    the same (node, material, back material); an edge whose two faces belong to different
@@ -30,6 +31,13 @@ namespace thermodec {
 struct DecimationOptions {
   //! Hard bound on |area_after - area_before| / area_before of every node.
   double max_relative_area_change = 0.005;
+  //! Place the vertex of a collapse inside one region where the node's area comes back to
+  //! its input value (or at least where the collapse leaves the area unchanged) instead of at
+  //! the volume-preserving point, when that moves it by at most a tenth of the local edge
+  //! length. A radiating node moves by dT = -T dA/(4A): area, not volume, is what a thermal
+  //! model feels; without this, the collapses on curved parts all grow the area a little and
+  //! a tight max_relative_area_change stops the decimation early.
+  bool area_neutral_placement = true;
   //! Hard bound on |volume_after - volume_before| / |volume_before| of every closed part: faces
   //! connected across manifold edges, each of its edges shared by exactly two of its faces (a
   //! closed box stays closed when a fin stands on one of its edges).
