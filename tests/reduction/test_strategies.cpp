@@ -82,6 +82,35 @@ TEST(Sensitivity, sweep_stops_at_cap_and_is_deterministic) {
   for (size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].max_abs_dT_K, b[i].max_abs_dT_K);
 }
 
+TEST(Sensitivity, a_node_beyond_the_threshold_at_the_first_ratio_is_tried_at_halves) {
+  // The coarse bare-mesh sweep: 20 K x r^4 is 1.25 K at 0.5, 0.078 K at 0.25.
+  const Synthetic s = three_nodes(0.0);
+  SensitivityOptions o;
+  o.ratios = {0.5, 0.8, 0.93};
+  o.cap_K = 1.0;
+  o.refine_first_above_K = 0.5;
+  int calls = 0;
+  const TrialFunction counted = [&](const Eigen::VectorXd& r) { ++calls; return s(r); };
+  o.parallel = false;
+  const auto c = sensitivity_analysis(3, counted, o);
+  ASSERT_EQ(c[2].ratios.size(), 2u);  // 0.25 within, then 0.5 over the cap: the sweep ends
+  EXPECT_DOUBLE_EQ(c[2].ratios[0], 0.25);
+  EXPECT_DOUBLE_EQ(c[2].ratios[1], 0.5);
+  EXPECT_NEAR(c[2].max_abs_dT_K[0], 20.0 / 256.0, 1e-12);
+  EXPECT_DOUBLE_EQ(feasible_ratio(c[2], 0.5), 0.25);  // was 0 without the halving
+  EXPECT_EQ(c[2].faces_after[0], 225);
+  EXPECT_EQ(c[0].ratios, o.ratios);  // within at 0.5: no halving (0.003 K)
+  // Nodes 0 and 1 sweep all three ratios; node 2 is tried at 0.5 once (reused) and 0.25.
+  EXPECT_EQ(calls, 3 + 3 + 2);
+  // Still beyond after halvings_below_first halvings: both points are kept.
+  o.refine_first_above_K = 0.01;
+  o.halvings_below_first = 2;
+  const auto d = sensitivity_analysis(3, s, o);
+  ASSERT_GE(d[2].ratios.size(), 3u);
+  EXPECT_DOUBLE_EQ(d[2].ratios[0], 0.125);
+  EXPECT_DOUBLE_EQ(d[2].ratios[1], 0.25);
+}
+
 TEST(Sensitivity, rejects_bad_ratios) {
   SensitivityOptions o;
   o.ratios = {0.5, 0.4};

@@ -176,6 +176,8 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   } else {
     SensitivityOptions so = settings.sensitivity;
     so.cap_K = settings.sensitivity_cap_factor * tol;
+    // A node beyond the tolerance at the first ratio is tried at smaller ones (halvings).
+    so.refine_first_above_K = std::min(so.refine_first_above_K, tol);
     const auto ts = Clock::now();
     so.progress = [&](int done, int total) {
       // Time left, extrapolated from the nodes swept so far (rough: sweeps differ in length).

@@ -35,12 +35,30 @@ std::vector<SensitivityCurve> sensitivity_analysis(int num_nodes, const TrialFun
   auto sweep = [&](size_t i) {
     SensitivityCurve& c = curves[i];
     c.node = nodes[i];
-    int last_faces = -1;
-    for (double r : options.ratios) {
+    auto run = [&](double r) {
       Eigen::VectorXd ratios = Eigen::VectorXd::Zero(num_nodes);
       ratios[c.node] = r;
-      const TrialResult res = trial(ratios);
-      const int faces = res.node_faces_after.size() > c.node ? res.node_faces_after[c.node] : -1;
+      return trial(ratios);
+    };
+    auto faces_of = [&](const TrialResult& res) {
+      return res.node_faces_after.size() > c.node ? res.node_faces_after[c.node] : -1;
+    };
+    // Too sensitive at the first ratio: halve it until a trial is within the threshold; those
+    // points go in front of the curve, in increasing order.
+    const TrialResult at_first = run(options.ratios.front());
+    double below = options.ratios.front();
+    for (int h = 0; h < options.halvings_below_first && !(at_first.max_abs_dT_K <= options.refine_first_above_K); ++h) {
+      below *= 0.5;
+      const TrialResult res = run(below);
+      c.ratios.insert(c.ratios.begin(), below);
+      c.max_abs_dT_K.insert(c.max_abs_dT_K.begin(), res.max_abs_dT_K);
+      c.faces_after.insert(c.faces_after.begin(), faces_of(res));
+      if (res.max_abs_dT_K <= options.refine_first_above_K) break;
+    }
+    int last_faces = -1;
+    for (double r : options.ratios) {
+      const TrialResult res = r == options.ratios.front() ? at_first : run(r);
+      const int faces = faces_of(res);
       if (faces >= 0 && faces == last_faces) break;  // the decimator cannot go further
       c.ratios.push_back(r);
       c.max_abs_dT_K.push_back(res.max_abs_dT_K);

@@ -20,7 +20,9 @@ struct ReduceSettings {
   double tolerance_K = 0.5;  //!< max |dT| over nodes and the orbit allowed vs the reference [K]
   ReductionStrategy strategy = ReductionStrategy::informed;
   ReductionReferenceSettings reference;
-  SensitivityOptions sensitivity;  //!< its cap_K is replaced by sensitivity_cap_factor x tolerance
+  //! Its cap_K is replaced by sensitivity_cap_factor x tolerance, and refine_first_above_K is
+  //! at most the tolerance.
+  SensitivityOptions sensitivity;
   double sensitivity_cap_factor = 2.0;
   UniformOptions uniform;          //!< tolerance taken from tolerance_K
   InformedOptions informed;        //!< tolerance taken from tolerance_K

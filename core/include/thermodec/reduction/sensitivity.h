@@ -4,6 +4,7 @@
 //! model over the whole orbit is recorded, until it exceeds a cap.
 #include <Eigen/Core>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -23,13 +24,20 @@ struct SensitivityOptions {
   //! Ratios tried in increasing order (the sweep of one node stops once the cap is exceeded).
   std::vector<double> ratios{0.2, 0.4, 0.5, 0.6, 0.7, 0.8, 0.85, 0.9, 0.93, 0.96, 0.98};
   double cap_K = 1.0;      //!< stop a node's sweep once max |dT| exceeds this [K]
+  //! A node whose first ratio already moves the model by more than this [K] (`reduce` passes
+  //! its tolerance) is tried at half that ratio, then half again, up to `halvings_below_first`
+  //! times or until a trial is within it: on a coarse sweep (0.5, 0.8, 0.93 on big bare meshes)
+  //! a sensitive node would otherwise be left unreduced. Off (+inf) by default.
+  double refine_first_above_K = std::numeric_limits<double>::infinity();
+  int halvings_below_first = 2;
   bool parallel = true;    //!< nodes swept concurrently (TBB); results independent of it
   //! Called after each node's sweep: (nodes done, nodes total). Thread-safe calls.
   std::function<void(int, int)> progress;
 };
 
 //! Sweeps each node in `nodes` (all nodes if empty) over options.ratios.
-//! A node whose decimator cannot go further (faces_after stops decreasing) ends its sweep.
+//! A node whose decimator cannot go further (faces_after stops decreasing) ends its sweep; a
+//! node beyond options.refine_first_above_K at the first ratio gets smaller ratios first.
 //! \throw InvalidInput if ratios are not increasing within [0, 1) or cap_K <= 0.
 std::vector<SensitivityCurve> sensitivity_analysis(int num_nodes, const TrialFunction& trial,
                                                    const SensitivityOptions& options,
