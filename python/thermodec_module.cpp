@@ -268,7 +268,8 @@ void bind_results(py::module_& m) {
       .def_readwrite("max_normal_deviation_deg", &DecimationOptions::max_normal_deviation_deg)
       .def_readwrite("shape_weight", &DecimationOptions::shape_weight)
       .def_readwrite("unassigned_ratio", &DecimationOptions::unassigned_ratio)
-      .def_readwrite("min_faces_per_node", &DecimationOptions::min_faces_per_node);
+      .def_readwrite("min_faces_per_node", &DecimationOptions::min_faces_per_node)
+      .def_readwrite("area_neutral_placement", &DecimationOptions::area_neutral_placement);
   py::class_<NodeDecimationStats>(m, "NodeDecimationStats")
       .def_readonly("faces_before", &NodeDecimationStats::faces_before)
       .def_readonly("faces_after", &NodeDecimationStats::faces_after)

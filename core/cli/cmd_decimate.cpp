@@ -145,6 +145,10 @@ void add_decimate(CLI::App& app) {
                   "bound on each closed component's relative volume change")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  sub->add_flag("--volume-placement{false}", args->options.area_neutral_placement,
+               "place collapsed vertices where volume is preserved (Lindstrom-Turk) instead of where the "
+               "node's area is (the default: area is what radiation sees; volumes still stay within "
+               "--max-volume-change)");
   sub->add_option("--contour-deviation", args->options.max_contour_deviation,
                   "max deviation of a removed interface vertex, relative to the new segment")
       ->capture_default_str()
