@@ -370,26 +370,32 @@ TEST(DecimateNodes, invalid_ratios_are_rejected) {
 TEST(DecimateNodes, area_neutral_placement_keeps_curved_node_areas_and_reaches_further) {
   // A four-node UV sphere under a tight area bound (1e-4: 0.007 K at 280 K, dT = -T dA/4A).
   // Volume-preserving placement grows a curved node's area with every collapse until the bound
-  // stops it; area-neutral placement moves the new vertex along the area gradient instead.
+  // stops it; area-neutral placement moves the new vertex along the area gradient instead, as
+  // long as the closed volume stays within its bound (then it falls back to the LT point).
   test::MeshBuilder b;
   test::add_sphere(b, Eigen::Vector3d(0, 0, 0), 1.0, 24, 48, 0);
   const Mesh sphere = b.build(4);
-  DecimationOptions o;
-  o.max_relative_area_change = 1e-4;
-  const Eigen::VectorXd ratio = Eigen::VectorXd::Constant(4, 0.8);
-  o.area_neutral_placement = false;
-  const DecimationResult lt = decimate_nodes(sphere, ratio, o);
-  o.area_neutral_placement = true;
-  const DecimationResult an = decimate_nodes(sphere, ratio, o);
-  expect_node_preserving(sphere, an, o);
-  int faces_lt = 0, faces_an = 0;
-  for (int n = 0; n < 4; ++n) {
-    faces_lt += lt.nodes[n].faces_after;
-    faces_an += an.nodes[n].faces_after;
-    // The drift of the contour collapses (whose vertex cannot move) is paid back by later
-    // collapses inside the node: measured 1e-13 on every node (LT: up to 9.9e-5, at the bound).
-    EXPECT_LE(std::abs(an.nodes[n].relative_area_change()), 1e-9) << "node " << n;
+  const Eigen::VectorXd ratio = Eigen::VectorXd::Constant(4, 0.8);  // target 4 x 110 faces
+  auto total_faces = [](const DecimationResult& r) {
+    int n = 0;
+    for (const auto& s : r.nodes) n += s.faces_after;
+    return n;
+  };
+  for (const double volume_bound : {0.005, 0.05}) {
+    DecimationOptions o;
+    o.max_relative_area_change = 1e-4;
+    o.max_relative_volume_change = volume_bound;
+    o.area_neutral_placement = false;
+    const DecimationResult lt = decimate_nodes(sphere, ratio, o);
+    o.area_neutral_placement = true;
+    const DecimationResult an = decimate_nodes(sphere, ratio, o);
+    expect_node_preserving(sphere, an, o);
+    // Measured: 614 vs 486 faces (volume bound 0.5 %), 594 vs 440 = the target (5 %).
+    EXPECT_LT(total_faces(an), total_faces(lt) - 60);
+    for (int n = 0; n < 4; ++n) {
+      // With volume to spare, the drift of the contour collapses (whose vertex cannot move) is
+      // paid back by later collapses inside the node: measured 1e-13 on every node.
+      if (volume_bound == 0.05) EXPECT_LE(std::abs(an.nodes[n].relative_area_change()), 1e-9) << "node " << n;
+    }
   }
-  // Measured: 494 faces against 614 (target 4 x 110).
-  EXPECT_LT(faces_an, faces_lt - 60);
 }

@@ -422,11 +422,34 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
         x += (residual / g2) * grad;
         if (!((x - x_).norm() <= max_move)) break;
       }
-      if (converged && (x - x_).norm() <= max_move) {
+      if (converged && (x - x_).norm() <= max_move && keeps_closed_volume(c, x)) {
         x_ = x;
         return;
       }
     }
+  }
+
+  // True if collapsing into x keeps the star's closed part within max_relative_volume_change.
+  // The LT point x_ keeps the volume; an area-neutral point spends the volume budget, and a
+  // collapse refused for volume is lost, so the LT point is kept instead. (Measured on Juno and
+  // NPP_16: falling back reaches further than refusing, and than cutting the move short where
+  // the volume budget ends.)
+  bool keeps_closed_volume(const Context& c, const Vec3& x) const {
+    const int comp = c.face_component[c.fi(c.star.front())];
+    if (!c.comp_closed[comp]) return true;
+    double delta = 0;  // change of the closed part's volume [m^3]
+    for (const VFace* f : c.star) {
+      std::array<Vec3, 3> p, q;
+      int moved = 0;
+      for (int j = 0; j < 3; ++j) {
+        p[j] = q[j] = to_eigen(f->cP(j));
+        if (f->cV(j) == pos.cV(0) || f->cV(j) == pos.cV(1)) q[j] = x, ++moved;
+      }
+      delta -= p[0].dot(p[1].cross(p[2])) / 6.0;
+      if (moved == 1) delta += q[0].dot(q[1].cross(q[2])) / 6.0;
+    }
+    return std::abs(c.comp_volume[comp] + delta - c.comp_volume0[comp]) <=
+           c.opt.max_relative_volume_change * std::abs(c.comp_volume0[comp]);
   }
 
   // Evaluates removing `gone` into `kept` (kept moves too when `optimal`): placement, validity,
