@@ -371,14 +371,17 @@ bool any_blocker(const std::vector<Side>& geo, const Occluders& occ, int s, Meet
 
 // Which sides facing `toward` (unit) may be shadowed at all: some potential blocker's bounding
 // sphere meets the prism their rays sweep (the side's bounding sphere moved along `toward`).
-// The others are lit whatever their sample points, exactly, and need no rays.
-std::vector<char> may_be_shadowed(const std::vector<Side>& geo, const Occluders& occ, const Eigen::Vector3d& toward) {
+// The others are lit whatever their sample points, exactly, and need no rays. Only the sides
+// flagged in `todo` (all if null) are tested: a trial reuses the others whole (for the sample's
+// 60 sun directions per trial, testing every side cost ~2 % of an incremental trial).
+std::vector<char> may_be_shadowed(const std::vector<Side>& geo, const Occluders& occ, const Eigen::Vector3d& toward,
+                                  const std::vector<char>* todo = nullptr) {
   const int ns = static_cast<int>(geo.size());
   std::vector<char> out(ns, 0);
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
     for (int s = range.begin(); s < range.end(); ++s) {
       const double facing = geo[s].normal.dot(toward);
-      if (occ.radius[s] < 0.0 || facing <= 0.0) continue;
+      if (occ.radius[s] < 0.0 || facing <= 0.0 || (todo && !(*todo)[s])) continue;
       if (facing < 1e-6) {  // grazing: float rays could sink below the lift, let Embree decide
         out[s] = 1;
         continue;
@@ -420,7 +423,7 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
   Eigen::VectorXd frac = Eigen::VectorXd::Zero(ns);
   const float dir[3] = {float(toward.x()), float(toward.y()), float(toward.z())};
   const bool recording = pass.recording();
-  const std::vector<char> shadowable = may_be_shadowed(geo, occ, toward);
+  const std::vector<char> shadowable = may_be_shadowed(geo, occ, toward, todo);
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
     // Parallel shadow rays from one triangle: Embree's coherent (packet) traversal fits them.
     SideTracer tracer(scene, /*coherent=*/true, recording, pass.change);
@@ -473,6 +476,9 @@ struct EarthHits {
   // per side: binomial relative standard error of view_factor, sqrt((1 - p) / (p N)) for an
   // unblocked share p of N rays (0 for unobstructed or fully blocked sides)
   Eigen::VectorXd relative_error;
+  // per side: 1 if every ray it traced had its outcome read from the reference record (none
+  // traced again): its rays, weights and normals are then the reference's.
+  std::vector<char> replayed;
   // The same, flattened for the per-step albedo sums: columns (nx, ny, nz) and weights, side s
   // owning [begin[s], begin[s + 1]).
   Eigen::Matrix<float, Eigen::Dynamic, 3> normals;
@@ -534,6 +540,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   out.rays.resize(ns);
   out.view_factor = Eigen::VectorXd::Zero(ns);
   out.relative_error = Eigen::VectorXd::Zero(ns);
+  out.replayed.assign(ns, 0);
   const Eigen::Vector3d earth_dir = earth_dir_in.normalized();
   const double R2 = kEarthRadius_m * kEarthRadius_m;
   const double sin_half = kEarthRadius_m / distance_m;
@@ -556,7 +563,9 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       if (todo && !(*todo)[s]) continue;
       const auto sd = side_seeds(seed, sides.key[s], 2);
       const int rays = side_rays[s], pilot = pilot_count(rays, pilot_rays);
-      tracer.begin(&rays_out, pass.cursor(s));
+      const RecordCursor cursor = pass.cursor(s);
+      const long traced_before = tracer.traced;
+      tracer.begin(&rays_out, cursor);
       cos_theta.clear();
       earth_normal.clear();
       auto add_rays = [&](int from, int to) {
@@ -606,6 +615,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
         used = rays;
       }
       if (recording) pass.recorder->keep(*pass.record, s, rays_out);
+      out.replayed[s] = cursor.rec != nullptr && tracer.traced == traced_before;
       // Ratio estimator: the unobstructed view factor has a closed form, only the blocked
       // share is left to the rays, F = F_open x (sum over unblocked rays of cos theta) / (sum
       // over all rays of cos theta). An unobstructed side is then exact and a partly blocked
@@ -1054,15 +1064,22 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     const bool ref_has_decisions = ref && static_cast<int>(ref->earth_may_be_blocked.size()) == static_cast<int>(ref->key.size());
     if (ref)
       for (int s = 0; s < ns; ++s) {
+        // note: a side that no face can block, here and in the reference, has all its rays open
+        // in both (never traced, the same pilot decision): reused whole wherever the change is.
         earth_todo[s] = !(same_counts(s) &&
                           (earth_fixed ? ref_has_decisions && may_be_blocked[s] == ref->earth_may_be_blocked[ref_of[s]] &&
-                                             clear_of_change_in_cone(s, states[0].earth_direction_body.normalized(), half_angle)
+                                             (!may_be_blocked[s] ||
+                                              clear_of_change_in_cone(s, states[0].earth_direction_body.normalized(), half_angle))
                                        : clear_of_change_in_front(s)));
         reuse->reused_earth += !earth_todo[s];
         reuse->total_earth += 1;
       }
     EarthHits hits;
     EscapingRays escaping;
+    // Sides traced again whose rays all kept their reference outcome: the same Earth hits as
+    // the reference's, so their per-step lighting sums are copied (on the sample, half of the
+    // sums a trial computed).
+    std::vector<char> replayed(ns, 0);
     const bool ref_lit = ref && ref->earth_lit_per_step.rows() == steps &&
                          ref->earth_lit_per_step.cols() == static_cast<Eigen::Index>(ref->key.size());
     const PassContext pass = make_pass(ref ? &ref->earth_records : nullptr, &reused_earth_rays, &traced_earth_rays);
@@ -1076,6 +1093,10 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
             if (samples || !ref_lit) hits.rays[s] = ref->earth[ref_of[s]];
             hits.view_factor[s] = ref->earth_view_factor[ref_of[s]];
           }
+      if (ref && ref_has_decisions)
+        for (int s = 0; s < ns; ++s)
+          replayed[s] = earth_todo[s] && hits.replayed[s] && ref_of[s] >= 0 &&
+                        may_be_blocked[s] == ref->earth_may_be_blocked[ref_of[s]];
       if (samples) {
         samples->earth = hits.rays;
         samples->earth_view_factor = hits.view_factor;
@@ -1118,7 +1139,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       tbb::parallel_for(tbb::blocked_range<int>(0, ns, 16), [&](const tbb::blocked_range<int>& range) {
         for (int s = range.begin(); s < range.end(); ++s) {
           float* acc = lit_per_step.col(s).data();
-          if (ref_lit && !earth_todo[s]) {  // reused whole: the same rays, the same sums
+          if (ref_lit && (!earth_todo[s] || replayed[s])) {  // the same rays, the same sums
             lit_per_step.col(s) = ref->earth_lit_per_step.col(ref_of[s]);
             continue;
           }

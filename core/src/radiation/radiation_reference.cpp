@@ -27,12 +27,16 @@ struct RadiationReference::Impl {
   GebhartFactors gebhart;
   NodeCouplings couplings;
   std::unordered_map<std::uint64_t, int> side_of_key;
-  std::vector<tracing::RayRecord> records;  // all reference rays' hits, empty if over budget
-  std::vector<std::int64_t> record_begin;   // side s owns records[record_begin[s], record_begin[s + 1])
+  // All reference rays' hits, empty if over budget. Side s owns [record_begin[s],
+  // record_begin[s + 1]) of records, record_dir and ray_order, its rays grouped by direction
+  // cell (kCells octahedral cells) and in ray order within a cell: position record_begin[s] + k
+  // holds ray ray_order[record_begin[s] + k], cell c owning positions [cell_begin[s * (kCells + 1)
+  // + c], cell_begin[s * (kCells + 1) + c + 1]) relative to record_begin[s]. In cell order, not
+  // ray order, so that a candidate streams through the cells it looks at (in ray order, the
+  // record reads of a cell's rays were scattered cache misses, the top stall of its ray loop).
+  std::vector<tracing::RayRecord> records;
+  std::vector<std::int64_t> record_begin;
   std::vector<std::uint32_t> record_dir;    // each recorded ray's direction, octahedral 2 x 16 bits
-  // Side s's rays grouped by direction cell (kCells octahedral cells): ray_order[record_begin[s]
-  // + k] lists its ray indices cell by cell, cell c owning [cell_begin[s * (kCells + 1) + c],
-  // cell_begin[s * (kCells + 1) + c + 1]) relative to record_begin[s].
   std::vector<std::uint32_t> ray_order;
   std::vector<std::int32_t> cell_begin;
   tracing::PrimTable prims;                 // hit classification in the reference scene
@@ -51,7 +55,10 @@ const NodeCouplings& RadiationReference::couplings() const { return impl_->coupl
 
 namespace {
 std::uint32_t oct_encode(const float* d);
-constexpr int kCellBits = 3, kCellsPerAxis = 1 << kCellBits, kCells = kCellsPerAxis * kCellsPerAxis;
+// Above this many changed faces, a side's rays are tested against the box of all of them
+// instead of the box of those it can reach (a loop over them per side).
+constexpr std::size_t kMaxRefinedFaces = 4096;
+constexpr int kCellBits = 4, kCellsPerAxis = 1 << kCellBits, kCells = kCellsPerAxis * kCellsPerAxis;
 // Direction cell of an octahedral code: the top kCellBits bits of each coordinate.
 inline int oct_cell(std::uint32_t code) {
   return static_cast<int>(((code & 0xFFFFu) >> (16 - kCellBits)) | ((code >> (32 - kCellBits)) << kCellBits));
@@ -88,6 +95,8 @@ RadiationReference prepare_radiation(const ThermalModel& reference, const Radiat
     impl->cell_begin.assign(std::size_t(S) * (kCells + 1), 0);
     tbb::parallel_for(tbb::blocked_range<int>(0, S, 8), [&](const tbb::blocked_range<int>& range) {
       std::vector<int> count(kCells);
+      std::vector<tracing::RayRecord> rec;
+      std::vector<std::uint32_t> dir;
       for (int s = range.begin(); s != range.end(); ++s) {
         const std::int64_t b = impl->record_begin[s];
         std::fill(count.begin(), count.end(), 0);
@@ -98,6 +107,13 @@ RadiationReference prepare_radiation(const ThermalModel& reference, const Radiat
         for (int i = 0; i < rays[s]; ++i) {
           const int c = oct_cell(impl->record_dir[b + i]);
           impl->ray_order[b + cb[c] + count[c]++] = static_cast<std::uint32_t>(i);
+        }
+        // Records and directions from ray order into cell order.
+        rec.assign(impl->records.begin() + b, impl->records.begin() + b + rays[s]);
+        dir.assign(impl->record_dir.begin() + b, impl->record_dir.begin() + b + rays[s]);
+        for (int k = 0; k < rays[s]; ++k) {
+          impl->records[b + k] = rec[impl->ray_order[b + k]];
+          impl->record_dir[b + k] = dir[impl->ray_order[b + k]];
         }
       }
     });
@@ -129,8 +145,11 @@ std::uint32_t oct_encode(const float* d) {
   return q(u) | (q(v) << 16);
 }
 
+// note: multiplications by reciprocals, not divisions (a candidate decodes ~1e6 codes per
+// trial); the result moves by an ulp or so, far inside kOctAngle.
 void oct_decode(std::uint32_t code, float* d) {
-  float u = float(code & 0xFFFFu) / 65535.0f * 2.0f - 1.0f, v = float(code >> 16) / 65535.0f * 2.0f - 1.0f;
+  constexpr float kScale = 2.0f / 65535.0f;
+  float u = float(code & 0xFFFFu) * kScale - 1.0f, v = float(code >> 16) * kScale - 1.0f;
   const float z = 1.0f - std::abs(u) - std::abs(v);
   if (z < 0.0f) {
     const float pu = (1.0f - std::abs(v)) * (u >= 0.0f ? 1.0f : -1.0f);
@@ -138,10 +157,10 @@ void oct_decode(std::uint32_t code, float* d) {
     u = pu;
     v = pv;
   }
-  const float n = std::sqrt(u * u + v * v + z * z);
-  d[0] = u / n;
-  d[1] = v / n;
-  d[2] = z / n;
+  const float inv = 1.0f / std::sqrt(u * u + v * v + z * z);
+  d[0] = u * inv;
+  d[1] = v * inv;
+  d[2] = z * inv;
 }
 
 // Per direction cell: centre direction and an angular radius [rad] covering every direction
@@ -256,17 +275,21 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
     }
   Mesh changed_mesh = changed_faces(ref.model.mesh, removed_face, candidate.mesh, added_face);
   const RayScene changed_scene(changed_mesh);
+  // Their corners, for the per-side test of which of them a side's rays can reach at all.
+  std::vector<std::array<Eigen::Vector3d, 3>> changed_tris(changed_mesh.num_faces());
+  for (int f = 0; f < changed_mesh.num_faces(); ++f)
+    for (int k = 0; k < 3; ++k) changed_tris[f][k] = changed_mesh.V.row(changed_mesh.F(f, k)).transpose();
   if (stats) st.changed_faces = std::move(changed_mesh);  // (the scene keeps its own copy)
   st.rays_total = rays.cast<std::int64_t>().sum();
   // The filter box in float, padded by far more than the rounding of float coordinates, so a
   // ray that reaches a changed face can never be judged to miss the box.
   Eigen::AlignedBox3f box;
-  if (!st.changed_box.isEmpty()) {
-    const double pad = 1e-4 * (st.changed_box.sizes().norm() + st.changed_box.min().cwiseAbs().maxCoeff() +
-                               st.changed_box.max().cwiseAbs().maxCoeff());
-    box = Eigen::AlignedBox3f((st.changed_box.min().array() - pad).cast<float>().matrix(),
-                              (st.changed_box.max().array() + pad).cast<float>().matrix());
-  }
+  const double pad = st.changed_box.isEmpty() ? 0.0 : 1e-4 * (st.changed_box.sizes().norm() + st.changed_box.min().cwiseAbs().maxCoeff() +
+                                                               st.changed_box.max().cwiseAbs().maxCoeff());
+  auto padded = [pad](const Eigen::AlignedBox3d& b) {
+    return Eigen::AlignedBox3f((b.min().array() - pad).cast<float>().matrix(), (b.max().array() + pad).cast<float>().matrix());
+  };
+  if (!st.changed_box.isEmpty()) box = padded(st.changed_box);
 
   const RayScene::Impl& changed = changed_scene.impl();
   const RayScene scene(candidate.mesh);
@@ -310,17 +333,41 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
       if (!box.isEmpty())
         for (int k = 0; k < 8 && !box_in_front; ++k)
           box_in_front = (box.corner(Eigen::AlignedBox3f::CornerType(k)).cast<double>() - e.a).dot(e.n) > 0.0;
-      if (box_in_front && records) {
+      // The changed faces this side's rays can reach: those with a corner above half its
+      // origin lift. Its rays start a full lift [m] above its plane and go up, short of float
+      // rounding (direction ~1e-7, origin ~1e-7 x coordinates; `slack` allows ~10x that), so
+      // the faces of a neighbouring panel sharing an edge or lying behind it are out of reach.
+      // Their box (padded like the global one) bounds the side's ray tests below; none: the
+      // side keeps its reference counts as they are. On the sample, most rays of a changed
+      // node's neighbours were looked at for nothing because the box of all changed faces
+      // reached in front of them.
+      Eigen::AlignedBox3f sbox = box;
+      bool reaches = box_in_front;
+      if (box_in_front && records && changed_tris.size() <= kMaxRefinedFaces) {
+        const double travel = (e.a - st.changed_box.center()).norm() + 0.5 * st.changed_box.diagonal().norm() +
+                              e.e1.norm() + e.e2.norm();
+        const double slack = 1e-6 * (travel + e.a.cwiseAbs().maxCoeff() + st.changed_box.max().cwiseAbs().maxCoeff() +
+                                     st.changed_box.min().cwiseAbs().maxCoeff());
+        const double lim = 0.5 * e.offset - slack;
+        Eigen::AlignedBox3d seen;
+        for (const auto& tri : changed_tris)
+          if ((tri[0] - e.a).dot(e.n) > lim || (tri[1] - e.a).dot(e.n) > lim || (tri[2] - e.a).dot(e.n) > lim)
+            for (const auto& v : tri) seen.extend(v);
+        reaches = !seen.isEmpty();
+        if (reaches) sbox = padded(seen);
+      }
+      if (reaches && records) {
         // A ray whose reference hit comes before it enters the box hits the same face in the
         // candidate (the faces in front of the box did not change, the new ones are inside).
         const tracing::RayRecord* rec = ref.records.data() + ref.record_begin[r];
+        const Eigen::Vector3d sbox_centre = sbox.center().cast<double>();
         // No ray can enter the box before travelling the distance between the face's bounding
         // box (grown by the origin lift) and the changed box: a reference hit closer than
         // that is kept without even generating the ray.
         Eigen::AlignedBox3d face_box;
         face_box.extend(e.a).extend(Eigen::Vector3d(e.a + e.e1)).extend(Eigen::Vector3d(e.a + e.e2));
         const double lift = 2.0 * e.offset + 1e-6 * (face_box.max().cwiseAbs().maxCoeff() + 1.0);
-        const Eigen::Vector3d gap = (box.min().cast<double>() - face_box.max()).cwiseMax(face_box.min() - box.max().cast<double>()).cwiseMax(0.0);
+        const Eigen::Vector3d gap = (sbox.min().cast<double>() - face_box.max()).cwiseMax(face_box.min() - sbox.max().cast<double>()).cwiseMax(0.0);
         const float reach = static_cast<float>(std::max(0.0, gap.norm() - lift) * (1.0 - 1e-5));
         // Every origin of this side lies within `radius` of `centre`; a ray longer than `far`
         // is past the box. A ray whose compressed direction, widened by its error, cannot bring
@@ -328,26 +375,26 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
         const Eigen::Vector3d centre_d = face_box.center();
         const float radius = static_cast<float>(0.5 * face_box.diagonal().norm() + lift);
         const float centre[3] = {float(centre_d.x()), float(centre_d.y()), float(centre_d.z())};
-        const float far = static_cast<float>((centre_d - st.changed_box.center()).norm() +
-                                             0.5 * box.diagonal().cast<double>().norm()) + radius;
+        const float far = static_cast<float>((centre_d - sbox_centre).norm() +
+                                             0.5 * sbox.diagonal().cast<double>().norm()) + radius;
         const std::uint32_t* rdir = ref.record_dir.data() + ref.record_begin[r];
         auto may_enter = [&](int i) {
           float d[3];
           oct_decode(rdir[i], d);
           const float len = std::min(rec[i].t, far);
           const float pad = radius + len * kOctAngle + 1e-6f * far;
-          const Eigen::AlignedBox3f grown(box.min().array() - pad, box.max().array() + pad);
+          const Eigen::AlignedBox3f grown(sbox.min().array() - pad, sbox.max().array() + pad);
           return tracing::ray_box_entry(centre, d, grown) <= len;
         };
         // Only the direction cells whose cone, cast from the side's bounding sphere, can meet the
         // box's bounding sphere hold rays worth looking at.
-        const std::uint32_t* order = ref.ray_order.data() + ref.record_begin[r];
+        const std::uint32_t* ray_of = ref.ray_order.data() + ref.record_begin[r];
         const std::int32_t* cb = ref.cell_begin.data() + std::size_t(r) * (kCells + 1);
         subset.clear();
         {
-          const Eigen::Vector3f to_box = (st.changed_box.center() - centre_d).cast<float>();
+          const Eigen::Vector3f to_box = (sbox_centre - centre_d).cast<float>();
           const float dist = to_box.norm();
-          const float reach_r = radius + 0.5f * box.diagonal().norm();
+          const float reach_r = radius + 0.5f * sbox.diagonal().norm();
           const auto& cones = cell_cones();
           for (int cell = 0; cell < kCells; ++cell) {
             if (cb[cell + 1] == cb[cell]) continue;
@@ -359,13 +406,14 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
               const float lim = std::acos(cones[cell].cos_radius) + std::asin(std::min(1.0f, reach_r / dist)) + 1e-4f;
               pass = a <= lim;
             }
-            if (pass) subset.insert(subset.end(), order + cb[cell], order + cb[cell + 1]);
+            if (pass)
+              for (std::int32_t k = cb[cell]; k < cb[cell + 1]; ++k) subset.push_back(static_cast<std::uint32_t>(k));
           }
         }
         tracing::trace_emitter(
             scene.impl(), prims, e, sobol, static_cast<int>(subset.size()),
             [&](int i, const float* o, const float* d) {
-              const float entry = tracing::ray_box_entry(o, d, box);
+              const float entry = tracing::ray_box_entry(o, d, sbox);
               if (!(entry < std::numeric_limits<float>::infinity() && entry <= rec[i].t)) return false;
               // Exact test: a ray that meets no removed or added face up to (just past) its
               // reference hit keeps that hit (every face it could reach first is unchanged).
@@ -378,8 +426,8 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
               back += b;
               ++traced;
             },
-            [&](int i) { return rec[i].t >= reach && may_enter(i); }, subset.data());
-      } else if (box_in_front) {
+            [&](int i) { return rec[i].t >= reach && may_enter(i); }, subset.data(), ray_of);
+      } else if (reaches) {
         auto meets = [&](int, const float* o, const float* d) {
           return tracing::ray_box_entry(o, d, box) < std::numeric_limits<float>::infinity() &&
                  tracing::segment_meets(changed, o, d, std::numeric_limits<float>::infinity());

@@ -104,11 +104,12 @@ struct AllRays {
 //! keep(i, origin, direction) in
 //! `scene`, calling on_hit(i, side, crossed, t) in ray order, with side = hit side of `sides`
 //! (the sides of scene's mesh) or -1 for space (t = +inf), and crossed = the ray passed
-//! through the back of a one-sided face on its way.
+//! through the back of a one-sided face on its way. With `ray_of`, i is a position and the ray
+//! traced there is the emitter's ray ray_of[i] (records kept in another order than the rays').
 template <class Keep, class OnHit, class Pre = AllRays>
 void trace_emitter(const RayScene::Impl& scene, const PrimTable& prims, const sampling::Emitter& e,
                    const SobolTable& sobol, int rays, Keep&& keep, OnHit&& on_hit, Pre&& pre = Pre{},
-                   const std::uint32_t* order = nullptr) {
+                   const std::uint32_t* order = nullptr, const std::uint32_t* ray_of = nullptr) {
   constexpr int kChunk = 64;
   alignas(16) RTCRayHit buf[kChunk];
   int index[kChunk];
@@ -122,7 +123,7 @@ void trace_emitter(const RayScene::Impl& scene, const PrimTable& prims, const sa
       const int i = order ? static_cast<int>(order[k]) : k;
       if (!pre(i)) continue;  // decided without generating the ray
       float org[3], dir[3];
-      sampling::emit(e, sobol[i], true, org, dir);
+      sampling::emit(e, sobol[ray_of ? ray_of[i] : i], true, org, dir);
       if (!keep(i, org, dir)) continue;
       index[n] = i;
       RTCRayHit& rh = buf[n++];
