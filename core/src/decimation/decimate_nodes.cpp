@@ -411,7 +411,9 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     const double max_move = 0.1 * std::sqrt(2.0 * area_before / static_cast<double>(star.size()));
     const int node = c.region_node[c.face_region[c.fi(star.front())]];
     const double drift = c.node_area[node] - c.node_area0[node];
-    for (const double target : {area_before - drift, area_before}) {
+    const double targets[2] = {area_before - drift, area_before};  // the second if the first fails
+    for (int k = 0; k < (drift != 0.0 ? 2 : 1); ++k) {
+      const double target = targets[k];
       Vec3 x = x_, grad;
       bool converged = false;
       for (int it = 0; it < 6 && !converged; ++it) {

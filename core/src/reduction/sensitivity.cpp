@@ -56,8 +56,9 @@ std::vector<SensitivityCurve> sensitivity_analysis(int num_nodes, const TrialFun
       if (res.max_abs_dT_K <= options.refine_first_above_K) break;
     }
     int last_faces = -1;
-    for (double r : options.ratios) {
-      const TrialResult res = r == options.ratios.front() ? at_first : run(r);
+    for (std::size_t k = 0; k < options.ratios.size(); ++k) {
+      const double r = options.ratios[k];
+      const TrialResult res = k == 0 ? at_first : run(r);
       const int faces = faces_of(res);
       if (faces >= 0 && faces == last_faces) break;  // the decimator cannot go further
       c.ratios.push_back(r);
