@@ -120,6 +120,17 @@ TEST(ReductionReference, incremental_trials_match_full_recompute) {
   EXPECT_NEAR(inc.max_abs_dT_K, full.max_abs_dT_K, 1e-6);
   // Memoised trials were decimated with the current options: changing them now is refused.
   EXPECT_THROW(ref.set_decimation_options(rs.decimation), InvalidInput);
+  // Other ratios that decimate to the same mesh (here: the panel at the end of its reach) are
+  // answered by the trial of that mesh, not simulated again.
+  Eigen::VectorXd a = none, b = none;
+  a[6] = 0.998;
+  b[6] = 0.999;
+  ASSERT_TRUE(decimate_nodes(model.mesh, a, rs.decimation).mesh.V == decimate_nodes(model.mesh, b, rs.decimation).mesh.V);
+  const int before = ref.trials_evaluated();
+  const TrialResult ta = ref.trial(a), tb = ref.trial(b);
+  EXPECT_EQ(ref.trials_evaluated(), before + 1);
+  EXPECT_EQ(ta.max_abs_dT_K, tb.max_abs_dT_K);
+  EXPECT_EQ(ta.node_faces_after, tb.node_faces_after);
 }
 
 TEST(ReductionReference, trial_noise_floor_redraws_one_node_at_a_time_as_a_full_run_would) {

@@ -27,6 +27,10 @@ struct ReductionReference::Impl {
   // Fully verified candidates, so that the driver's final rebuild of the verified model does
   // not simulate it a second time.
   mutable std::map<std::vector<double>, std::shared_ptr<const Candidate>> verified;
+  // Trials by candidate mesh: other ratios often give the same mesh (a node at the end of its
+  // decimator's reach, a push bisected between two ratios it reaches alike), and the same
+  // mesh gives the same trial.
+  mutable std::map<std::uint64_t, TrialResult> by_mesh;
   mutable std::atomic<int> evaluated{0};
 };
 
@@ -146,6 +150,27 @@ SimulationResult simulate_candidate(const ThermalModel& cand, const RadiationRef
 }
 }  // namespace
 
+namespace {
+// FNV-1a over everything a trial's result depends on in the candidate mesh (the rest of the
+// model is the reference's): a 64-bit identity, like the sampling seeds' hashes.
+template <class Derived>
+std::uint64_t hash_bytes(std::uint64_t h, const Eigen::DenseBase<Derived>& a) {
+  const auto* p = reinterpret_cast<const unsigned char*>(a.derived().data());
+  for (std::size_t i = 0; i < sizeof(typename Derived::Scalar) * static_cast<std::size_t>(a.size()); ++i)
+    h = (h ^ p[i]) * 0x100000001b3ull;
+  return h;
+}
+std::uint64_t mesh_key(const Mesh& m) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  h = hash_bytes(h, Eigen::Vector2i(static_cast<int>(m.V.rows()), static_cast<int>(m.F.rows())));
+  h = hash_bytes(h, m.V);
+  h = hash_bytes(h, m.F);
+  h = hash_bytes(h, m.face_node);
+  h = hash_bytes(h, m.face_material);
+  return hash_bytes(h, m.face_back_material);
+}
+}  // namespace
+
 Candidate ReductionReference::candidate(const Eigen::VectorXd& ratios, bool full) const {
   const Impl& s = *impl_;
   if (ratios.size() != static_cast<Eigen::Index>(s.model.nodes.size()))
@@ -155,10 +180,15 @@ Candidate ReductionReference::candidate(const Eigen::VectorXd& ratios, bool full
     const auto it = s.verified.find(std::vector<double>(ratios.data(), ratios.data() + ratios.size()));
     if (it != s.verified.end()) return *it->second;
   }
-  Candidate c;
   const auto t0 = Clock::now();
-  c.decimation = decimate_nodes(s.model.mesh, ratios, s.settings.decimation);
-  const double decimation_s = since(t0);
+  DecimationResult d = decimate_nodes(s.model.mesh, ratios, s.settings.decimation);
+  return candidate_of(std::move(d), since(t0), full);
+}
+
+Candidate ReductionReference::candidate_of(DecimationResult decimation, double decimation_s, bool full) const {
+  const Impl& s = *impl_;
+  Candidate c;
+  c.decimation = std::move(decimation);
   c.model = s.model;
   c.model.mesh = c.decimation.mesh;
   // A decimation that changed nothing (a node already at its fewest faces, common on CAD
@@ -207,10 +237,24 @@ TrialResult ReductionReference::trial(const Eigen::VectorXd& ratios) const {
     auto it = impl_->cache.find(key);
     if (it != impl_->cache.end()) return it->second;
   }
-  const TrialResult t = candidate(ratios, false).trial;
+  if (ratios.size() != static_cast<Eigen::Index>(impl_->model.nodes.size()))
+    throw InvalidInput("one ratio per node expected");
+  const auto t0 = Clock::now();
+  DecimationResult d = decimate_nodes(impl_->model.mesh, ratios, impl_->settings.decimation);
+  const std::uint64_t mesh = mesh_key(d.mesh);
+  {
+    std::lock_guard<std::mutex> lock(impl_->cache_mutex);
+    auto it = impl_->by_mesh.find(mesh);
+    if (it != impl_->by_mesh.end()) {
+      impl_->cache.emplace(std::move(key), it->second);
+      return it->second;
+    }
+  }
+  const TrialResult t = candidate_of(std::move(d), since(t0), false).trial;
   ++impl_->evaluated;
   std::lock_guard<std::mutex> lock(impl_->cache_mutex);
   impl_->cache.emplace(std::move(key), t);
+  impl_->by_mesh.emplace(mesh, t);
   return t;
 }
 

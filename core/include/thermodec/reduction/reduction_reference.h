@@ -59,7 +59,8 @@ class ReductionReference {
   Eigen::VectorXd max_ratio_per_node() const;
 
   //! Incremental trial: reuses the reference's rays (correlated sampling, re-tracing only
-  //! what the changed nodes can affect); memoised by ratios. Thread-safe.
+  //! what the changed nodes can affect); memoised by ratios and by the candidate mesh they
+  //! decimate to. Thread-safe.
   TrialResult trial(const Eigen::VectorXd& ratio_per_node) const;
   //! Full verification: the candidate simulated from scratch, nothing reused. Thread-safe.
   TrialResult verify(const Eigen::VectorXd& ratio_per_node) const;
@@ -78,10 +79,13 @@ class ReductionReference {
   void set_decimation_options(const DecimationOptions& options);
   const DecimationOptions& decimation_options() const;
 
-  //! Trials evaluated so far (memoised repeats not counted) and their wall time [s].
+  //! Trials evaluated so far (memoised repeats not counted: the same ratios, or other ratios
+  //! that decimate to the same mesh) and their wall time [s].
   int trials_evaluated() const;
 
  private:
+  //! Simulates an already decimated candidate (decimation_s: the time it took).
+  Candidate candidate_of(DecimationResult decimation, double decimation_s, bool full) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
