@@ -191,6 +191,26 @@ TEST(InformedReduction, spent_evaluation_budget_scales_back_instead_of_giving_up
   EXPECT_LT(out.verified.faces_after, s.faces.sum());
 }
 
+TEST(InformedReduction, scale_back_shrinks_each_nodes_share_of_the_tolerance_not_every_ratio) {
+  // Ten nodes that each move the model by up to 0.45 K alone add up far beyond 0.5 K; ten
+  // insensitive ones (0.001 K) do not matter. Scaling back the sensitive nodes' share of the
+  // tolerance keeps the insensitive ones fully reduced, which a common factor would not.
+  Synthetic s;
+  s.sensitivity_K = Eigen::VectorXd::Constant(20, 0.001);
+  s.sensitivity_K.head(10).setConstant(0.45);
+  s.faces = Eigen::VectorXi::Constant(20, 100);
+  const auto curves = sensitivity_analysis(20, s, SensitivityOptions{});
+  InformedOptions io;
+  io.tolerance_K = 0.5;
+  io.push = false;
+  io.max_evaluations = 1;  // straight to the scale-back
+  const auto out = informed_reduction(curves, 20, s, s, io);
+  EXPECT_GT(s(out.predicted_ratio_per_node).max_abs_dT_K, 2.0);
+  EXPECT_LE(out.verified.max_abs_dT_K, 0.5);
+  for (int k = 10; k < 20; ++k) EXPECT_EQ(out.ratio_per_node[k], out.predicted_ratio_per_node[k]) << "node " << k;
+  EXPECT_GT(out.ratio_per_node.head(10).maxCoeff(), 0.0);  // the sensitive ones still reduced
+}
+
 TEST(InformedReduction, refuses_when_the_reference_itself_exceeds_tolerance) {
   auto noisy = [](const Eigen::VectorXd& r) {
     TrialResult t;

@@ -45,8 +45,8 @@ ReductionOutcome uniform_reduction(
 struct InformedOptions {
   double tolerance_K = 0.5;
   int max_evaluations = 40;   //!< bound on trials after the prediction (back-off + push); once
-                              //!< spent while backing off, all ratios are scaled back together
-                              //!< (bisection, 6 trials per pass) instead
+                              //!< spent while backing off, every node's share of the tolerance
+                              //!< on its own curve is scaled back (bisection, 6 trials per pass)
   //! Leave-one-out trials per back-off step: when more nodes are reduced, only this many are
   //! measured, those most suspect of the excess (largest of: the node's own curve at its
   //! ratio, its own |dT| in the failing candidate). 0 = every reduced node (a step on a CAD
