@@ -368,6 +368,17 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     return nullptr;
   }
 
+  // Corners `q` of star face f once this collapse puts its vertex at x, the index `moved_at` of
+  // a corner that moved; returns how many moved (2: f is on the collapsed edge and disappears).
+  int corners_after(const VFace* f, const Vec3& x, std::array<Vec3, 3>& q, int& moved_at) const {
+    int moved = 0;
+    for (int k = 0; k < 3; ++k) {
+      q[k] = to_eigen(f->cP(k));
+      if (f->cV(k) == pos.cV(0) || f->cV(k) == pos.cV(1)) q[k] = x, moved_at = k, ++moved;
+    }
+    return moved;
+  }
+
   // Area-neutral placement of a collapse inside one region (both ends free): moves the
   // Lindstrom-Turk point x_ along the gradient of the star's area until the node's area is
   // back at its input value, or at least the star's own area is unchanged.
@@ -382,8 +393,6 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   // length is not made (a flat star cannot pay back another collapse's drift without a tent).
   void place_area_neutral(const Context& c) {
     const auto& star = c.star;
-    VVertex* gone = pos.V(0);
-    VVertex* kept = pos.V(1);
     double area_before = 0;
     for (const VFace* f : star) {
       const Vec3 p0 = to_eigen(f->cP(0)), p1 = to_eigen(f->cP(1)), p2 = to_eigen(f->cP(2));
@@ -395,12 +404,12 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     auto area_at = [&](const Vec3& x, Vec3& grad) {
       double area = 0;
       grad.setZero();
+      std::array<Vec3, 3> q;
       for (const VFace* f : star) {
-        int j = -1, moved = 0;
-        for (int k = 0; k < 3; ++k)
-          if (f->cV(k) == gone || f->cV(k) == kept) j = k, ++moved;
-        if (moved != 1) continue;  // the faces on the collapsed edge disappear
-        const Vec3 b = to_eigen(f->cP((j + 1) % 3)), d = to_eigen(f->cP((j + 2) % 3));
+        int j = -1;
+        if (corners_after(f, x, q, j) != 1) continue;  // the faces on the collapsed edge disappear
+        const Vec3& b = q[(j + 1) % 3];
+        const Vec3& d = q[(j + 2) % 3];
         const Vec3 n = (b - x).cross(d - x);
         const double len = n.norm();
         area += 0.5 * len;
@@ -440,14 +449,12 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     const int comp = c.face_component[c.fi(c.star.front())];
     if (!c.comp_closed[comp]) return true;
     double delta = 0;  // change of the closed part's volume [m^3]
+    std::array<Vec3, 3> q;
     for (const VFace* f : c.star) {
-      std::array<Vec3, 3> p, q;
-      int moved = 0;
-      for (int j = 0; j < 3; ++j) {
-        p[j] = q[j] = to_eigen(f->cP(j));
-        if (f->cV(j) == pos.cV(0) || f->cV(j) == pos.cV(1)) q[j] = x, ++moved;
-      }
-      delta -= p[0].dot(p[1].cross(p[2])) / 6.0;
+      int j = -1;
+      const int moved = corners_after(f, x, q, j);
+      const Vec3 p0 = to_eigen(f->cP(0)), p1 = to_eigen(f->cP(1)), p2 = to_eigen(f->cP(2));
+      delta -= p0.dot(p1.cross(p2)) / 6.0;
       if (moved == 1) delta += q[0].dot(q[1].cross(q[2])) / 6.0;
     }
     return std::abs(c.comp_volume[comp] + delta - c.comp_volume0[comp]) <=

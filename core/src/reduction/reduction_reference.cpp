@@ -148,9 +148,7 @@ SimulationResult simulate_candidate(const ThermalModel& cand, const RadiationRef
   t.solve_s = since(t0);
   return r;
 }
-}  // namespace
 
-namespace {
 // FNV-1a over everything a trial's result depends on in the candidate mesh (the rest of the
 // model is the reference's): a 64-bit identity, like the sampling seeds' hashes.
 template <class Derived>
@@ -169,20 +167,29 @@ std::uint64_t mesh_key(const Mesh& m) {
   h = hash_bytes(h, m.face_material);
   return hash_bytes(h, m.face_back_material);
 }
+
+// The candidate mesh of `ratios` (one per node of `model`) and the seconds it took.
+DecimationResult decimate_candidate(const ThermalModel& model, const DecimationOptions& options,
+                                    const Eigen::VectorXd& ratios, double& seconds) {
+  if (ratios.size() != static_cast<Eigen::Index>(model.nodes.size()))
+    throw InvalidInput("one ratio per node expected");
+  const auto t0 = Clock::now();
+  DecimationResult d = decimate_nodes(model.mesh, ratios, options);
+  seconds = since(t0);
+  return d;
+}
 }  // namespace
 
 Candidate ReductionReference::candidate(const Eigen::VectorXd& ratios, bool full) const {
   const Impl& s = *impl_;
-  if (ratios.size() != static_cast<Eigen::Index>(s.model.nodes.size()))
-    throw InvalidInput("one ratio per node expected");
   if (full) {
     std::lock_guard<std::mutex> lock(s.cache_mutex);
     const auto it = s.verified.find(std::vector<double>(ratios.data(), ratios.data() + ratios.size()));
     if (it != s.verified.end()) return *it->second;
   }
-  const auto t0 = Clock::now();
-  DecimationResult d = decimate_nodes(s.model.mesh, ratios, s.settings.decimation);
-  return candidate_of(std::move(d), since(t0), full);
+  double seconds = 0.0;
+  DecimationResult d = decimate_candidate(s.model, s.settings.decimation, ratios, seconds);
+  return candidate_of(std::move(d), seconds, full);
 }
 
 Candidate ReductionReference::candidate_of(DecimationResult decimation, double decimation_s, bool full) const {
@@ -237,10 +244,8 @@ TrialResult ReductionReference::trial(const Eigen::VectorXd& ratios) const {
     auto it = impl_->cache.find(key);
     if (it != impl_->cache.end()) return it->second;
   }
-  if (ratios.size() != static_cast<Eigen::Index>(impl_->model.nodes.size()))
-    throw InvalidInput("one ratio per node expected");
-  const auto t0 = Clock::now();
-  DecimationResult d = decimate_nodes(impl_->model.mesh, ratios, impl_->settings.decimation);
+  double seconds = 0.0;
+  DecimationResult d = decimate_candidate(impl_->model, impl_->settings.decimation, ratios, seconds);
   const std::uint64_t mesh = mesh_key(d.mesh);
   {
     std::lock_guard<std::mutex> lock(impl_->cache_mutex);
@@ -250,7 +255,7 @@ TrialResult ReductionReference::trial(const Eigen::VectorXd& ratios) const {
       return it->second;
     }
   }
-  const TrialResult t = candidate_of(std::move(d), since(t0), false).trial;
+  const TrialResult t = candidate_of(std::move(d), seconds, false).trial;
   ++impl_->evaluated;
   std::lock_guard<std::mutex> lock(impl_->cache_mutex);
   impl_->cache.emplace(std::move(key), t);

@@ -168,7 +168,7 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       log("evaluation budget spent while backing off; scaling every node's share of the tolerance back");
       const Eigen::VectorXd base = ratios;
       auto scaled = [&](double m) {
-        Eigen::VectorXd r = base;
+        Eigen::VectorXd r(num_nodes);
         for (int k = 0; k < num_nodes; ++k)
           r[k] = curve_of[k] ? std::min(base[k], feasible_ratio(*curve_of[k], m * tol)) : 0.0;
         return r;
@@ -177,9 +177,10 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       TrialResult lo_res;
       for (int it = 0; it < kScaleBackSteps; ++it) {
         const double mid = 0.5 * (lo + hi);
-        const TrialResult t = trial(scaled(mid));
+        const Eigen::VectorXd r = scaled(mid);
+        const TrialResult t = trial(r);
         ++evaluations;
-        record(scaled(mid), t, "scale back: each node's share of the tolerance x" + std::to_string(mid));
+        record(r, t, "scale back: each node's share of the tolerance x" + std::to_string(mid));
         if (within(t, tol)) {
           lo = mid;
           lo_res = t;
