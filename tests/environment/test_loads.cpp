@@ -312,6 +312,8 @@ TEST(LoadReuse, trial_with_one_node_changed_equals_a_full_recompute_and_reuses_m
   EXPECT_EQ(incremental.solar_W, full.solar_W);
   EXPECT_EQ(incremental.albedo_W, full.albedo_W);
   EXPECT_EQ(incremental.earth_ir_W, full.earth_ir_W);
+  // and so does the Earth rays' sampling error (sides reused whole carry the reference's)
+  EXPECT_EQ(incremental.sampling_standard_error_W, full.sampling_standard_error_W);
   // Many shadow evaluations and Earth views are far from the wing (measured: printed below).
   EXPECT_GT(reuse.reused_sun, reuse.total_sun / 2) << reuse.reused_sun << " of " << reuse.total_sun;
   // (the wing's own 400 sides are about a third of the craft's Earth views: never reusable)
@@ -348,6 +350,8 @@ TEST(LoadReuse, rays_shadowed_by_a_shrunk_body_panel_are_traced_again_and_match_
   EXPECT_EQ(incremental.solar_W, full.solar_W);
   EXPECT_EQ(incremental.albedo_W, full.albedo_W);
   EXPECT_EQ(incremental.earth_ir_W, full.earth_ir_W);
+  // and so does the Earth rays' sampling error (sides reused whole carry the reference's)
+  EXPECT_EQ(incremental.sampling_standard_error_W, full.sampling_standard_error_W);
   EXPECT_GT(reuse.reused_earth_rays, reuse.traced_earth_rays) << "most rays miss the panel";
   EXPECT_GT(reuse.traced_earth_rays, 0);
 }
@@ -421,6 +425,8 @@ TEST(LoadReuse, over_the_record_budget_trials_fall_back_to_side_tests_with_the_s
   EXPECT_EQ(incremental.solar_W, full.solar_W);
   EXPECT_EQ(incremental.albedo_W, full.albedo_W);
   EXPECT_EQ(incremental.earth_ir_W, full.earth_ir_W);
+  // and so does the Earth rays' sampling error (sides reused whole carry the reference's)
+  EXPECT_EQ(incremental.sampling_standard_error_W, full.sampling_standard_error_W);
   EXPECT_EQ(reuse.reused_sun_rays + reuse.reused_earth_rays, 0);
   EXPECT_GT(reuse.reused_sun, 0);  // the side tests still work
 }
@@ -439,6 +445,8 @@ TEST(LoadReuse, inertial_attitude_reuses_hemisphere_rays_and_matches_a_full_reco
   EXPECT_EQ(incremental.solar_W, full.solar_W);
   EXPECT_EQ(incremental.albedo_W, full.albedo_W);
   EXPECT_EQ(incremental.earth_ir_W, full.earth_ir_W);
+  // and so does the Earth rays' sampling error (sides reused whole carry the reference's)
+  EXPECT_EQ(incremental.sampling_standard_error_W, full.sampling_standard_error_W);
   EXPECT_GT(reuse.reused_earth_rays, 0);
   EXPECT_GT(reuse.traced_earth_rays, 0);
 }

@@ -997,6 +997,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     samples->earth_rays = earth_rays;
     samples->earth.assign(ns, {});
     samples->earth_view_factor = Eigen::VectorXd::Zero(ns);
+    samples->earth_relative_error = Eigen::VectorXd::Zero(ns);
     samples->sun_records.assign(steps, RayRecords{});
     samples->earth_records = RayRecords{};
     samples->per_ray = false;
@@ -1092,6 +1093,8 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
             // Its rays are needed only to record them; its lighting sums come from the reference.
             if (samples || !ref_lit) hits.rays[s] = ref->earth[ref_of[s]];
             hits.view_factor[s] = ref->earth_view_factor[ref_of[s]];
+            if (ref->earth_relative_error.size() == ref->earth_view_factor.size())
+              hits.relative_error[s] = ref->earth_relative_error[ref_of[s]];
           }
       if (ref && ref_has_decisions)
         for (int s = 0; s < ns; ++s)
@@ -1100,6 +1103,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       if (samples) {
         samples->earth = hits.rays;
         samples->earth_view_factor = hits.view_factor;
+        samples->earth_relative_error = hits.relative_error;
       }
       hits.flatten();
     } else {

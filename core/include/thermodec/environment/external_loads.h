@@ -110,6 +110,9 @@ struct LoadSamples {
   //! axes, else (1/N, escaping direction).
   std::vector<std::vector<std::pair<float, Eigen::Vector3f>>> earth;
   Eigen::VectorXd earth_view_factor;  //!< #sides F_side->Earth (Earth fixed in body axes)
+  //! #sides relative binomial error of that view factor (0 for unobstructed sides), so that a
+  //! side reused whole carries its sampling error into Loads::sampling_standard_error_W
+  Eigen::VectorXd earth_relative_error;
   //! steps x #sides: sum over the side's Earth rays of w max(0, n_E . sun) (Earth fixed in
   //! body axes): a side reused whole reuses its albedo lighting at every step too.
   Eigen::MatrixXf earth_lit_per_step;
