@@ -262,6 +262,12 @@ void ThermodecFilterPlugin::initParameterSet(QAction* action, MeshModel& /*m*/,
           "Max contour deviation",
           "A vertex on a node boundary may go only if it lies within this fraction of the "
           "replacing segment's length from it (0.02 = about 2.3 degrees of kink)."));
+      params.addParam(RichBool(
+          "area_neutral_placement", defaults.area_neutral_placement, "Area-neutral placement",
+          "Move each collapse's new vertex (by at most a tenth of the local edge length) so that "
+          "its node keeps its input area: a radiating node's temperature moves by "
+          "dT = -T dA / 4A, so area is what a thermal model feels. Off: volume-preserving "
+          "(Lindstrom-Turk) placement only."));
 #endif
       break;
     }
@@ -431,6 +437,7 @@ bool ThermodecFilterPlugin::decimate_ratio(MeshDocument& md, const RichParameter
   options.max_relative_area_change = params.getFloat("max_relative_area_change");
   options.max_relative_volume_change = params.getFloat("max_relative_volume_change");
   options.max_contour_deviation = params.getFloat("max_contour_deviation");
+  options.area_neutral_placement = params.getBool("area_neutral_placement");
 
   progress(cb, 0, "Thermal: gathering mesh");
   const DocumentMesh dm = mesh_with_optional_nodes(md);
