@@ -93,17 +93,26 @@ TEST(SimulateCli, refuses_to_overwrite_its_input) {
 
 TEST(SimulateCli, noise_floor_reports_max_difference_between_seeds_and_run_time) {
   const fs::path d = temp_dir("noise");
-  ASSERT_EQ(run("simulate -q " + kSatellite.string() + " --noise-floor --noise-runs 2 --rays 500 --earth-rays 512 "
+  ASSERT_EQ(run("simulate -q " + kSatellite.string() + " --noise-floor --noise-runs 3 --rays 500 --earth-rays 512 "
                 "--json " + (d / "n.json").string(),
                 d / "out.txt"),
             0)
       << slurp(d / "out.txt");
   const std::string out = slurp(d / "out.txt");
-  EXPECT_NE(out.find("noise floor over 2 seeds (1..2): max |dT| = "), std::string::npos) << out;
+  EXPECT_NE(out.find("noise floor over 3 seeds (1..3), all 3 pairs: max |dT| = "), std::string::npos) << out;
+  EXPECT_NE(out.find("median pair "), std::string::npos) << out;
   EXPECT_NE(out.find("run time: "), std::string::npos) << out;
   const nlohmann::json j = nlohmann::json::parse(slurp(d / "n.json"));
   const double dT = j.at("noise_floor").at("max_abs_dT_K").get<double>();
   EXPECT_GT(dT, 0.0);   // different seeds do differ...
   EXPECT_LT(dT, 0.5);   // ...by Monte Carlo noise only (500 rays per face)
-  EXPECT_EQ(j.at("noise_floor").at("run_time_s").size(), 2u);
+  EXPECT_EQ(j.at("noise_floor").at("run_time_s").size(), 3u);
+  // every pair, not only each run against the first: 1-2, 1-3 and 2-3
+  EXPECT_EQ(j.at("noise_floor").at("pairs").get<int>(), 3);
+  const double median = j.at("noise_floor").at("median_pair_max_abs_dT_K").get<double>();
+  EXPECT_GT(median, 0.0);
+  EXPECT_LE(median, dT);
+  const auto seeds = j.at("noise_floor").at("worst_seeds").get<std::vector<int>>();
+  ASSERT_EQ(seeds.size(), 2u);
+  EXPECT_LT(seeds[0], seeds[1]);
 }

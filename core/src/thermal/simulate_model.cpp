@@ -160,23 +160,32 @@ NoiseFloor noise_floor(const ThermalModel& model, int runs, const ModelSimulatio
   if (runs < 2) throw InvalidInput("noise floor needs at least 2 runs");
   NoiseFloor out;
   ThermalModel m = model;
+  std::vector<SimulationResult> results;
   for (int k = 0; k < runs; ++k) {
     m.radiation.seed = model.radiation.seed + static_cast<std::uint64_t>(k);
     out.seeds.push_back(m.radiation.seed);
     if (k == 0 && first) {
-      out.first = *first;
+      results.push_back(*first);
       continue;
     }
     const auto t0 = Clock::now();
-    SimulationResult r = simulate_model(m, settings);
+    results.push_back(simulate_model(m, settings));
     out.run_time_s.push_back(seconds_since(t0));
-    if (k == 0) {
-      out.first = std::move(r);
-    } else {
-      out.differences.push_back(compare_results(out.first, r));
-      if (out.differences.back().max_abs_K >= out.worst.max_abs_K) out.worst = out.differences.back();
-    }
   }
+  for (int i = 0; i < runs; ++i)
+    for (int j = i + 1; j < runs; ++j) {
+      out.pairs.emplace_back(i, j);
+      out.differences.push_back(compare_results(results[i], results[j]));
+      if (out.differences.back().max_abs_K >= out.worst.max_abs_K) {
+        out.worst = out.differences.back();
+        out.worst_pair = {i, j};
+      }
+    }
+  std::vector<double> v;
+  for (const auto& d : out.differences) v.push_back(d.max_abs_K);
+  std::sort(v.begin(), v.end());
+  out.median_abs_K = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  out.first = std::move(results.front());
   return out;
 }
 

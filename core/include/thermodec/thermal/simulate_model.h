@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "thermodec/environment/external_loads.h"
@@ -67,10 +68,15 @@ constexpr double kBareMeshSunRays = 4e6;
 
 //! Run-to-run Monte Carlo noise: the model simulated with `runs` seeds (seed, seed+1, ...),
 //! every run compared with the first.
+//! Seed-to-seed Monte Carlo noise: every pair of runs compared (not only each run against the
+//! first, which would make the figure depend on how typical the first seed happens to be).
 struct NoiseFloor {
   std::vector<std::uint64_t> seeds;
-  std::vector<TemperatureDifference> differences;  //!< runs - 1 entries: run k vs run 0
-  TemperatureDifference worst;                     //!< the largest of them
+  std::vector<TemperatureDifference> differences;  //!< one per pair of runs, in `pairs` order
+  std::vector<std::pair<int, int>> pairs;          //!< (i, j), i < j: indices into `seeds`
+  TemperatureDifference worst;                     //!< the largest of them: the noise floor
+  std::pair<int, int> worst_pair{0, 0};
+  double median_abs_K = 0.0;                       //!< median over pairs of max |dT| [K]
   std::vector<double> run_time_s;                  //!< wall time of each run [s]
   SimulationResult first;                          //!< the first run's result
 };
