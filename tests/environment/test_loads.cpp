@@ -318,8 +318,10 @@ TEST(LoadReuse, trial_with_one_node_changed_equals_a_full_recompute_and_reuses_m
   EXPECT_GT(reuse.reused_sun, reuse.total_sun / 2) << reuse.reused_sun << " of " << reuse.total_sun;
   // (the wing's own 400 sides are about a third of the craft's Earth views: never reusable)
   EXPECT_GT(reuse.reused_earth, reuse.total_earth / 3) << reuse.reused_earth << " of " << reuse.total_earth;
-  // On the other sides, single rays are reused and the ones crossing the wing traced again.
+  // On the other sides, single rays are reused and the ones crossing the wing traced again;
+  // sides none of whose rays can reach the wing's cells are replayed without generating them.
   EXPECT_GT(reuse.reused_earth_rays, 0);
+  EXPECT_GT(reuse.earth_sides_replayed_by_cells, 0);
   EXPECT_GT(reuse.traced_earth_rays, 0);
   EXPECT_GT(reuse.reused_sun_rays, 0);
   EXPECT_GT(reuse.traced_sun_rays, 0);

@@ -136,6 +136,8 @@ struct ChangeBox {
 struct SideRays {
   std::vector<std::uint8_t> blocked;  // per ray
   std::vector<float> hit_m;           // per ray: closest blocker [m] (recorded runs), +inf if open
+  std::vector<std::uint32_t> sample_index;  // Earth cone rays, recorded runs: see RayRecords
+  std::vector<std::uint8_t> cell;
 };
 
 // One side's rays in a reference record, read in ray order.
@@ -170,6 +172,8 @@ class SideTracer {
     out_ = out;
     out_->blocked.clear();
     out_->hit_m.clear();
+    out_->sample_index.clear();
+    out_->cell.clear();
     ref_ = ref;
     next_ref_ = 0;
   }
@@ -254,13 +258,15 @@ struct Recorder {
     if (!active()) return;
     long blocked = 0;
     for (auto b : rays.blocked) blocked += b;
-    const std::size_t bytes = rays.blocked.size() / 8 + 8 + 4 * blocked + 16;
+    const std::size_t bytes = rays.blocked.size() / 8 + 8 + 4 * blocked + 16 + 5 * rays.sample_index.size();
     if (used.fetch_add(bytes) + bytes > budget) {
       over = true;
       return;
     }
     per_side[s].blocked = rays.blocked;
     per_side[s].hit_m = rays.hit_m;
+    per_side[s].sample_index = rays.sample_index;
+    per_side[s].cell = rays.cell;
   }
 };
 
@@ -277,6 +283,19 @@ RayRecords pack_records(const std::vector<SideRays>& per_side) {
   }
   r.blocked.assign((r.ray_begin[ns] + 63) / 64, 0);
   r.hit_m.resize(r.hit_begin[ns]);
+  // Sample indices and cells only if every side has them (Earth cone rays).
+  bool indexed = ns > 0;
+  for (int s = 0; s < ns && indexed; ++s)
+    indexed = per_side[s].sample_index.size() == per_side[s].blocked.size() &&
+              per_side[s].cell.size() == per_side[s].blocked.size();
+  if (indexed) {
+    r.sample_index.reserve(r.ray_begin[ns]);
+    r.cell.reserve(r.ray_begin[ns]);
+    for (int s = 0; s < ns; ++s) {
+      r.sample_index.insert(r.sample_index.end(), per_side[s].sample_index.begin(), per_side[s].sample_index.end());
+      r.cell.insert(r.cell.end(), per_side[s].cell.begin(), per_side[s].cell.end());
+    }
+  }
   for (int s = 0; s < ns; ++s) {
     std::int64_t bit = r.ray_begin[s], hit = r.hit_begin[s];
     for (std::size_t k = 0; k < per_side[s].blocked.size(); ++k, ++bit)
@@ -529,12 +548,33 @@ std::vector<char> may_be_blocked_from_earth(const std::vector<Side>& geo, const 
   return out;
 }
 
+// Earth cone direction cells: 16 x 16 cells of equal solid angle, rows by (1 - cos a) of the
+// angle a to the Earth's centre, columns by azimuth; a ray's cell follows from its two
+// direction coordinates (u_a, u_phi) in (0, 1].
+constexpr int kEarthCellsPerAxis = 16, kEarthCells = kEarthCellsPerAxis * kEarthCellsPerAxis;
+inline std::uint8_t earth_cell(float u_a, float u_phi) {
+  const int i = std::min(kEarthCellsPerAxis - 1, static_cast<int>(u_a * kEarthCellsPerAxis));
+  const int j = std::min(kEarthCellsPerAxis - 1, static_cast<int>(u_phi * kEarthCellsPerAxis));
+  return static_cast<std::uint8_t>(i * kEarthCellsPerAxis + j);
+}
+
+// A trial's shortcut for a side whose every ray kept its reference outcome (the common case:
+// on the sample, 60 % of the Earth rays a trial generated were on such sides): only the rays
+// whose direction cell can reach the changed region are generated and tested; if all are clear
+// the side is replayed from the reference (view factor, error, kept rays) without generating
+// the others. Otherwise it is traced as usual, so results are the same bit for bit.
+struct EarthReplay {
+  const LoadSamples* ref = nullptr;
+  bool need_rays = false;  // copy the reference's kept rays of replayed sides (lighting sums)
+  std::atomic<int>* replayed_sides = nullptr;  // counts the sides replayed so
+};
+
 // `rays` = #sides rays for a side whose view is partly blocked (the pilot decides).
 EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
                      const Eigen::Vector3d& earth_dir_in, double distance_m, const Eigen::VectorXi& side_rays,
                      int pilot_rays, std::uint64_t seed, const tracing::SobolTable& sobol,
                      const std::vector<char>& may_be_blocked, const PassContext& pass,
-                     const std::vector<char>* todo = nullptr, bool flatten = true) {
+                     const std::vector<char>* todo = nullptr, bool flatten = true, const EarthReplay& replay = {}) {
   const int ns = sides.size();
   EarthHits out;
   out.rays.resize(ns);
@@ -551,6 +591,31 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   const Eigen::Vector3f fe = earth_dir.cast<float>(), ft = et.cast<float>(), fu = eu.cast<float>();
   const float one_minus_cos_half = float(1.0 - cos_half);
   const bool recording = pass.recording();
+  // Direction cells (see earth_cell): centre direction and an angular radius that bounds every
+  // direction of the cell (half its polar extent plus its azimuthal arc at its widest polar
+  // angle, with room for float rounding), as cosine and sine.
+  std::array<Eigen::Vector3d, kEarthCells> cell_dir;
+  std::array<double, kEarthCells> cell_cos, cell_sin;
+  for (int i = 0; i < kEarthCellsPerAxis; ++i) {
+    const double a0 = std::acos(1.0 - (1.0 - cos_half) * i / kEarthCellsPerAxis);
+    const double a1 = std::acos(1.0 - (1.0 - cos_half) * (i + 1) / kEarthCellsPerAxis), am = 0.5 * (a0 + a1);
+    for (int j = 0; j < kEarthCellsPerAxis; ++j) {
+      const double ph = 2.0 * kPi * (j + 0.5) / kEarthCellsPerAxis;
+      const int c = i * kEarthCellsPerAxis + j;
+      cell_dir[c] = std::cos(am) * earth_dir + std::sin(am) * (std::cos(ph) * et + std::sin(ph) * eu);
+      const double radius = 0.5 * (a1 - a0) + std::sin(a1) * kPi / kEarthCellsPerAxis + 1e-3;
+      cell_cos[c] = std::cos(radius);
+      cell_sin[c] = std::sin(radius);
+    }
+  }
+  const RayRecords* ref_records = pass.ref_records;
+  const bool can_replay = replay.ref && !recording && pass.change && !pass.change->nothing && ref_records &&
+                          !ref_records->empty() &&
+                          static_cast<std::int64_t>(ref_records->sample_index.size()) == ref_records->ray_begin.back() &&
+                          static_cast<std::int64_t>(ref_records->cell.size()) == ref_records->ray_begin.back() &&
+                          replay.ref->earth_relative_error.size() == replay.ref->earth_view_factor.size();
+  Eigen::AlignedBox3d change_box;  // the changed region, margin included
+  if (can_replay) change_box = Eigen::AlignedBox3d(pass.change->box.min().cast<double>(), pass.change->box.max().cast<double>());
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 16), [&](const tbb::blocked_range<int>& range) {
     SideTracer tracer(scene, /*coherent=*/false, recording, pass.change);
     SideRays rays_out;
@@ -564,21 +629,77 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       const auto sd = side_seeds(seed, sides.key[s], 2);
       const int rays = side_rays[s], pilot = pilot_count(rays, pilot_rays);
       const RecordCursor cursor = pass.cursor(s);
+      // Ray k of this side: origin on the side and direction in the Earth's cone; false if it
+      // points behind the side (not traced, not recorded).
+      auto make_ray = [&](int k, bool origin, float* o, float* d, float& cos_t, float& cos_a, float& sin_a, float& cp,
+                          float& sp) {
+        const auto& q = sobol[k];
+        const float u3 = scrambled(q[2], sd[2]) * one_minus_cos_half;  // 1 - cos(angle to the Earth's centre)
+        cos_a = 1.0f - u3;
+        sin_a = std::sqrt(std::max(0.0f, u3 * (1.0f + cos_a)));
+        ::sincosf(float(2.0 * kPi) * scrambled(q[3], sd[3]), &sp, &cp);
+        for (int i = 0; i < 3; ++i) d[i] = cos_a * fe[i] + sin_a * (cp * ft[i] + sp * fu[i]);
+        cos_t = g.fn[0] * d[0] + g.fn[1] * d[1] + g.fn[2] * d[2];
+        if (cos_t <= 0.0f) return false;
+        if (origin) on_side(g, scrambled(q[0], sd[0]), scrambled(q[1], sd[1]), o);
+        return true;
+      };
+      // (Same blocking decision as the reference's, else its record may hold only the pilot.)
+      if (can_replay && cursor.rec && may_be_blocked[s] &&
+          replay.ref->earth_may_be_blocked.size() == replay.ref->key.size() &&
+          replay.ref->earth_may_be_blocked[(*pass.ref_side)[s]]) {
+        // The cells the change can be seen in from anywhere on the side (a sphere of radius r
+        // about c): within beta = alpha + asin(r / d) of the direction u to the change box's
+        // centre, alpha = the largest angle between u and a box corner seen from c (the box lies
+        // in that cone, a convex one while alpha < pi/2), d = the distance from c to the box.
+        const Eigen::Vector3d c = (g.a + g.b + g.c) / 3.0;
+        const double r = std::max({(g.a - c).norm(), (g.b - c).norm(), (g.c - c).norm()}) + 2.0 * g.offset +
+                         1e-6 * (c.cwiseAbs().maxCoeff() + g.offset) + 1e-9;
+        const double d_box = change_box.exteriorDistance(c);
+        const Eigen::Vector3d u = (change_box.center() - c).normalized();
+        double cos_alpha = 1.0;
+        for (int k = 0; k < 8; ++k)
+          cos_alpha = std::min(cos_alpha, u.dot((change_box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(k)) - c).normalized()));
+        const double beta = d_box > r && cos_alpha > 0.0 ? std::acos(std::min(1.0, cos_alpha)) + std::asin(r / d_box) : kPi;
+        if (beta < 0.5 * kPi) {
+          const double cos_b = std::cos(beta), sin_b = std::sin(beta);
+          std::array<bool, kEarthCells> seen;
+          for (int k = 0; k < kEarthCells; ++k)  // angle(cell, u) <= beta + radius, through cosines
+            seen[k] = cell_dir[k].dot(u) >= cos_b * cell_cos[k] - sin_b * cell_sin[k] - 1e-9;
+          const RayRecords& rec = *cursor.rec;
+          std::int64_t hit = cursor.hit;
+          bool clear = true;
+          for (std::int64_t i = 0; i < cursor.count && clear; ++i) {
+            const bool b = cursor.bit(i);
+            const float t = b ? rec.hit_m[hit++] : kInf;
+            if (!seen[rec.cell[cursor.ray0 + i]]) continue;
+            float o[3], d[3], cos_t, cos_a, sin_a, cp, sp;
+            if (!make_ray(static_cast<int>(rec.sample_index[cursor.ray0 + i]), true, o, d, cos_t, cos_a, sin_a, cp, sp)) {
+              clear = false;  // not the reference's ray: take the usual path
+              break;
+            }
+            clear = pass.change->clear(o, d, t);
+          }
+          if (clear) {
+            const int r_s = (*pass.ref_side)[s];
+            out.replayed[s] = 1;
+            out.view_factor[s] = replay.ref->earth_view_factor[r_s];
+            out.relative_error[s] = replay.ref->earth_relative_error[r_s];
+            if (replay.need_rays) out.rays[s] = replay.ref->earth[r_s];
+            tracer.reused += cursor.count;
+            if (replay.replayed_sides) replay.replayed_sides->fetch_add(1);
+            continue;
+          }
+        }
+      }
       const long traced_before = tracer.traced;
       tracer.begin(&rays_out, cursor);
       cos_theta.clear();
       earth_normal.clear();
       auto add_rays = [&](int from, int to) {
         for (int k = from; k < to; ++k) {
-          const auto& q = sobol[k];
-          const float u3 = scrambled(q[2], sd[2]) * one_minus_cos_half;  // 1 - cos(angle to the Earth's centre)
-          const float cos_a = 1.0f - u3, sin_a = std::sqrt(std::max(0.0f, u3 * (1.0f + cos_a)));
-          float sp, cp;
-          ::sincosf(float(2.0 * kPi) * scrambled(q[3], sd[3]), &sp, &cp);
-          float d[3];
-          for (int i = 0; i < 3; ++i) d[i] = cos_a * fe[i] + sin_a * (cp * ft[i] + sp * fu[i]);
-          const float cos_t = g.fn[0] * d[0] + g.fn[1] * d[1] + g.fn[2] * d[2];
-          if (cos_t <= 0.0f) continue;
+          float o[3], d[3], cos_t, cos_a, sin_a, cp, sp;
+          if (!make_ray(k, may_be_blocked[s] != 0, o, d, cos_t, cos_a, sin_a, cp, sp)) continue;
           // Earth normal at the hit, seen from the body origin (the craft's metres are nothing
           // against the Earth's radius): the ray at angle a from the centre direction meets the
           // sphere at t = D cos a - sqrt(R^2 - D^2 sin^2 a). In double: D^2 ~ 5e13 m^2.
@@ -588,11 +709,14 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
           Eigen::Vector3f n_earth;
           for (int i = 0; i < 3; ++i) n_earth[i] = float(n_axis * fe[i] + n_side * (cp * ft[i] + sp * fu[i]));
           if (may_be_blocked[s]) {
-            float o[3];
-            on_side(g, scrambled(q[0], sd[0]), scrambled(q[1], sd[1]), o);
             tracer.add(o, d);
           } else {
             tracer.add_open();  // exact: no face can meet these rays
+          }
+          if (recording) {
+            const auto& q = sobol[k];
+            rays_out.sample_index.push_back(static_cast<std::uint32_t>(k));
+            rays_out.cell.push_back(earth_cell(scrambled(q[2], sd[2]), scrambled(q[3], sd[3])));
           }
           cos_theta.push_back(cos_t);
           earth_normal.push_back(n_earth);
@@ -1084,9 +1208,11 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     const bool ref_lit = ref && ref->earth_lit_per_step.rows() == steps &&
                          ref->earth_lit_per_step.cols() == static_cast<Eigen::Index>(ref->key.size());
     const PassContext pass = make_pass(ref ? &ref->earth_records : nullptr, &reused_earth_rays, &traced_earth_rays);
+    std::atomic<int> replayed_by_cells{0};
     if (earth_fixed) {
       hits = earth_hits(scene, geo, sides, states[0].earth_direction_body, distance, earth_rays, settings.earth_pilot_rays,
-                        settings.seed, sobol, may_be_blocked, pass, ref ? &earth_todo : nullptr, /*flatten=*/false);
+                        settings.seed, sobol, may_be_blocked, pass, ref ? &earth_todo : nullptr, /*flatten=*/false,
+                        EarthReplay{ref, samples != nullptr || !ref_lit, &replayed_by_cells});
       if (ref)
         for (int s = 0; s < ns; ++s)
           if (!earth_todo[s]) {
@@ -1123,6 +1249,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
           for (const auto& d : dirs[s]) samples->earth[s].emplace_back(1.0f / std::max(1, earth_rays[s]), d);
       escaping = pack_escaping(dirs, earth_rays);
     }
+    if (reuse) reuse->earth_sides_replayed_by_cells = replayed_by_cells.load();
     if (pass.recording() && recorder.active()) samples->earth_records = pack_records(recorded);
     Eigen::VectorXd view_factor, lit_sum(ns);
     // Earth fixed in body axes: per side, sum over its Earth hits of w max(0, n_E . sun) at

@@ -94,9 +94,16 @@ struct RayRecords {
   std::vector<std::uint64_t> blocked;
   std::vector<float> hit_m;
   std::vector<std::int64_t> ray_begin, hit_begin;  //!< #sides + 1 each
+  //! Earth cone rays only (else empty), per ray: its sample index (the rays of a side facing
+  //! away from the Earth's cone are skipped, so the k-th record is not always sample k) and its
+  //! direction cell (16 x 16 equal-solid-angle cells of the cone), so that a trial can regenerate
+  //! only the rays whose directions can reach the change.
+  std::vector<std::uint32_t> sample_index;
+  std::vector<std::uint8_t> cell;
   bool empty() const { return ray_begin.empty(); }
   std::size_t bytes() const {
-    return blocked.size() * 8 + hit_m.size() * 4 + (ray_begin.size() + hit_begin.size()) * 8;
+    return blocked.size() * 8 + hit_m.size() * 4 + (ray_begin.size() + hit_begin.size()) * 8 +
+           sample_index.size() * 4 + cell.size();
   }
 };
 
@@ -155,6 +162,9 @@ struct LoadReuse {
   int reused_earth = 0, total_earth = 0;
   long reused_sun_rays = 0, traced_sun_rays = 0;
   long reused_earth_rays = 0, traced_earth_rays = 0;
+  //! of the sides traced again, those replayed having generated only the rays whose direction
+  //! cell can reach the change (the others kept their reference outcome unseen)
+  int earth_sides_replayed_by_cells = 0;
 };
 
 //! Loads of `model` (whose mesh is scene.mesh() and whose sides are `sides`) in its
