@@ -108,7 +108,8 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
   int scale_passes = 0;
   constexpr int kScaleBackSteps = 6;  // share of the tolerance resolved to 1/64
   while (true) {
-    while (!within(res, tol) && ratios.maxCoeff() > 0.0 && evaluations < o.max_evaluations) {
+    bool stalled = false;  // a back-off step that barely helped: many small contributors
+    while (!within(res, tol) && ratios.maxCoeff() > 0.0 && evaluations < o.max_evaluations && !stalled) {
       std::vector<int> reduced;
       for (int k = 0; k < num_nodes; ++k)
         if (ratios[k] > 0) reduced.push_back(k);
@@ -149,10 +150,18 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       size_t pick = 0;
       for (size_t i = 1; i < reduced.size(); ++i)
         if (loo[i].max_abs_dT_K < loo[pick].max_abs_dT_K) pick = i;  // largest contribution
+      const double excess_before = res.max_abs_dT_K - tol;
       ratios = cand[pick];
       res = loo[pick];
       record(ratios, res, "back off node " + std::to_string(reduced[pick]) + " (contribution " +
                               std::to_string(out.history.back().result.max_abs_dT_K - res.max_abs_dT_K) + " K)");
+      if (!within(res, tol) && o.stall_fraction > 0.0 &&
+          excess_before - (res.max_abs_dT_K - tol) < o.stall_fraction * excess_before) {
+        log("back-off: the largest single contribution removed under " +
+            std::to_string(int(std::lround(100.0 * o.stall_fraction))) +
+            " % of the excess: many nodes add up, scaling their shares of the tolerance back");
+        stalled = true;
+      }
     }
     if (!within(res, tol) && ratios.maxCoeff() > 0.0) {
       // Evaluation budget spent (a large model's leave-one-out step costs one trial per reduced
@@ -165,7 +174,7 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       // a common factor of 0.11 on the backed-off ratios was needed for 0.43 K, 19445 faces).
       // A later pass (its verification failed) starts at m = 1/2, so the passes end at the
       // unreduced model at worst.
-      log("evaluation budget spent while backing off; scaling every node's share of the tolerance back");
+      if (!stalled) log("evaluation budget spent while backing off; scaling every node's share of the tolerance back");
       const Eigen::VectorXd base = ratios;
       auto scaled = [&](double m) {
         Eigen::VectorXd r(num_nodes);
