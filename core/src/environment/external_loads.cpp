@@ -347,6 +347,14 @@ struct Occluders {
   blockers::SphereTree tree;   // over one side per face
 };
 
+// Bounding sphere of a side's ray origins (its triangle lifted by up to its offset, with room
+// for rounding): centre `c`, returns the radius [m].
+double side_bounding_sphere(const Side& g, Eigen::Vector3d& c) {
+  c = (g.a + g.b + g.c) / 3.0;
+  return std::max({(g.a - c).norm(), (g.b - c).norm(), (g.c - c).norm()}) + 2.0 * g.offset +
+         1e-6 * (c.cwiseAbs().maxCoeff() + g.offset) + 1e-9;
+}
+
 Occluders occluders(const std::vector<Side>& geo, const SurfaceSides& sides) {
   const int ns = sides.size();
   Occluders o;
@@ -357,10 +365,7 @@ Occluders occluders(const std::vector<Side>& geo, const SurfaceSides& sides) {
   for (int s = 0; s < ns; ++s) {
     const Side& g = geo[s];
     if (g.area <= 0.0) continue;
-    const Eigen::Vector3d c = (g.a + g.b + g.c) / 3.0;
-    o.centre[s] = c;
-    o.radius[s] = std::max({(g.a - c).norm(), (g.b - c).norm(), (g.c - c).norm()}) + 2.0 * g.offset +
-                  1e-6 * (c.cwiseAbs().maxCoeff() + g.offset) + 1e-9;
+    o.radius[s] = side_bounding_sphere(g, o.centre[s]);
     const int f = sides.face[s];
     if (sides.front_side[f] < 0 || sides.front_side[f] == s) blockers.push_back(s);
   }
@@ -558,6 +563,48 @@ inline std::uint8_t earth_cell(float u_a, float u_phi) {
   return static_cast<std::uint8_t>(i * kEarthCellsPerAxis + j);
 }
 
+// Centre direction of each cell and an angular radius bounding every direction of the cell
+// (half its polar extent plus its azimuthal arc at its widest polar angle, with room for float
+// rounding), as cosine and sine; for an Earth cone of half-angle acos(cos_half) about `axis`
+// with the azimuth frame (t, u) the rays use.
+struct EarthCellTable {
+  std::array<Eigen::Vector3d, kEarthCells> dir;
+  std::array<double, kEarthCells> cos_radius, sin_radius;
+  EarthCellTable(const Eigen::Vector3d& axis, const Eigen::Vector3d& t, const Eigen::Vector3d& u, double cos_half) {
+    for (int i = 0; i < kEarthCellsPerAxis; ++i) {
+      const double a0 = std::acos(1.0 - (1.0 - cos_half) * i / kEarthCellsPerAxis);
+      const double a1 = std::acos(1.0 - (1.0 - cos_half) * (i + 1) / kEarthCellsPerAxis), am = 0.5 * (a0 + a1);
+      for (int j = 0; j < kEarthCellsPerAxis; ++j) {
+        const double ph = 2.0 * kPi * (j + 0.5) / kEarthCellsPerAxis;
+        const int c = i * kEarthCellsPerAxis + j;
+        dir[c] = std::cos(am) * axis + std::sin(am) * (std::cos(ph) * t + std::sin(ph) * u);
+        const double radius = 0.5 * (a1 - a0) + std::sin(a1) * kPi / kEarthCellsPerAxis + 1e-3;
+        cos_radius[c] = std::cos(radius);
+        sin_radius[c] = std::sin(radius);
+      }
+    }
+  }
+};
+
+// Which cells `box` can be seen in from anywhere in the sphere (c, r): within beta = alpha +
+// asin(r / d) of the direction u to the box's centre, alpha = the largest angle between u and
+// a box corner seen from c (the box lies in that cone, a convex one while alpha < pi/2), d =
+// the distance from c to the box. False if that cone is a half-space or more (no use).
+bool cells_seeing_box(const EarthCellTable& cells, const Eigen::Vector3d& c, double r, const Eigen::AlignedBox3d& box,
+                      std::array<bool, kEarthCells>& seen) {
+  const double d_box = box.exteriorDistance(c);
+  const Eigen::Vector3d u = (box.center() - c).normalized();
+  double cos_alpha = 1.0;
+  for (int k = 0; k < 8; ++k)
+    cos_alpha = std::min(cos_alpha, u.dot((box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(k)) - c).normalized()));
+  const double beta = d_box > r && cos_alpha > 0.0 ? std::acos(std::min(1.0, cos_alpha)) + std::asin(r / d_box) : kPi;
+  if (beta >= 0.5 * kPi) return false;
+  const double cos_b = std::cos(beta), sin_b = std::sin(beta);
+  for (int k = 0; k < kEarthCells; ++k)  // angle(cell, u) <= beta + radius, through cosines
+    seen[k] = cells.dir[k].dot(u) >= cos_b * cells.cos_radius[k] - sin_b * cells.sin_radius[k] - 1e-9;
+  return true;
+}
+
 // A trial's shortcut for a side whose every ray kept its reference outcome (the common case:
 // on the sample, 60 % of the Earth rays a trial generated were on such sides): only the rays
 // whose direction cell can reach the changed region are generated and tested; if all are clear
@@ -591,23 +638,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   const Eigen::Vector3f fe = earth_dir.cast<float>(), ft = et.cast<float>(), fu = eu.cast<float>();
   const float one_minus_cos_half = float(1.0 - cos_half);
   const bool recording = pass.recording();
-  // Direction cells (see earth_cell): centre direction and an angular radius that bounds every
-  // direction of the cell (half its polar extent plus its azimuthal arc at its widest polar
-  // angle, with room for float rounding), as cosine and sine.
-  std::array<Eigen::Vector3d, kEarthCells> cell_dir;
-  std::array<double, kEarthCells> cell_cos, cell_sin;
-  for (int i = 0; i < kEarthCellsPerAxis; ++i) {
-    const double a0 = std::acos(1.0 - (1.0 - cos_half) * i / kEarthCellsPerAxis);
-    const double a1 = std::acos(1.0 - (1.0 - cos_half) * (i + 1) / kEarthCellsPerAxis), am = 0.5 * (a0 + a1);
-    for (int j = 0; j < kEarthCellsPerAxis; ++j) {
-      const double ph = 2.0 * kPi * (j + 0.5) / kEarthCellsPerAxis;
-      const int c = i * kEarthCellsPerAxis + j;
-      cell_dir[c] = std::cos(am) * earth_dir + std::sin(am) * (std::cos(ph) * et + std::sin(ph) * eu);
-      const double radius = 0.5 * (a1 - a0) + std::sin(a1) * kPi / kEarthCellsPerAxis + 1e-3;
-      cell_cos[c] = std::cos(radius);
-      cell_sin[c] = std::sin(radius);
-    }
-  }
+  const EarthCellTable cells(earth_dir, et, eu, cos_half);
   const RayRecords* ref_records = pass.ref_records;
   const bool can_replay = replay.ref && !recording && pass.change && !pass.change->nothing && ref_records &&
                           !ref_records->empty() &&
@@ -648,24 +679,10 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       if (can_replay && cursor.rec && may_be_blocked[s] &&
           replay.ref->earth_may_be_blocked.size() == replay.ref->key.size() &&
           replay.ref->earth_may_be_blocked[(*pass.ref_side)[s]]) {
-        // The cells the change can be seen in from anywhere on the side (a sphere of radius r
-        // about c): within beta = alpha + asin(r / d) of the direction u to the change box's
-        // centre, alpha = the largest angle between u and a box corner seen from c (the box lies
-        // in that cone, a convex one while alpha < pi/2), d = the distance from c to the box.
-        const Eigen::Vector3d c = (g.a + g.b + g.c) / 3.0;
-        const double r = std::max({(g.a - c).norm(), (g.b - c).norm(), (g.c - c).norm()}) + 2.0 * g.offset +
-                         1e-6 * (c.cwiseAbs().maxCoeff() + g.offset) + 1e-9;
-        const double d_box = change_box.exteriorDistance(c);
-        const Eigen::Vector3d u = (change_box.center() - c).normalized();
-        double cos_alpha = 1.0;
-        for (int k = 0; k < 8; ++k)
-          cos_alpha = std::min(cos_alpha, u.dot((change_box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(k)) - c).normalized()));
-        const double beta = d_box > r && cos_alpha > 0.0 ? std::acos(std::min(1.0, cos_alpha)) + std::asin(r / d_box) : kPi;
-        if (beta < 0.5 * kPi) {
-          const double cos_b = std::cos(beta), sin_b = std::sin(beta);
-          std::array<bool, kEarthCells> seen;
-          for (int k = 0; k < kEarthCells; ++k)  // angle(cell, u) <= beta + radius, through cosines
-            seen[k] = cell_dir[k].dot(u) >= cos_b * cell_cos[k] - sin_b * cell_sin[k] - 1e-9;
+        Eigen::Vector3d c;
+        const double r = side_bounding_sphere(g, c);
+        std::array<bool, kEarthCells> seen;
+        if (cells_seeing_box(cells, c, r, change_box, seen)) {
           const RayRecords& rec = *cursor.rec;
           std::int64_t hit = cursor.hit;
           bool clear = true;
