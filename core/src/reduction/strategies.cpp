@@ -165,7 +165,8 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
     }
     if (!within(res, tol) && ratios.maxCoeff() > 0.0) {
       // Evaluation budget spent (a large model's leave-one-out step costs one trial per reduced
-      // node): scale back rather than give up the reduction, by bisection on the share m of the
+      // node), or a step stalled (stall_fraction): scale back rather than give up the
+      // reduction, by bisection on the share m of the
       // tolerance each node may spend on its own curve: node k goes to
       // min(its current ratio, feasible_ratio(curve_k, m tol)). Many nodes that each move the
       // model by up to the tolerance add up; a smaller per-node budget keeps the reduction of

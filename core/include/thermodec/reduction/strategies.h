@@ -67,7 +67,8 @@ struct InformedOptions {
 //! prediction). While the combined candidate exceeds the tolerance (coupled nodes make the
 //! prediction optimistic), measures each reduced node's contribution by a leave-one-out
 //! trial (the max_leave_one_out most suspect ones) and backs off the largest contributor one
-//! sample on its curve. Then, while slack
+//! sample on its curve; once the budget is spent, or a step removed under stall_fraction of the
+//! excess (no single culprit), it bisects every node's share of the tolerance. Then, while slack
 //! remains, pushes nodes one sample further in order of smallest predicted increase, keeping
 //! only pushes that stay within tolerance. The returned candidate always passed `verify`
 //! (a full, non-incremental evaluation); if nothing else does, the unreduced model is returned.
