@@ -586,6 +586,13 @@ struct EarthCellTable {
   }
 };
 
+// One Earth cone ray of a side: origin [m] and unit direction (body axes), cosine to the side's
+// normal, angle a to the Earth's centre (cos, sin), azimuth (cos, sin) and direction cell.
+struct EarthRay {
+  float o[3], d[3], cos_t, cos_a, sin_a, cp, sp;
+  std::uint8_t cell;
+};
+
 // Which cells `box` can be seen in from anywhere in the sphere (c, r): within beta = alpha +
 // asin(r / d) of the direction u to the box's centre, alpha = the largest angle between u and
 // a box corner seen from c (the box lies in that cone, a convex one while alpha < pi/2), d =
@@ -660,19 +667,20 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       const auto sd = side_seeds(seed, sides.key[s], 2);
       const int rays = side_rays[s], pilot = pilot_count(rays, pilot_rays);
       const RecordCursor cursor = pass.cursor(s);
-      // Ray k of this side: origin on the side and direction in the Earth's cone; false if it
-      // points behind the side (not traced, not recorded).
-      auto make_ray = [&](int k, bool origin, float* o, float* d, float& cos_t, float& cos_a, float& sin_a, float& cp,
-                          float& sp) {
+      // Ray k of this side: origin on the side (if asked) and direction in the Earth's cone;
+      // false if it points behind the side (not traced, not recorded).
+      auto make_ray = [&](int k, bool origin, EarthRay& ray) {
         const auto& q = sobol[k];
-        const float u3 = scrambled(q[2], sd[2]) * one_minus_cos_half;  // 1 - cos(angle to the Earth's centre)
-        cos_a = 1.0f - u3;
-        sin_a = std::sqrt(std::max(0.0f, u3 * (1.0f + cos_a)));
-        ::sincosf(float(2.0 * kPi) * scrambled(q[3], sd[3]), &sp, &cp);
-        for (int i = 0; i < 3; ++i) d[i] = cos_a * fe[i] + sin_a * (cp * ft[i] + sp * fu[i]);
-        cos_t = g.fn[0] * d[0] + g.fn[1] * d[1] + g.fn[2] * d[2];
-        if (cos_t <= 0.0f) return false;
-        if (origin) on_side(g, scrambled(q[0], sd[0]), scrambled(q[1], sd[1]), o);
+        const float u_a = scrambled(q[2], sd[2]), u_phi = scrambled(q[3], sd[3]);
+        const float u3 = u_a * one_minus_cos_half;  // 1 - cos(angle to the Earth's centre)
+        ray.cos_a = 1.0f - u3;
+        ray.sin_a = std::sqrt(std::max(0.0f, u3 * (1.0f + ray.cos_a)));
+        ::sincosf(float(2.0 * kPi) * u_phi, &ray.sp, &ray.cp);
+        for (int i = 0; i < 3; ++i) ray.d[i] = ray.cos_a * fe[i] + ray.sin_a * (ray.cp * ft[i] + ray.sp * fu[i]);
+        ray.cos_t = g.fn[0] * ray.d[0] + g.fn[1] * ray.d[1] + g.fn[2] * ray.d[2];
+        if (ray.cos_t <= 0.0f) return false;
+        if (origin) on_side(g, scrambled(q[0], sd[0]), scrambled(q[1], sd[1]), ray.o);
+        ray.cell = earth_cell(u_a, u_phi);
         return true;
       };
       // (Same blocking decision as the reference's, else its record may hold only the pilot.)
@@ -690,12 +698,12 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
             const bool b = cursor.bit(i);
             const float t = b ? rec.hit_m[hit++] : kInf;
             if (!seen[rec.cell[cursor.ray0 + i]]) continue;
-            float o[3], d[3], cos_t, cos_a, sin_a, cp, sp;
-            if (!make_ray(static_cast<int>(rec.sample_index[cursor.ray0 + i]), true, o, d, cos_t, cos_a, sin_a, cp, sp)) {
+            EarthRay ray;
+            if (!make_ray(static_cast<int>(rec.sample_index[cursor.ray0 + i]), true, ray)) {
               clear = false;  // not the reference's ray: take the usual path
               break;
             }
-            clear = pass.change->clear(o, d, t);
+            clear = pass.change->clear(ray.o, ray.d, t);
           }
           if (clear) {
             const int r_s = (*pass.ref_side)[s];
@@ -715,27 +723,26 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       earth_normal.clear();
       auto add_rays = [&](int from, int to) {
         for (int k = from; k < to; ++k) {
-          float o[3], d[3], cos_t, cos_a, sin_a, cp, sp;
-          if (!make_ray(k, may_be_blocked[s] != 0, o, d, cos_t, cos_a, sin_a, cp, sp)) continue;
+          EarthRay ray;
+          if (!make_ray(k, may_be_blocked[s] != 0, ray)) continue;
           // Earth normal at the hit, seen from the body origin (the craft's metres are nothing
           // against the Earth's radius): the ray at angle a from the centre direction meets the
           // sphere at t = D cos a - sqrt(R^2 - D^2 sin^2 a). In double: D^2 ~ 5e13 m^2.
-          const double ca = cos_a, sa = sin_a;
+          const double ca = ray.cos_a, sa = ray.sin_a;
           const double t_hit = distance_m * ca - std::sqrt(std::max(0.0, R2 - distance_m * distance_m * sa * sa));
           const double n_axis = (t_hit * ca - distance_m) / kEarthRadius_m, n_side = t_hit * sa / kEarthRadius_m;
           Eigen::Vector3f n_earth;
-          for (int i = 0; i < 3; ++i) n_earth[i] = float(n_axis * fe[i] + n_side * (cp * ft[i] + sp * fu[i]));
+          for (int i = 0; i < 3; ++i) n_earth[i] = float(n_axis * fe[i] + n_side * (ray.cp * ft[i] + ray.sp * fu[i]));
           if (may_be_blocked[s]) {
-            tracer.add(o, d);
+            tracer.add(ray.o, ray.d);
           } else {
             tracer.add_open();  // exact: no face can meet these rays
           }
           if (recording) {
-            const auto& q = sobol[k];
             rays_out.sample_index.push_back(static_cast<std::uint32_t>(k));
-            rays_out.cell.push_back(earth_cell(scrambled(q[2], sd[2]), scrambled(q[3], sd[3])));
+            rays_out.cell.push_back(ray.cell);
           }
-          cos_theta.push_back(cos_t);
+          cos_theta.push_back(ray.cos_t);
           earth_normal.push_back(n_earth);
         }
         tracer.flush();
