@@ -102,7 +102,10 @@ void orthonormal_frame(const Eigen::Vector3d& n, Eigen::Vector3d& t, Eigen::Vect
 // The changed region of a trial as the ray tests see it: a float box grown by a margin that
 // covers the slab test's rounding, so "does not enter" is never wrong.
 // With `exact` (a scene of just the removed and added faces), a ray that enters the box is
-// still clear if it meets none of those faces up to (just past) t_stop.
+// still clear if it meets none of those faces up to (just past) t_stop (`clear`). A ray that
+// is going to be traced anyway if it fails (SideTracer) asks only the box (`clear_of_box`):
+// an occlusion query in the candidate scene settles it for about what the exact query costs
+// (measured, loads of 13 trials: sample -17 %, tdrs -14 %), and is always right.
 struct ChangeBox {
   bool nothing = true;  // nothing changed: every recorded ray is reusable
   Eigen::AlignedBox3f box;
@@ -120,11 +123,15 @@ struct ChangeBox {
   }
   // True if the ray o + t d (unit d) stays out of the region for t in [0, t_stop] (t_stop =
   // +inf: the whole half-line, NaN: only if it never enters).
-  bool clear(const float* o, const float* d, float t_stop) const {
+  bool clear_of_box(const float* o, const float* d, float t_stop) const {
     if (nothing) return true;
     const float entry = tracing::ray_box_entry(o, d, box);
     const float reach = t_stop * (1.0f + 1e-4f) + margin;  // +inf for an escaped ray, NaN unknown
-    if (entry == kInf || entry > reach) return true;
+    return entry == kInf || entry > reach;
+  }
+  bool clear(const float* o, const float* d, float t_stop) const {
+    if (clear_of_box(o, d, t_stop)) return true;
+    const float reach = t_stop * (1.0f + 1e-4f) + margin;
     // note: an added face cannot unblock a ray and a removed one cannot block it, so "meets
     // no changed face before its blocker" is exact for both; NaN (blocker distance unknown)
     // stays "not clear".
@@ -182,7 +189,7 @@ class SideTracer {
     if (static_cast<std::int64_t>(i) < ref_.count) {
       const bool b = ref_.bit(next_ref_++);
       const float t = b ? ref_.rec->hit_m[ref_.hit++] : kInf;
-      if (change_->clear(o, d, t)) {
+      if (change_->clear_of_box(o, d, t)) {
         out_->blocked.push_back(b);
         if (record_) out_->hit_m.push_back(t);
         ++reused;
