@@ -385,7 +385,7 @@ Mesh changed_triangles(const ReuseCase& c) {
 TEST(LoadReuse, the_changed_faces_themselves_reuse_more_and_still_equal_a_full_recompute) {
   // With LoadReuse::changed_faces, sides are tested against the changed triangles (sphere
   // tree) instead of their box: fewer rays traced, the same loads bit for bit. (Single rays
-  // that enter the box are traced in the candidate scene either way: ChangeBox::clear_of_box.)
+  // that enter the box are traced at once in a candidate this small: ChangeBox::clear_before_tracing.)
   const ExternalLoadSettings s = small_budgets();
   long traced_exact = 0, traced_box_only = 0;
   for (const char* name : {"body_pz", "wing_py", "dish"}) {

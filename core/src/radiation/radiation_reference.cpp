@@ -58,12 +58,6 @@ std::uint32_t oct_encode(const float* d);
 // Above this many changed faces, a side's rays are tested against the box of all of them
 // instead of the box of those it can reach (a loop over them per side).
 constexpr std::size_t kMaxRefinedFaces = 4096;
-// A ray entering the changed box is first tested exactly against the changed faces (a small
-// scene) only in candidates above this many faces; in smaller ones it is traced at once. A
-// closest-hit query in a small candidate scene costs about what the exact test does (sample,
-// 882 faces: couplings of 13 trials -10 % without it); in a large one it costs more (tdrs,
-// 19993 faces: +25 % without it).
-constexpr int kExactTestMinFaces = 4096;
 constexpr int kCellBits = 4, kCellsPerAxis = 1 << kCellBits, kCells = kCellsPerAxis * kCellsPerAxis;
 // Direction cell of an octahedral code: the top kCellBits bits of each coordinate.
 inline int oct_cell(std::uint32_t code) {
@@ -303,7 +297,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
   const auto sobol_table = tracing::shared_sobol_table(S ? rays.maxCoeff() : 0);
   const tracing::SobolTable& sobol = *sobol_table;
   const bool records = !ref.records.empty();
-  const bool exact_test = candidate.mesh.num_faces() > kExactTestMinFaces;
+  const bool exact_test = tracing::exact_change_test_pays(candidate.mesh.num_faces());
   detail::SideRows rows(S);
   std::atomic<std::int64_t> retraced{0};
   std::atomic<int> bookkeeping_failures{0};
