@@ -169,6 +169,7 @@ void oct_decode(std::uint32_t code, float* d) {
 struct CellCone {
   Eigen::Vector3f axis;
   float cos_radius;
+  float radius;  // acos(cos_radius) [rad]
 };
 const std::array<CellCone, kCells>& cell_cones() {
   static const std::array<CellCone, kCells> cones = [] {
@@ -193,12 +194,37 @@ const std::array<CellCone, kCells>& cell_cones() {
             worst = std::min(worst, axis.dot(dir(u, v)));
         }
         const float radius = std::acos(std::clamp(worst, -1.0f, 1.0f)) * 1.1f + 0.02f;
-        out[cu + kCellsPerAxis * cv] = {axis, std::cos(std::min(radius, 3.14159265f))};
+        const float r = std::min(radius, 3.14159265f);
+        out[cu + kCellsPerAxis * cv] = {axis, std::cos(r), std::acos(std::cos(r))};
       }
     return out;
   }();
   return cones;
 }
+
+// A sphere (centre, radius) as seen from the rays leaving an apex sphere: direction and the
+// angle it can take up. seen_from(cone): can a ray from the apex sphere with a direction in
+// the cell's cone meet it, i.e. angle(axis, to target) <= cone radius + asin(reach / dist)
+// (conservative: + 1e-4 rad for float rounding).
+struct ConeTarget {
+  Eigen::Vector3f dir = Eigen::Vector3f::Zero();
+  float spread = 0.0f;  // asin(reach / dist) [rad]
+  bool inside = true;   // the apex sphere touches the target: every direction can meet it
+  ConeTarget() = default;
+  ConeTarget(const Eigen::Vector3f& apex, float apex_radius, const Eigen::Vector3f& centre, float radius) {
+    const Eigen::Vector3f to = centre - apex;
+    const float dist = to.norm(), reach = apex_radius + radius;
+    inside = dist <= reach;
+    if (inside) return;
+    dir = to / dist;
+    spread = std::asin(std::min(1.0f, reach / dist));
+  }
+  bool seen_from(const CellCone& cone) const {
+    if (inside) return true;
+    const float a = std::acos(std::clamp(cone.axis.dot(dir), -1.0f, 1.0f));
+    return a <= cone.radius + spread + 1e-4f;
+  }
+};
 
 void extend_by_face(Eigen::AlignedBox3d& box, const Mesh& mesh, int f) {
   for (int k = 0; k < 3; ++k) box.extend(Eigen::Vector3d(mesh.V.row(mesh.F(f, k))));
@@ -388,24 +414,41 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
           return tracing::ray_box_entry(centre, d, grown) <= len;
         };
         // Only the direction cells whose cone, cast from the side's bounding sphere, can meet the
-        // box's bounding sphere hold rays worth looking at.
+        // box hold rays worth looking at: first against the box's bounding sphere, then, for the
+        // cells that pass, against the bounding spheres of up to 4 x 4 x 4 equal parts of it
+        // (one of them must pass). The parts follow the box's shape: a flat panel's box is
+        // split along its two long sides only, and its 16 parts' spheres leave out the cells
+        // that only the whole box's sphere could see (those along the panel's plane).
         const std::uint32_t* ray_of = ref.ray_order.data() + ref.record_begin[r];
         const std::int32_t* cb = ref.cell_begin.data() + std::size_t(r) * (kCells + 1);
         subset.clear();
         {
-          const Eigen::Vector3f to_box = (sbox_centre - centre_d).cast<float>();
-          const float dist = to_box.norm();
-          const float reach_r = radius + 0.5f * sbox.diagonal().norm();
           const auto& cones = cell_cones();
+          const Eigen::Vector3f apex = centre_d.cast<float>();
+          const Eigen::Vector3f ext = sbox.sizes();
+          const float longest = ext.maxCoeff();
+          int parts[3];
+          for (int k = 0; k < 3; ++k)
+            parts[k] = longest > 0.0f ? std::clamp(static_cast<int>(std::ceil(4.0f * ext[k] / longest - 0.5f)), 1, 4) : 1;
+          const Eigen::Vector3f step(ext.x() / parts[0], ext.y() / parts[1], ext.z() / parts[2]);
+          // (plus float rounding of the parts' centres)
+          const float part_r = 0.5f * step.norm() * (1.0f + 1e-5f) +
+                               1e-6f * std::max(sbox.min().cwiseAbs().maxCoeff(), sbox.max().cwiseAbs().maxCoeff());
+          std::array<ConeTarget, 64> part;
+          int num_parts = 0;
+          for (int i = 0; i < parts[0]; ++i)
+            for (int j = 0; j < parts[1]; ++j)
+              for (int k = 0; k < parts[2]; ++k) {
+                const Eigen::Vector3f c = sbox.min() + step.cwiseProduct(Eigen::Vector3f(i + 0.5f, j + 0.5f, k + 0.5f));
+                part[num_parts++] = ConeTarget(apex, radius, c, part_r);
+              }
+          const ConeTarget whole(apex, radius, sbox.center(), 0.5f * sbox.diagonal().norm());
           for (int cell = 0; cell < kCells; ++cell) {
             if (cb[cell + 1] == cb[cell]) continue;
-            bool pass = dist <= reach_r;
-            if (!pass) {
-              // angle(axis, to_box) <= cone radius + asin(reach_r / dist)
-              const float cos_a = cones[cell].axis.dot(to_box) / dist;
-              const float a = std::acos(std::clamp(cos_a, -1.0f, 1.0f));
-              const float lim = std::acos(cones[cell].cos_radius) + std::asin(std::min(1.0f, reach_r / dist)) + 1e-4f;
-              pass = a <= lim;
+            bool pass = whole.seen_from(cones[cell]);
+            if (pass && num_parts > 1) {
+              pass = false;
+              for (int q = 0; q < num_parts && !pass; ++q) pass = part[q].seen_from(cones[cell]);
             }
             if (pass)
               for (std::int32_t k = cb[cell]; k < cb[cell + 1]; ++k) subset.push_back(static_cast<std::uint32_t>(k));
