@@ -212,6 +212,17 @@ class SideTracer {
     r.time = 0.0f; r.mask = 0xFFFFFFFFu; r.id = 0; r.flags = 0;
     if (n_ == kChunk) flush();
   }
+  // The next ray keeps its reference outcome without being looked at (a conservative test
+  // said it cannot reach the change); false if the record has no such ray (add() it instead).
+  bool add_reused() {
+    if (static_cast<std::int64_t>(out_->blocked.size()) >= ref_.count) return false;
+    const bool b = ref_.bit(next_ref_++);
+    const float t = b ? ref_.rec->hit_m[ref_.hit++] : kInf;
+    out_->blocked.push_back(b);
+    if (record_) out_->hit_m.push_back(t);
+    ++reused;
+    return true;
+  }
   // A ray known to be unblocked without tracing (a conservative geometric test said so).
   void add_open() {
     if (static_cast<std::int64_t>(out_->blocked.size()) < ref_.count && ref_.bit(next_ref_++)) ++ref_.hit;
@@ -696,13 +707,17 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
         return true;
       };
       // (Same blocking decision as the reference's, else its record may hold only the pilot.)
+      // `seen`: the cells whose rays may reach the change; the others keep their reference
+      // outcome, also when the side is traced again below.
+      std::array<bool, kEarthCells> seen;
+      bool have_seen = false;
       if (can_replay && cursor.rec && may_be_blocked[s] &&
           replay.ref->earth_may_be_blocked.size() == replay.ref->key.size() &&
           replay.ref->earth_may_be_blocked[(*pass.ref_side)[s]]) {
         Eigen::Vector3d c;
         const double r = side_bounding_sphere(g, c);
-        std::array<bool, kEarthCells> seen;
-        if (cells_seeing_box(cells, c, r, change_box, seen)) {
+        have_seen = cells_seeing_box(cells, c, r, change_box, seen);
+        if (have_seen) {
           const RayRecords& rec = *cursor.rec;
           std::int64_t hit = cursor.hit;
           bool clear = true;
@@ -736,7 +751,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
       auto add_rays = [&](int from, int to) {
         for (int k = from; k < to; ++k) {
           EarthRay ray;
-          if (!make_ray(k, may_be_blocked[s] != 0, ray)) continue;
+          if (!make_ray(k, false, ray)) continue;
           // Earth normal at the hit, seen from the body origin (the craft's metres are nothing
           // against the Earth's radius): the ray at angle a from the centre direction meets the
           // sphere at t = D cos a - sqrt(R^2 - D^2 sin^2 a). In double: D^2 ~ 5e13 m^2.
@@ -746,7 +761,10 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
           Eigen::Vector3f n_earth;
           for (int i = 0; i < 3; ++i) n_earth[i] = float(n_axis * fe[i] + n_side * (ray.cp * ft[i] + ray.sp * fu[i]));
           if (may_be_blocked[s]) {
-            tracer.add(ray.o, ray.d);
+            if (!(have_seen && !seen[ray.cell] && tracer.add_reused())) {
+              on_side(g, scrambled(sobol[k][0], sd[0]), scrambled(sobol[k][1], sd[1]), ray.o);
+              tracer.add(ray.o, ray.d);
+            }
           } else {
             tracer.add_open();  // exact: no face can meet these rays
           }
