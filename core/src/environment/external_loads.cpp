@@ -196,7 +196,7 @@ class SideTracer {
       const float t = b ? ref_.rec->hit_m[ref_.hit++] : kInf;
       if (change_->clear_before_tracing(o, d, t)) {
         out_->blocked.push_back(b);
-        if (record_) out_->hit_m.push_back(t);
+        if (record_) out_->hit_m.insert(out_->hit_m.end(), 1, t);  // (push_back: gcc 12's false -Wdangling-pointer)
         ++reused;
         return;
       }
