@@ -168,8 +168,7 @@ void oct_decode(std::uint32_t code, float* d) {
 // the octahedral map between samples and for the code's own error).
 struct CellCone {
   Eigen::Vector3f axis;
-  float cos_radius;
-  float radius;  // acos(cos_radius) [rad]
+  float radius;  // [rad]
 };
 const std::array<CellCone, kCells>& cell_cones() {
   static const std::array<CellCone, kCells> cones = [] {
@@ -195,7 +194,7 @@ const std::array<CellCone, kCells>& cell_cones() {
         }
         const float radius = std::acos(std::clamp(worst, -1.0f, 1.0f)) * 1.1f + 0.02f;
         const float r = std::min(radius, 3.14159265f);
-        out[cu + kCellsPerAxis * cv] = {axis, std::cos(r), std::acos(std::cos(r))};
+        out[cu + kCellsPerAxis * cv] = {axis, r};
       }
     return out;
   }();
