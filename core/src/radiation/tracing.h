@@ -11,6 +11,7 @@
 #include <mutex>
 #include <vector>
 
+#include "coincident_faces.h"
 #include "ray_scene_impl.h"
 #include "sampling.h"
 #include "thermodec/radiation/surface_sides.h"
@@ -88,18 +89,87 @@ struct PrimInfo {
   float n[3];
   int front;  // side index of the face's front
   int back;   // side index of its back, -1 if one-sided
+  int coincident_begin = 0, coincident_end = 0;  // its partners in PrimTable::coincident
 };
-using PrimTable = std::vector<PrimInfo>;
+//! The hit classification of a scene: per primitive its PrimInfo and, for primitives that
+//! overlap others in one plane (coincident_faces.h), those partners, their triangles and a
+//! stable identity, so that a hit on such a group is resolved the same in every scene.
+struct PrimTable {
+  std::vector<PrimInfo> info;
+  std::vector<int> coincident;                 // partner primitives (CSR, see PrimInfo)
+  std::vector<std::array<float, 12>> triangle;  // per primitive: a, b, c, N / |N|^2 (N = (b - a) x (c - a))
+  std::vector<std::uint64_t> key;              // per primitive: its front side's key
+  const PrimInfo& operator[](std::size_t p) const { return info[p]; }
+  std::size_t size() const { return info.size(); }
+};
 
 inline PrimTable prim_table(const RayScene::Impl& scene, const SurfaceSides& sides) {
-  PrimTable t(scene.face_of_prim.size());
-  for (std::size_t p = 0; p < t.size(); ++p) {
+  PrimTable t;
+  t.info.resize(scene.face_of_prim.size());
+  const detail::CoincidentPrims co = detail::coincident_prims(scene);
+  t.coincident = co.list;
+  if (!co.list.empty()) {
+    t.triangle.resize(t.info.size());
+    t.key.resize(t.info.size());
+  }
+  for (std::size_t p = 0; p < t.info.size(); ++p) {
     const int f = scene.face_of_prim[p];
-    for (int k = 0; k < 3; ++k) t[p].n[k] = scene.prim_normal[3 * p + k];
-    t[p].front = sides.front_side[f];
-    t[p].back = sides.back_side[f];
+    for (int k = 0; k < 3; ++k) t.info[p].n[k] = scene.prim_normal[3 * p + k];
+    t.info[p].front = sides.front_side[f];
+    t.info[p].back = sides.back_side[f];
+    t.info[p].coincident_begin = co.begin[p];
+    t.info[p].coincident_end = co.begin[p + 1];
+    if (co.list.empty()) continue;
+    Eigen::Vector3f v[3];
+    for (int k = 0; k < 3; ++k) v[k] = scene.mesh.V.row(scene.mesh.F(f, k)).transpose().cast<float>();
+    const Eigen::Vector3f N = (v[1] - v[0]).cross(v[2] - v[0]);
+    const Eigen::Vector3f Ns = N / std::max(N.squaredNorm(), std::numeric_limits<float>::min());
+    for (int k = 0; k < 3; ++k)
+      for (int j = 0; j < 3; ++j) t.triangle[p][3 * k + j] = v[k][j];
+    for (int j = 0; j < 3; ++j) t.triangle[p][9 + j] = Ns[j];
+    t.key[p] = sides.key[sides.front_side[f]];
   }
   return t;
+}
+
+//! A ray o + t d reached primitive `hit` at distance t. If that primitive overlaps others in
+//! its plane, the hit goes to the member of the group that contains the hit point and takes
+//! the ray (its front faces the ray, or it has a back side) with the smallest key; if none
+//! takes it (all are one-sided backs), `hit` is returned and the caller lets the ray pass.
+//! The choice depends only on the group's faces, not on which of them Embree reported.
+inline unsigned resolve_coincident(const PrimTable& prims, unsigned hit, const float* o, const float* d, float t) {
+  const PrimInfo& h = prims[hit];
+  if (h.coincident_begin == h.coincident_end) return hit;
+  const float p[3] = {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]};
+  auto contains = [&](unsigned q) {
+    const auto& tr = prims.triangle[q];
+    const float* N = tr.data() + 9;
+    float w_sum = 0.0f;
+    for (int k = 0; k < 2; ++k) {  // barycentric weights of corners k = 0, 1 (the third closes the sum)
+      const float* b = tr.data() + 3 * ((k + 1) % 3);
+      const float* c = tr.data() + 3 * ((k + 2) % 3);
+      const float e[3] = {c[0] - b[0], c[1] - b[1], c[2] - b[2]}, q2[3] = {p[0] - b[0], p[1] - b[1], p[2] - b[2]};
+      const float cr[3] = {e[1] * q2[2] - e[2] * q2[1], e[2] * q2[0] - e[0] * q2[2], e[0] * q2[1] - e[1] * q2[0]};
+      const float w = cr[0] * N[0] + cr[1] * N[1] + cr[2] * N[2];
+      if (w < -1e-5f) return false;
+      w_sum += w;
+    }
+    return 1.0f - w_sum >= -1e-5f;
+  };
+  auto takes = [&](unsigned q) {
+    const PrimInfo& pi = prims[q];
+    return !(d[0] * pi.n[0] + d[1] * pi.n[1] + d[2] * pi.n[2] > 0.0f) || pi.back >= 0;
+  };
+  unsigned best = hit;
+  bool found = false;
+  auto consider = [&](unsigned q) {
+    if (!takes(q) || !contains(q)) return;
+    if (!found || prims.key[q] < prims.key[best] || (prims.key[q] == prims.key[best] && q < best)) best = q;
+    found = true;
+  };
+  consider(hit);
+  for (int k = h.coincident_begin; k < h.coincident_end; ++k) consider(static_cast<unsigned>(prims.coincident[k]));
+  return best;
 }
 
 //! Accept-all ray filter.
@@ -154,6 +224,10 @@ void trace_emitter(const RayScene::Impl& scene, const PrimTable& prims, const sa
       // never gets here; an open one (e.g. a CAD sheet exported one-sided) stays reciprocal.
       for (int pass = 0; pass < 64; ++pass) {
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+        if (!prims.coincident.empty()) {
+          const float o[3] = {rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, dd[3] = {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z};
+          rh.hit.primID = resolve_coincident(prims, rh.hit.primID, o, dd, rh.ray.tfar);
+        }
         const PrimInfo& pi = prims[rh.hit.primID];
         const bool from_back = rh.ray.dir_x * pi.n[0] + rh.ray.dir_y * pi.n[1] + rh.ray.dir_z * pi.n[2] > 0.0f;
         if (!from_back || pi.back >= 0) break;
