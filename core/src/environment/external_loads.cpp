@@ -125,22 +125,24 @@ struct ChangeBox {
   }
   // True if the ray o + t d (unit d) stays out of the region for t in [0, t_stop] (t_stop =
   // +inf: the whole half-line, NaN: only if it never enters).
+  // How far along the ray the region counts: up to just past its blocker (+inf for an
+  // escaped ray, NaN if the blocker's distance is unknown).
+  float reach(float t_stop) const { return t_stop * (1.0f + 1e-4f) + margin; }
   bool clear_of_box(const float* o, const float* d, float t_stop) const {
     if (nothing) return true;
     const float entry = tracing::ray_box_entry(o, d, box);
-    const float reach = t_stop * (1.0f + 1e-4f) + margin;  // +inf for an escaped ray, NaN unknown
-    return entry == kInf || entry > reach;
+    return entry == kInf || entry > reach(t_stop);
   }
   bool clear_before_tracing(const float* o, const float* d, float t_stop) const {
     return exact_before_tracing ? clear(o, d, t_stop) : clear_of_box(o, d, t_stop);
   }
   bool clear(const float* o, const float* d, float t_stop) const {
     if (clear_of_box(o, d, t_stop)) return true;
-    const float reach = t_stop * (1.0f + 1e-4f) + margin;
+    const float r = reach(t_stop);
     // note: an added face cannot unblock a ray and a removed one cannot block it, so "meets
     // no changed face before its blocker" is exact for both; NaN (blocker distance unknown)
     // stays "not clear".
-    return exact && !std::isnan(reach) && !tracing::segment_meets(*exact, o, d, reach);
+    return exact && !std::isnan(r) && !tracing::segment_meets(*exact, o, d, r);
   }
 };
 
@@ -195,9 +197,7 @@ class SideTracer {
       const bool b = ref_.bit(next_ref_++);
       const float t = b ? ref_.rec->hit_m[ref_.hit++] : kInf;
       if (change_->clear_before_tracing(o, d, t)) {
-        out_->blocked.push_back(b);
-        if (record_) out_->hit_m.insert(out_->hit_m.end(), 1, t);  // (push_back: gcc 12's false -Wdangling-pointer)
-        ++reused;
+        keep_reference(b, t);
         return;
       }
     }
@@ -217,10 +217,7 @@ class SideTracer {
   bool add_reused() {
     if (static_cast<std::int64_t>(out_->blocked.size()) >= ref_.count) return false;
     const bool b = ref_.bit(next_ref_++);
-    const float t = b ? ref_.rec->hit_m[ref_.hit++] : kInf;
-    out_->blocked.push_back(b);
-    if (record_) out_->hit_m.push_back(t);
-    ++reused;
+    keep_reference(b, b ? ref_.rec->hit_m[ref_.hit++] : kInf);
     return true;
   }
   // A ray known to be unblocked without tracing (a conservative geometric test said so).
@@ -256,6 +253,12 @@ class SideTracer {
   long reused = 0, traced = 0;
 
  private:
+  // The next ray's outcome is the reference's: blocked flag and blocker distance `t` [m].
+  void keep_reference(bool b, float t) {
+    out_->blocked.push_back(b);
+    if (record_) out_->hit_m.insert(out_->hit_m.end(), 1, t);  // (push_back: gcc 12's false -Wdangling-pointer)
+    ++reused;
+  }
   RTCScene scene_;
   RTCIntersectContext ctx_;
   bool record_;

@@ -91,6 +91,11 @@ struct PrimInfo {
   int back;   // side index of its back, -1 if one-sided
   int coincident_begin = 0, coincident_end = 0;  // its partners in PrimTable::coincident
 };
+//! Whether a ray along `d` stops on the primitive: it meets its front, or its face has a back
+//! side (the back of a one-sided face neither emits nor absorbs: the ray passes on).
+inline bool takes_ray(const PrimInfo& pi, const float* d) {
+  return !(d[0] * pi.n[0] + d[1] * pi.n[1] + d[2] * pi.n[2] > 0.0f) || pi.back >= 0;
+}
 //! The hit classification of a scene: per primitive its PrimInfo and, for primitives that
 //! overlap others in one plane (coincident_faces.h), those partners, their triangles and a
 //! stable identity, so that a hit on such a group is resolved the same in every scene.
@@ -106,9 +111,9 @@ struct PrimTable {
 inline PrimTable prim_table(const RayScene::Impl& scene, const SurfaceSides& sides) {
   PrimTable t;
   t.info.resize(scene.face_of_prim.size());
-  const detail::CoincidentPrims co = detail::coincident_prims(scene);
-  t.coincident = co.list;
-  if (!co.list.empty()) {
+  detail::CoincidentPrims co = detail::coincident_prims(scene);
+  t.coincident = std::move(co.list);
+  if (!t.coincident.empty()) {
     t.triangle.resize(t.info.size());
     t.key.resize(t.info.size());
   }
@@ -119,7 +124,7 @@ inline PrimTable prim_table(const RayScene::Impl& scene, const SurfaceSides& sid
     t.info[p].back = sides.back_side[f];
     t.info[p].coincident_begin = co.begin[p];
     t.info[p].coincident_end = co.begin[p + 1];
-    if (co.list.empty()) continue;
+    if (t.coincident.empty()) continue;
     Eigen::Vector3f v[3];
     for (int k = 0; k < 3; ++k) v[k] = scene.mesh.V.row(scene.mesh.F(f, k)).transpose().cast<float>();
     const Eigen::Vector3f N = (v[1] - v[0]).cross(v[2] - v[0]);
@@ -156,14 +161,10 @@ inline unsigned resolve_coincident(const PrimTable& prims, unsigned hit, const f
     }
     return 1.0f - w_sum >= -1e-5f;
   };
-  auto takes = [&](unsigned q) {
-    const PrimInfo& pi = prims[q];
-    return !(d[0] * pi.n[0] + d[1] * pi.n[1] + d[2] * pi.n[2] > 0.0f) || pi.back >= 0;
-  };
   unsigned best = hit;
   bool found = false;
   auto consider = [&](unsigned q) {
-    if (!takes(q) || !contains(q)) return;
+    if (!takes_ray(prims[q], d) || !contains(q)) return;
     if (!found || prims.key[q] < prims.key[best] || (prims.key[q] == prims.key[best] && q < best)) best = q;
     found = true;
   };
@@ -224,13 +225,12 @@ void trace_emitter(const RayScene::Impl& scene, const PrimTable& prims, const sa
       // never gets here; an open one (e.g. a CAD sheet exported one-sided) stays reciprocal.
       for (int pass = 0; pass < 64; ++pass) {
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+        const float dir[3] = {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z};
         if (!prims.coincident.empty()) {
-          const float o[3] = {rh.ray.org_x, rh.ray.org_y, rh.ray.org_z}, dd[3] = {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z};
-          rh.hit.primID = resolve_coincident(prims, rh.hit.primID, o, dd, rh.ray.tfar);
+          const float o[3] = {rh.ray.org_x, rh.ray.org_y, rh.ray.org_z};
+          rh.hit.primID = resolve_coincident(prims, rh.hit.primID, o, dir, rh.ray.tfar);
         }
-        const PrimInfo& pi = prims[rh.hit.primID];
-        const bool from_back = rh.ray.dir_x * pi.n[0] + rh.ray.dir_y * pi.n[1] + rh.ray.dir_z * pi.n[2] > 0.0f;
-        if (!from_back || pi.back >= 0) break;
+        if (takes_ray(prims[rh.hit.primID], dir)) break;
         crossed = true;
         const float t = rh.ray.tfar;
         rh.ray.tnear = t + std::max(1e-6f * t, 1e-30f);
