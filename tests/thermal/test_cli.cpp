@@ -93,7 +93,7 @@ TEST(SimulateCli, refuses_to_overwrite_its_input) {
 
 TEST(SimulateCli, noise_floor_reports_max_difference_between_seeds_and_run_time) {
   const fs::path d = temp_dir("noise");
-  ASSERT_EQ(run("simulate -q " + kSatellite.string() + " --noise-floor --noise-runs 3 --rays 500 --earth-rays 512 "
+  ASSERT_EQ(run("simulate -q " + kSatellite.string() + " --noise-floor --noise-runs 3 --rays 500 --earth-rays 512 --noise-budget 2 "
                 "--json " + (d / "n.json").string(),
                 d / "out.txt"),
             0)

@@ -1221,8 +1221,20 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       last_dir = st.sun_direction_body;
     }
     if (samples) samples->sunlit.col(k) = lit;
-    for (int s = 0; s < ns; ++s)
-      incident_direct(s, k) = flux * geo[s].area * std::max(0.0, geo[s].normal.dot(st.sun_direction_body)) * lit[s];
+    for (int s = 0; s < ns; ++s) {
+      const double full = flux * geo[s].area * std::max(0.0, geo[s].normal.dot(st.sun_direction_body));
+      incident_direct(s, k) = full * lit[s];
+      // Shadow-sample error of a partly lit side (lit share p of N scrambled-net points): a
+      // shadow edge is a smooth curve on the face, which cuts ~sqrt(N) of the net's N strata,
+      // each an error of at most 1/N: sigma_p ~ sqrt(p (1 - p)) N^-3/4 (Owen's N^-3/4 for
+      // such indicators), not the binomial sqrt(p (1 - p) / N), which overstated the measured
+      // seed-to-seed differences ~16x (docs/thermal.md, sessions 3 and 10). Variances are summed
+      // per node here and rooted below, with the Earth rays' terms.
+      const int node = sides.node[s];
+      if (lit[s] > 0.0 && lit[s] < 1.0 && node >= 0 && node < num_nodes && sun_rays[s] > 0)
+        loads.sampling_standard_error_W(node, k) +=
+            std::pow(alpha[s] * full * std::sqrt(lit[s] * (1.0 - lit[s])) * std::pow(double(sun_rays[s]), -0.75), 2);
+    }
   }
 
   // Earth: cone rays once if the Earth is fixed in body axes (nadir), else escaping

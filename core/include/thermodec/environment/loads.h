@@ -16,12 +16,12 @@ struct Loads {
   //! reflected by the Earth; earth_ir: Earth infrared; reflected_solar: solar-band power
   //! (direct + albedo) reflected diffusely between the spacecraft's own faces.
   Eigen::MatrixXd solar_W, albedo_W, earth_ir_W, reflected_solar_W;
-  //! N x S binomial standard error [W] of the absorbed albedo and Earth-IR loads from their
-  //! finite Earth rays (partly blocked sides, Earth fixed in body axes). Not the sun's shadow
-  //! samples: a shadow edge is a smooth curve on a face, which scrambled Sobol points resolve
-  //! far better than the binomial error says (measured: < 0.005 K on the sample against an
-  //! estimate of ~0.08 K). An estimate for noise-targeted sampling (thermal/temperature_noise.h).
-  //! Sides reused whole from a reference add nothing.
+  //! N x S sampling standard error [W] of the absorbed loads: the binomial error of the albedo
+  //! and Earth IR from their finite Earth rays (partly blocked sides, Earth fixed in body axes),
+  //! and the direct sun's shadow samples on partly lit sides, sqrt(p (1 - p)) N^-3/4 on the lit
+  //! share p of N scrambled-net points (a smooth shadow edge; the binomial sqrt(p (1 - p) / N)
+  //! overstates it ~16x). An estimate for noise-targeted sampling (thermal/temperature_noise.h).
+  //! Earth terms: sides reused whole from a reference add nothing.
   Eigen::MatrixXd sampling_standard_error_W;
   //! S flags: spacecraft in the Earth's shadow.
   std::vector<char> in_shadow;
