@@ -29,6 +29,11 @@ struct SimulateOptions {
   // session 10), so 0.0025 K keeps the 0.01 K seed-to-seed floor on the sample.
   double noise_target_K = 0.0025;
   double noise_budget = 32.0;
+  // ...and at most this many extra IR rays, and extra sun/Earth samples: the sample satellite
+  // needs 1.4e8 / 6.9e7 for its target (~10 s on 2 cores); a large CAD mesh, whose totals are
+  // many times the sample's, gets the multiple this leaves (its simulation stays within
+  // ~15 s of extra tracing instead of 32x its own run time).
+  double noise_max_samples = 2e8;
 };
 
 void run_simulate(const SimulateOptions& o) {
@@ -53,7 +58,7 @@ void run_simulate(const SimulateOptions& o) {
   // temperature noise; the nodes above the target get more samples (docs/thermal.md).
   if (o.noise_target_K > 0.0 && !has_sampling_boosts(model)) {
     if (settings.progress) settings.progress("sampling: estimating each node's Monte Carlo noise");
-    const SamplingBoosts b = decide_sampling_boosts(model, settings, o.noise_target_K, o.noise_budget);
+    const SamplingBoosts b = decide_sampling_boosts(model, settings, o.noise_target_K, o.noise_budget, o.noise_max_samples);
     nlohmann::json boosts = nlohmann::json::object();
     for (std::size_t k = 0; k < b.boost.size(); ++k) {
       model.nodes[k].sampling_boost = b.boost[k];
@@ -132,6 +137,10 @@ void add_simulate(CLI::App& app) {
                   "multiple of the model's totals (the target is raised until the boosts fit)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1e3));
+  sub->add_option("--noise-max-samples", opts->noise_max_samples,
+                  "noise-targeted sampling: at most this many extra IR rays, and extra sun/Earth samples, in all")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e15));
   sub->add_option("--rays", opts->rays_per_face, "IR view-factor rays per face side (default: the model's)")
       ->check(CLI::PositiveNumber);
   sub->add_option_function<int>(

@@ -1,5 +1,6 @@
 // The reduction driver on a small model that simulates in milliseconds: a subdivided cube
 // (six nodes) with a two-sided panel beside it, in a fixed sun (steady state).
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -199,6 +200,14 @@ TEST(SamplingBoosts, noisy_nodes_are_boosted_within_the_extra_ray_cap_and_kept_b
   EXPECT_LE(tight.extra_ir_rays, 0.5);
   EXPECT_LE(tight.extra_load_samples, 0.5);
   EXPECT_GE(tight.target_K, b.target_K);
+  // an absolute cap (simulate --noise-max-samples) binds where it is below the multiple
+  const double cap = 0.25 * std::min(b.ir_rays, b.load_samples);
+  const SamplingBoosts counted = decide_sampling_boosts(model, ss, 1e-4, 2.0, cap);
+  EXPECT_GT(b.ir_rays, 0.0);
+  EXPECT_LE(counted.extra_ir_rays * counted.ir_rays, cap);
+  EXPECT_LE(counted.extra_load_samples * counted.load_samples, cap);
+  EXPECT_GE(counted.target_K, tight.target_K);
+  EXPECT_THROW(decide_sampling_boosts(model, ss, 1e-4, -1.0), InvalidInput);
   for (std::size_t k = 0; k < b.boost.size(); ++k) model.nodes[k].sampling_boost = b.boost[k];
   EXPECT_TRUE(has_sampling_boosts(model));
   const fs::path dir = fs::temp_directory_path() / ("thermodec_test_boost_" + std::to_string(::getpid()));

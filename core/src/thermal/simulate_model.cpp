@@ -89,15 +89,17 @@ std::string SamplingBoosts::summary(const std::vector<Node>& nodes) const {
 
 std::string SamplingBoosts::describe(const std::vector<Node>& nodes) const {
   if (!any()) return "sampling: no node needs more samples";
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "sampling: target %.3g K, +%.0f %% IR rays, +%.0f %% sun/Earth samples: ", target_K,
-                100.0 * extra_ir_rays, 100.0 * extra_load_samples);
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "sampling: target %.3g K, +%.0f %% IR rays (%.3g), +%.0f %% sun/Earth samples (%.3g): ",
+                target_K, 100.0 * extra_ir_rays, extra_ir_rays * ir_rays, 100.0 * extra_load_samples,
+                extra_load_samples * load_samples);
   return buf + summary(nodes);
 }
 
 SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimulationSettings& settings,
-                                      double target_K, double max_extra) {
+                                      double target_K, double max_extra, double max_extra_samples) {
   if (!(target_K > 0.0)) throw InvalidInput("noise target must be > 0 K");
+  if (!(max_extra >= 0.0) || !(max_extra_samples >= 0.0)) throw InvalidInput("noise budget must be >= 0");
   SamplingBoosts out;
   NodeCouplings couplings;
   out.unboosted = simulate_model(model, settings, &couplings);
@@ -128,6 +130,11 @@ SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimu
     ir_rays[sides.node[s]] += ir[s];
     load_samples[sides.node[s]] += sun[s] + earth[s];
   }
+  out.ir_rays = ir_total;
+  out.load_samples = load_total;
+  // Each kind's extra samples: at most max_extra x its total and at most max_extra_samples.
+  const double ir_cap = std::min(max_extra, ir_total > 0.0 ? max_extra_samples / ir_total : max_extra);
+  const double load_cap = std::min(max_extra, load_total > 0.0 ? max_extra_samples / load_total : max_extra);
   out.target_K = target_K;
   for (int attempt = 0; attempt < 64; ++attempt, out.target_K *= std::sqrt(2.0)) {
     const std::vector<double> b_ir = noise_targeted_sampling_boosts(out.ir_standard_error_K, out.target_K);
@@ -141,7 +148,7 @@ SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimu
     }
     out.extra_ir_rays = ir_total > 0.0 ? extra_ir / ir_total : 0.0;
     out.extra_load_samples = load_total > 0.0 ? extra_load / load_total : 0.0;
-    if (out.extra_ir_rays <= max_extra && out.extra_load_samples <= max_extra) break;
+    if (out.extra_ir_rays <= ir_cap && out.extra_load_samples <= load_cap) break;
   }
   return out;
 }

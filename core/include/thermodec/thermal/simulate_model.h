@@ -2,6 +2,7 @@
 //! The whole reference simulation of a model, as `thermodec simulate` runs it: radiative
 //! couplings (radiation stage), external loads (environment stage), then the thermal solve
 //! (thermal/simulate.h); plus the Monte Carlo noise floor of that chain.
+#include <limits>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -32,7 +33,8 @@ SimulationResult simulate_model(const ThermalModel& model, const ModelSimulation
 //! couplings' (IR rays) and from the loads' (sun and Earth samples), separately
 //! (thermal/temperature_noise.h), and picks Node::sampling_boost.ir / .loads for the nodes above
 //! target_K. The extra samples of each kind are capped at `max_extra` x the model's total of
-//! that kind: while the boosts would cost more, the target is raised by sqrt(2).
+//! that kind and at `max_extra_samples` in all (per kind): while the boosts would cost more,
+//! the target is raised by sqrt(2).
 struct SamplingBoosts {
   std::vector<Node::SamplingBoost> boost;     //!< per node
   Eigen::VectorXd ir_standard_error_K;        //!< per node, estimated at the unboosted counts
@@ -40,6 +42,8 @@ struct SamplingBoosts {
   double target_K = 0.0;                      //!< the target actually used (>= the one asked)
   double extra_ir_rays = 0.0;                 //!< extra IR rays / the unboosted total
   double extra_load_samples = 0.0;            //!< extra sun + Earth samples / the unboosted total
+  double ir_rays = 0.0;                       //!< the unboosted IR ray total
+  double load_samples = 0.0;                  //!< the unboosted sun + Earth sample total (per side, not per step)
   SimulationResult unboosted;                 //!< the simulation the estimate comes from
   bool any() const;                           //!< some node boosted
   std::string summary(const std::vector<Node>& nodes) const;  //!< "dish IR x4 loads x2, ..."
@@ -47,7 +51,8 @@ struct SamplingBoosts {
   std::string describe(const std::vector<Node>& nodes) const;
 };
 SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimulationSettings& settings,
-                                      double target_K, double max_extra = 2.0);
+                                      double target_K, double max_extra = 2.0,
+                                      double max_extra_samples = std::numeric_limits<double>::infinity());
 
 //! Whether any node of `model` already has a sampling boost (e.g. from its model file).
 bool has_sampling_boosts(const ThermalModel& model);
