@@ -126,6 +126,36 @@ TEST(SolarLoads, a_blocker_over_half_a_plate_halves_its_direct_sun) {
   EXPECT_EQ(l.earth_ir_W.sum(), 0.0);
 }
 
+TEST(SolarLoads, shadow_sample_error_estimate_is_the_measured_seed_to_seed_spread) {
+  // The half-shadowed plate above: Loads::sampling_standard_error_W carries the direct sun's
+  // shadow-sample error (sqrt(p (1 - p)) N^-3/4 per partly lit side, scrambled nets on a smooth
+  // edge); the fully lit blocker carries none. Over 24 seeds the measured spread of the
+  // shadowed plate's direct sun is of the estimate's size (the binomial error would be ~6x it).
+  ThermalModel model = model_with({"lower", "blocker"}, {{"black", 1.0, 0.9}});
+  add_quad(model.mesh, V3(-1, -1, 0), V3(2, 0, 0), V3(0, 2, 0), 0, 0, -1, 3);
+  add_quad(model.mesh, V3(-3, -3, 1), V3(3, 0, 0), V3(0, 6, 0), 1, 0);
+  model.environment.type = EnvironmentType::fixed_sun;
+  model.environment.sun_direction = V3(0.3, 0.2, 1.0).normalized();
+  model.environment.solar_flux_W_per_m2 = 1000.0;
+  ExternalLoadSettings s;
+  s.sun_rays_per_face = 1024;
+  double sum = 0.0, sum2 = 0.0, estimate = 0.0;
+  const int seeds = 24;
+  for (int k = 1; k <= seeds; ++k) {
+    s.seed = static_cast<std::uint64_t>(k);
+    const Loads l = loads_of(model, s, false);
+    EXPECT_EQ(l.sampling_standard_error_W(1, 0), 0.0);  // fully lit: exact
+    ASSERT_GT(l.sampling_standard_error_W(0, 0), 0.0);
+    estimate += l.sampling_standard_error_W(0, 0) / seeds;
+    sum += l.solar_W(0, 0);
+    sum2 += l.solar_W(0, 0) * l.solar_W(0, 0);
+  }
+  const double spread = std::sqrt(std::max(0.0, sum2 / seeds - (sum / seeds) * (sum / seeds)));
+  std::printf("shadowed plate, direct sun over %d seeds: spread %.3g W, estimated %.3g W\n", seeds, spread, estimate);
+  EXPECT_GT(spread, estimate / 4.0) << "estimate " << estimate << " W";
+  EXPECT_LT(spread, estimate * 4.0) << "estimate " << estimate << " W";
+}
+
 TEST(SolarLoads, a_sliver_shadow_on_a_huge_triangle_is_caught_whatever_the_seed) {
   // A 10 m x 10 m plate (two 50 m^2 triangles, like a CAD panel) and a 0.2 m x 0.2 m blocker
   // 1 m above it: a shadow of 0.04 m^2, 1/1250 of its triangle. A fixed 256-point pilot misses
