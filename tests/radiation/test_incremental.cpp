@@ -59,6 +59,7 @@ TEST(IncrementalCouplings, equal_a_full_recompute_of_the_candidate) {
     EXPECT_EQ(stats.changed_sides, 2 * 3 * 3);
     EXPECT_EQ(stats.removed_sides, 2 * 6 * 6);
     EXPECT_LT(stats.rays_retraced, stats.rays_total) << "unchanged rays are reused";
+    EXPECT_EQ(stats.sides_traced_whole, 0) << "no ray kept a hit on a removed face";
     // The unchanged model reproduces the reference without tracing anything.
     IncrementalStats same;
     const NodeCouplings again = radiative_couplings_incremental(prepared, ref, &same);
@@ -144,9 +145,11 @@ TEST(IncrementalCouplings, coincident_faces_of_two_nodes_get_the_same_hits_in_ev
   const ThermalModel ref = make(6), cand = make(3);  // only the far antenna changes
   const NodeCouplings full = radiative_couplings(cand, ref.radiation);
   const RadiationReference prepared = prepare_radiation(ref, ref.radiation);
-  const NodeCouplings inc = radiative_couplings_incremental(prepared, cand);
+  IncrementalStats stats;
+  const NodeCouplings inc = radiative_couplings_incremental(prepared, cand, &stats);
   EXPECT_EQ(inc.view_factors, full.view_factors);
   EXPECT_EQ(inc.to_space, full.to_space);
+  EXPECT_EQ(stats.sides_traced_whole, 0);
   // Both plates take rays where only one of them is (the overlap goes to one of the two).
   EXPECT_GT(full.view_factors(0, 1), 0.0);
   EXPECT_GT(full.view_factors(0, 2), 0.0);

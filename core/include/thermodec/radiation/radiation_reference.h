@@ -65,6 +65,9 @@ struct IncrementalStats {
   //! The removed (reference) and added (candidate) triangles, for exact "does this ray meet
   //! the change" tests (LoadReuse::changed_faces).
   Mesh changed_faces;
+  //! Unchanged sides traced whole because a ray kept a hit on a removed face (a filter that
+  //! should have sent it to be traced again did not): the result is still exact; 0 expected.
+  int sides_traced_whole = 0;
 };
 
 //! Couplings of `candidate` with the reference's settings, reusing the reference's rays.
