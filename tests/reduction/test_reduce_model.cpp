@@ -1,8 +1,8 @@
 // The reduction driver on a small model that simulates in milliseconds: a subdivided cube
 // (six nodes) with a two-sided panel beside it, in a fixed sun (steady state).
-#include <algorithm>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <unistd.h>
 #include <filesystem>

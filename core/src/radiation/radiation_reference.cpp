@@ -40,6 +40,7 @@ struct RadiationReference::Impl {
   std::vector<std::uint32_t> ray_order;
   std::vector<std::int32_t> cell_begin;
   tracing::PrimTable prims;                 // hit classification in the reference scene
+  std::vector<char> coincident_side;        // per side: in a coincident group (tracing.h)
   Impl(const ThermalModel& m, const RadiationSettings& s) : model(m), settings(s), scene(m.mesh) {}
 };
 
@@ -124,6 +125,7 @@ RadiationReference prepare_radiation(const ThermalModel& reference, const Radiat
   impl->couplings.diagnostics.untraceable_faces = impl->scene.num_skipped_faces();
   for (int s = 0; s < sides.size(); ++s) impl->side_of_key.emplace(sides.key[s], s);
   impl->prims = tracing::prim_table(impl->scene.impl(), sides);
+  impl->coincident_side = tracing::coincident_side_flags(impl->prims, sides.size());
   return RadiationReference(std::move(impl));
 }
 
@@ -325,23 +327,15 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
   // grouping tolerance, ~1e-6 x the scene's size; far more than the exact test's margin for a
   // grazing ray): a ray whose reference hit is on one is traced, not tested (on Juno an
   // exact test passed over a removed member and the ray kept its hit on it).
-  auto coincident_sides = [](const tracing::PrimTable& t, int num_sides) {
-    std::vector<char> flag(num_sides, 0);
-    for (std::size_t p = 0; p < t.size(); ++p)
-      if (t[p].coincident_begin != t[p].coincident_end)
-        for (int s : {t[p].front, t[p].back})
-          if (s >= 0 && s < num_sides) flag[s] = 1;
-    return flag;
-  };
-  const std::vector<char> ref_coincident = coincident_sides(ref.prims, Sr);
-  const std::vector<char> cand_coincident = coincident_sides(prims, S);
+  const std::vector<char>& ref_coincident = ref.coincident_side;
+  const std::vector<char> cand_coincident = tracing::coincident_side_flags(prims, S);
   const auto sobol_table = tracing::shared_sobol_table(S ? rays.maxCoeff() : 0);
   const tracing::SobolTable& sobol = *sobol_table;
   const bool records = !ref.records.empty();
   const bool exact_test = tracing::exact_change_test_pays(candidate.mesh.num_faces());
   detail::SideRows rows(S);
   std::atomic<std::int64_t> retraced{0};
-  std::atomic<int> bookkeeping_failures{0};
+  std::atomic<int> traced_whole{0};
   tbb::enumerable_thread_specific<tracing::Counter> counters([S] { return tracing::Counter(S); });
   tbb::parallel_for(tbb::blocked_range<int>(0, S, 8), [&](const tbb::blocked_range<int>& range) {
     tracing::Counter& cnt = counters.local();
@@ -357,7 +351,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
           back += b;
         });
         traced += R;
-        if (rows.take(c, cnt, back) != 0) bookkeeping_failures.fetch_add(1);
+        if (rows.take(c, cnt, back) != 0) traced_whole.fetch_add(1);
         continue;
       }
       // Unchanged face: the reference counts, corrected for the rays that can meet the changed
@@ -517,12 +511,12 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
         });
         traced += R;
         rows.take(c, cnt, back);
-        bookkeeping_failures.fetch_add(1);
+        traced_whole.fetch_add(1);
       }
     }
     retraced.fetch_add(traced);
   });
-  st.sides_traced_whole = bookkeeping_failures.load();
+  st.sides_traced_whole = traced_whole.load();
   FaceViewFactors vf = detail::assemble(sides, rows, settings.rays_per_face, rays);
   st.rays_retraced = retraced.load();
   vf.rays_traced = st.rays_retraced;

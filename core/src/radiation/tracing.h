@@ -137,6 +137,18 @@ inline PrimTable prim_table(const RayScene::Impl& scene, const SurfaceSides& sid
   return t;
 }
 
+//! Per side: 1 if its face overlaps another face in one plane (a coincident group), whose hits
+//! the tie rule resolves (resolve_coincident).
+inline std::vector<char> coincident_side_flags(const PrimTable& t, int num_sides) {
+  std::vector<char> flag(num_sides, 0);
+  if (t.coincident.empty()) return flag;
+  for (std::size_t p = 0; p < t.size(); ++p)
+    if (t[p].coincident_begin != t[p].coincident_end)
+      for (int s : {t[p].front, t[p].back})
+        if (s >= 0 && s < num_sides) flag[s] = 1;
+  return flag;
+}
+
 //! A ray o + t d reached primitive `hit` at distance t. If that primitive overlaps others in
 //! its plane, the hit goes to the member of the group that contains the hit point and takes
 //! the ray (its front faces the ray, or it has a back side) with the smallest key; if none

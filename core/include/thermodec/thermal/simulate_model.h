@@ -2,9 +2,9 @@
 //! The whole reference simulation of a model, as `thermodec simulate` runs it: radiative
 //! couplings (radiation stage), external loads (environment stage), then the thermal solve
 //! (thermal/simulate.h); plus the Monte Carlo noise floor of that chain.
-#include <limits>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
