@@ -152,6 +152,7 @@ struct SideRays {
   std::vector<float> hit_m;           // per ray: closest blocker [m] (recorded runs), +inf if open
   std::vector<std::uint32_t> sample_index;  // Earth cone rays, recorded runs: see RayRecords
   std::vector<std::uint8_t> cell;
+  std::vector<float> cos_theta;
 };
 
 // One side's rays in a reference record, read in ray order.
@@ -188,6 +189,7 @@ class SideTracer {
     out_->hit_m.clear();
     out_->sample_index.clear();
     out_->cell.clear();
+    out_->cos_theta.clear();
     ref_ = ref;
     next_ref_ = 0;
   }
@@ -284,7 +286,7 @@ struct Recorder {
     if (!active()) return;
     long blocked = 0;
     for (auto b : rays.blocked) blocked += b;
-    const std::size_t bytes = rays.blocked.size() / 8 + 8 + 4 * blocked + 16 + 5 * rays.sample_index.size();
+    const std::size_t bytes = rays.blocked.size() / 8 + 8 + 4 * blocked + 16 + 9 * rays.sample_index.size();
     if (used.fetch_add(bytes) + bytes > budget) {
       over = true;
       return;
@@ -293,6 +295,7 @@ struct Recorder {
     per_side[s].hit_m = rays.hit_m;
     per_side[s].sample_index = rays.sample_index;
     per_side[s].cell = rays.cell;
+    per_side[s].cos_theta = rays.cos_theta;
   }
 };
 
@@ -313,13 +316,16 @@ RayRecords pack_records(const std::vector<SideRays>& per_side) {
   bool indexed = ns > 0;
   for (int s = 0; s < ns && indexed; ++s)
     indexed = per_side[s].sample_index.size() == per_side[s].blocked.size() &&
-              per_side[s].cell.size() == per_side[s].blocked.size();
+              per_side[s].cell.size() == per_side[s].blocked.size() &&
+              per_side[s].cos_theta.size() == per_side[s].blocked.size();
   if (indexed) {
     r.sample_index.reserve(r.ray_begin[ns]);
     r.cell.reserve(r.ray_begin[ns]);
+    r.cos_theta.reserve(r.ray_begin[ns]);
     for (int s = 0; s < ns; ++s) {
       r.sample_index.insert(r.sample_index.end(), per_side[s].sample_index.begin(), per_side[s].sample_index.end());
       r.cell.insert(r.cell.end(), per_side[s].cell.begin(), per_side[s].cell.end());
+      r.cos_theta.insert(r.cos_theta.end(), per_side[s].cos_theta.begin(), per_side[s].cos_theta.end());
     }
   }
   for (int s = 0; s < ns; ++s) {
@@ -683,6 +689,9 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 16), [&](const tbb::blocked_range<int>& range) {
     SideTracer tracer(scene, /*coherent=*/false, recording, pass.change);
     SideRays rays_out;
+    std::vector<std::uint8_t> status;               // patch_side: per recorded ray, blocked now
+    std::vector<std::int64_t> again;                // patch_side: the rays traced again
+    std::vector<std::array<float, 3>> again_o, again_d;
     std::vector<float> cos_theta;  // per traced ray
     std::vector<Eigen::Vector3f> earth_normal;
     for (int s = range.begin(); s < range.end(); ++s) {
@@ -709,6 +718,113 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
         ray.cell = earth_cell(u_a, u_phi);
         return true;
       };
+      // Earth normal at the hit of a ray, seen from the body origin (the craft's metres are
+      // nothing against the Earth's radius): the ray at angle a from the centre direction meets
+      // the sphere at t = D cos a - sqrt(R^2 - D^2 sin^2 a). In double: D^2 ~ 5e13 m^2.
+      auto normal_at_hit = [&](const EarthRay& ray) {
+        const double ca = ray.cos_a, sa = ray.sin_a;
+        const double t_hit = distance_m * ca - std::sqrt(std::max(0.0, R2 - distance_m * distance_m * sa * sa));
+        const double n_axis = (t_hit * ca - distance_m) / kEarthRadius_m, n_side = t_hit * sa / kEarthRadius_m;
+        Eigen::Vector3f n_earth;
+        for (int i = 0; i < 3; ++i) n_earth[i] = float(n_axis * fe[i] + n_side * (ray.cp * ft[i] + ray.sp * fu[i]));
+        return n_earth;
+      };
+      // A trial's side whose reference rays are recorded: only its rays in the `seen` cells are
+      // generated; each that may meet the changed faces (ChangeBox::clear_before_tracing) is
+      // traced again in the candidate. No outcome changed: the side is the reference's (replayed).
+      // Some did: its hits are rebuilt from the record (cosines, and the reference's Earth
+      // normals of the rays it kept), generating only the rays newly unblocked: the same
+      // numbers, in the same order, as tracing the side again. False (nothing written) where
+      // the record cannot tell: the side is then traced as usual.
+      auto patch_side = [&](int s, const RecordCursor& cursor, const std::array<bool, kEarthCells>& seen,
+                            SideTracer& tracer, EarthHits& out) {
+        const RayRecords& rec = *cursor.rec;
+        const int r_s = (*pass.ref_side)[s];
+        const auto& ref_kept = replay.ref->earth[r_s];
+        const bool has_cos = static_cast<std::int64_t>(rec.cos_theta.size()) == rec.ray_begin.back();
+        status.resize(cursor.count);
+        again.clear();
+        std::int64_t hit = cursor.hit;
+        long kept_ref = 0;
+        for (std::int64_t i = 0; i < cursor.count; ++i) {
+          const bool b = cursor.bit(i);
+          status[i] = b;
+          kept_ref += !b;
+          const float t = b ? rec.hit_m[hit++] : kInf;
+          if (!seen[rec.cell[cursor.ray0 + i]]) continue;
+          EarthRay ray;
+          if (!make_ray(static_cast<int>(rec.sample_index[cursor.ray0 + i]), true, ray)) return false;  // not the reference's ray
+          if (pass.change->clear_before_tracing(ray.o, ray.d, t)) continue;
+          again.push_back(i);
+          std::copy(ray.o, ray.o + 3, again_o.emplace_back().begin());
+          std::copy(ray.d, ray.d + 3, again_d.emplace_back().begin());
+        }
+        if (!again.empty()) {
+          if (!has_cos || kept_ref != static_cast<long>(ref_kept.size())) return false;
+          SideRays traced;
+          tracer.begin(&traced);
+          for (std::size_t k = 0; k < again.size(); ++k) tracer.add(again_o[k].data(), again_d[k].data());
+          tracer.flush();
+          for (std::size_t k = 0; k < again.size(); ++k) status[again[k]] = traced.blocked[k];
+        }
+        again_o.clear();
+        again_d.clear();
+        bool changed = false;
+        for (std::int64_t i = 0; i < cursor.count && !changed; ++i) changed = status[i] != cursor.bit(i);
+        const long reused_here = cursor.count - static_cast<long>(again.size());
+        if (!changed) {
+          tracer.reused += reused_here;
+          out.replayed[s] = 1;
+          out.view_factor[s] = replay.ref->earth_view_factor[r_s];
+          out.relative_error[s] = replay.ref->earth_relative_error[r_s];
+          if (replay.need_rays) out.rays[s] = ref_kept;
+          if (replay.replayed_sides) replay.replayed_sides->fetch_add(1);
+          return true;
+        }
+        // The pilot's decision (all rays or the pilot only; may_be_blocked here and in the
+        // reference) must not have changed, else the record holds other rays than a trace would.
+        const int rays = side_rays[s], pilot = pilot_count(rays, pilot_rays);
+        int n_pilot = 0, blocked_ref = 0, blocked_now = 0;
+        for (std::int64_t i = 0; i < cursor.count; ++i)
+          if (static_cast<int>(rec.sample_index[cursor.ray0 + i]) < pilot) {
+            ++n_pilot;
+            blocked_ref += cursor.bit(i);
+            blocked_now += status[i];
+          }
+        const bool all_now = rays > pilot && blocked_now < n_pilot;
+        if (n_pilot == 0 || all_now != (rays > pilot && blocked_ref < n_pilot)) return false;
+        tracer.reused += reused_here;
+        // As below: the ratio estimator over the same rays and cosines.
+        const float* cos_t = rec.cos_theta.data() + cursor.ray0;
+        double all = 0.0;
+        for (std::int64_t i = 0; i < cursor.count; ++i) all += cos_t[i];
+        const double f_open = unobstructed_earth_view_factor(geo[s].normal.dot(earth_dir), distance_m);
+        const double weight = all > 0.0 ? f_open / all : cap_over_pi / (all_now ? rays : pilot);
+        auto& keep = out.rays[s];
+        keep.clear();
+        double f = 0.0;
+        std::size_t j = 0;  // the reference's kept rays, in order
+        for (std::int64_t i = 0; i < cursor.count; ++i) {
+          const bool was_blocked = cursor.bit(i);
+          if (!status[i]) {
+            Eigen::Vector3f n;
+            if (!was_blocked) {
+              n = ref_kept[j].second;
+            } else {
+              EarthRay ray;
+              make_ray(static_cast<int>(rec.sample_index[cursor.ray0 + i]), false, ray);
+              n = normal_at_hit(ray);
+            }
+            keep.emplace_back(float(weight * cos_t[i]), n);
+            f += weight * cos_t[i];
+          }
+          j += !was_blocked;
+        }
+        out.view_factor[s] = f;
+        const double p = f_open > 0.0 ? f / f_open : 0.0;
+        if (p > 0.0 && p < 1.0 - 1e-12) out.relative_error[s] = std::sqrt((1.0 - p) / (p * double(cursor.count)));
+        return true;
+      };
       // (Same blocking decision as the reference's, else its record may hold only the pilot.)
       // `seen`: the cells whose rays may reach the change; the others keep their reference
       // outcome, also when the side is traced again below.
@@ -720,32 +836,8 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
         Eigen::Vector3d c;
         const double r = side_bounding_sphere(g, c);
         have_seen = cells_seeing_box(cells, c, r, change_box, seen);
-        if (have_seen) {
-          const RayRecords& rec = *cursor.rec;
-          std::int64_t hit = cursor.hit;
-          bool clear = true;
-          for (std::int64_t i = 0; i < cursor.count && clear; ++i) {
-            const bool b = cursor.bit(i);
-            const float t = b ? rec.hit_m[hit++] : kInf;
-            if (!seen[rec.cell[cursor.ray0 + i]]) continue;
-            EarthRay ray;
-            if (!make_ray(static_cast<int>(rec.sample_index[cursor.ray0 + i]), true, ray)) {
-              clear = false;  // not the reference's ray: take the usual path
-              break;
-            }
-            clear = pass.change->clear(ray.o, ray.d, t);
-          }
-          if (clear) {
-            const int r_s = (*pass.ref_side)[s];
-            out.replayed[s] = 1;
-            out.view_factor[s] = replay.ref->earth_view_factor[r_s];
-            out.relative_error[s] = replay.ref->earth_relative_error[r_s];
-            if (replay.need_rays) out.rays[s] = replay.ref->earth[r_s];
-            tracer.reused += cursor.count;
-            if (replay.replayed_sides) replay.replayed_sides->fetch_add(1);
-            continue;
-          }
-        }
+        if (!have_seen) seen.fill(true);  // (near the change: every ray is looked at)
+        if (patch_side(s, cursor, seen, tracer, out)) continue;
       }
       const long traced_before = tracer.traced;
       tracer.begin(&rays_out, cursor);
@@ -755,14 +847,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
         for (int k = from; k < to; ++k) {
           EarthRay ray;
           if (!make_ray(k, false, ray)) continue;
-          // Earth normal at the hit, seen from the body origin (the craft's metres are nothing
-          // against the Earth's radius): the ray at angle a from the centre direction meets the
-          // sphere at t = D cos a - sqrt(R^2 - D^2 sin^2 a). In double: D^2 ~ 5e13 m^2.
-          const double ca = ray.cos_a, sa = ray.sin_a;
-          const double t_hit = distance_m * ca - std::sqrt(std::max(0.0, R2 - distance_m * distance_m * sa * sa));
-          const double n_axis = (t_hit * ca - distance_m) / kEarthRadius_m, n_side = t_hit * sa / kEarthRadius_m;
-          Eigen::Vector3f n_earth;
-          for (int i = 0; i < 3; ++i) n_earth[i] = float(n_axis * fe[i] + n_side * (ray.cp * ft[i] + ray.sp * fu[i]));
+          const Eigen::Vector3f n_earth = normal_at_hit(ray);
           if (may_be_blocked[s]) {
             if (!(have_seen && !seen[ray.cell] && tracer.add_reused())) {
               on_side(g, scrambled(sobol[k][0], sd[0]), scrambled(sobol[k][1], sd[1]), ray.o);
@@ -774,6 +859,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
           if (recording) {
             rays_out.sample_index.push_back(static_cast<std::uint32_t>(k));
             rays_out.cell.push_back(ray.cell);
+            rays_out.cos_theta.push_back(ray.cos_t);
           }
           cos_theta.push_back(ray.cos_t);
           earth_normal.push_back(n_earth);

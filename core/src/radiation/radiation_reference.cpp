@@ -413,14 +413,22 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
         const float centre[3] = {float(centre_d.x()), float(centre_d.y()), float(centre_d.z())};
         const float far = static_cast<float>((centre_d - sbox_centre).norm() +
                                              0.5 * sbox.diagonal().cast<double>().norm()) + radius;
+        // Those that pass, from their own origin (cheap: no direction generated): the decoded
+        // direction within kOctAngle of the ray's, so its point at any distance l lies within
+        // l kOctAngle of the ray's.
         const std::uint32_t* rdir = ref.record_dir.data() + ref.record_begin[r];
+        const std::uint32_t* ray_of = ref.ray_order.data() + ref.record_begin[r];
         auto may_enter = [&](int i) {
           float d[3];
           oct_decode(rdir[i], d);
           const float len = std::min(rec[i].t, far);
-          const float pad = radius + len * kOctAngle + 1e-6f * far;
-          const Eigen::AlignedBox3f grown(sbox.min().array() - pad, sbox.max().array() + pad);
-          return tracing::ray_box_entry(centre, d, grown) <= len;
+          const float pad = len * kOctAngle + 1e-6f * far;
+          const Eigen::AlignedBox3f grown(sbox.min().array() - (pad + radius), sbox.max().array() + (pad + radius));
+          if (!(tracing::ray_box_entry(centre, d, grown) <= len)) return false;
+          float o[3];
+          sampling::emit_origin(e, sobol[ray_of[i]], o);
+          const Eigen::AlignedBox3f near(sbox.min().array() - pad, sbox.max().array() + pad);
+          return tracing::ray_box_entry(o, d, near) <= len;
         };
         // Only the direction cells whose cone, cast from the side's bounding sphere, can meet the
         // box hold rays worth looking at: first against the box's bounding sphere, then, for the
@@ -428,7 +436,6 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
         // (one of them must pass). The parts follow the box's shape: a flat panel's box is
         // split along its two long sides only, and its 16 parts' spheres leave out the cells
         // that only the whole box's sphere could see (those along the panel's plane).
-        const std::uint32_t* ray_of = ref.ray_order.data() + ref.record_begin[r];
         const std::int32_t* cb = ref.cell_begin.data() + std::size_t(r) * (kCells + 1);
         subset.clear();
         {

@@ -147,18 +147,25 @@ inline Emitter make_emitter(const Eigen::Vector3d& a, const Eigen::Vector3d& b, 
   return e;
 }
 
-//! Ray i of an emitter: origin uniform on the triangle, direction cosine-weighted (Malley) or
-//! uniform on the hemisphere. Writes single-precision origin and unit direction.
-//! `reversed` is a row of sobol_4d_reversed().
-inline void emit(const Emitter& e, const std::array<std::uint32_t, 4>& reversed, bool cosine, float* org, float* dir) {
+//! Origin of ray i of an emitter (the one emit() writes, bit for bit), without its direction:
+//! for filters that need only where a ray starts.
+inline void emit_origin(const Emitter& e, const std::array<std::uint32_t, 4>& reversed, float* org) {
   const float u1 = to_unit_float(reverse_bits(laine_karras(reversed[0], e.seed[0])));
   const float u2 = to_unit_float(reverse_bits(laine_karras(reversed[1], e.seed[1])));
-  const float u3 = to_unit_float(reverse_bits(laine_karras(reversed[2], e.seed[2])));
-  const float u4 = to_unit_float(reverse_bits(laine_karras(reversed[3], e.seed[3])));
   // Area-preserving square -> triangle map (Shirley): low distortion keeps the stratification.
   // note: float is enough: the lift (1e-5 x coordinate magnitude) is ~100x the rounding.
   const float su = std::sqrt(u1);
   const float w1 = su * (1.0f - u2), w2 = su * u2;
+  for (int k = 0; k < 3; ++k) org[k] = e.fa[k] + e.fe1[k] * w1 + e.fe2[k] * w2;
+}
+
+//! Ray i of an emitter: origin uniform on the triangle, direction cosine-weighted (Malley) or
+//! uniform on the hemisphere. Writes single-precision origin and unit direction.
+//! `reversed` is a row of sobol_4d_reversed().
+inline void emit(const Emitter& e, const std::array<std::uint32_t, 4>& reversed, bool cosine, float* org, float* dir) {
+  emit_origin(e, reversed, org);
+  const float u3 = to_unit_float(reverse_bits(laine_karras(reversed[2], e.seed[2])));
+  const float u4 = to_unit_float(reverse_bits(laine_karras(reversed[3], e.seed[3])));
   float ct, st;
   if (cosine) {
     st = std::sqrt(u3);
@@ -170,10 +177,7 @@ inline void emit(const Emitter& e, const std::array<std::uint32_t, 4>& reversed,
   float sp, cp;
   ::sincosf(float(2.0 * M_PI) * u4, &sp, &cp);
   const float x = st * cp, y = st * sp;
-  for (int k = 0; k < 3; ++k) {
-    org[k] = e.fa[k] + e.fe1[k] * w1 + e.fe2[k] * w2;
-    dir[k] = e.ft[k] * x + e.fb[k] * y + e.fn[k] * ct;
-  }
+  for (int k = 0; k < 3; ++k) dir[k] = e.ft[k] * x + e.fb[k] * y + e.fn[k] * ct;
 }
 
 }  // namespace thermodec::sampling

@@ -100,10 +100,14 @@ struct RayRecords {
   //! only the rays whose directions can reach the change.
   std::vector<std::uint32_t> sample_index;
   std::vector<std::uint8_t> cell;
+  //! Earth cone rays only, per ray: cosine between the ray and the side's normal, so that a
+  //! trial can rebuild a side's Earth hits after a few of its rays changed outcome without
+  //! generating the others again.
+  std::vector<float> cos_theta;
   bool empty() const { return ray_begin.empty(); }
   std::size_t bytes() const {
     return blocked.size() * 8 + hit_m.size() * 4 + (ray_begin.size() + hit_begin.size()) * 8 +
-           sample_index.size() * 4 + cell.size();
+           sample_index.size() * 4 + cell.size() + cos_theta.size() * 4;
   }
 };
 
