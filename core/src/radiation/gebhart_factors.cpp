@@ -56,7 +56,7 @@ GebhartFactors gebhart_factors(const FaceViewFactors& vf, const Eigen::VectorXd&
   GebhartFactors out;
   RowMatrixXd X = warm_start ? *warm_start : E;
   const double max_rho0 = S ? rho.maxCoeff() : 0.0;
-  if (!warm_start && max_rho0 > 0.6 && S > 0) {
+  if (settings.krylov_start && max_rho0 > 0.6 && S > 0) {
     // Reflective coatings (rho -> 1) make the Neumann series slow (~23 / (1 - rho) sweeps).
     // A Krylov solve per column gets close first; the sweeps below then only polish and
     // certify the result with the same stopping rule. Columns are independent, so solving
@@ -68,12 +68,15 @@ GebhartFactors gebhart_factors(const FaceViewFactors& vf, const Eigen::VectorXd&
     A.makeCompressed();
     tbb::parallel_for(0, C, [&](int g) {
       const Eigen::VectorXd b = E.col(g);
-      if (b.isZero(0.0)) return;
+      if (b.isZero(0.0)) {  // (I - F diag(rho)) x = 0: x = 0, whatever a warm start said
+        X.col(g).setZero();
+        return;
+      }
       Eigen::BiCGSTAB<Eigen::SparseMatrix<double, Eigen::RowMajor>, Eigen::DiagonalPreconditioner<double>> solver;
       solver.setTolerance(1e-12);
       solver.setMaxIterations(1000);
       solver.compute(A);
-      const Eigen::VectorXd x = solver.solve(b);
+      const Eigen::VectorXd x = warm_start ? Eigen::VectorXd(solver.solveWithGuess(b, X.col(g))) : Eigen::VectorXd(solver.solve(b));
       if (solver.info() == Eigen::Success && x.allFinite()) X.col(g) = x;
     });
   }

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
@@ -258,7 +259,8 @@ Mesh changed_faces(const Mesh& a, const std::vector<char>& in_a, const Mesh& b, 
 }  // namespace
 
 NodeCouplings radiative_couplings_incremental(const RadiationReference& reference, const ThermalModel& candidate,
-                                              IncrementalStats* stats, FaceViewFactors* face_vf) {
+                                              IncrementalStats* stats, FaceViewFactors* face_vf,
+                                              const RayScene* candidate_scene) {
   const RadiationReference::Impl& ref = reference.impl();
   const RadiationSettings& settings = ref.settings;
   const int N = static_cast<int>(candidate.nodes.size());
@@ -319,7 +321,9 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
   if (!st.changed_box.isEmpty()) box = padded(st.changed_box);
 
   const RayScene::Impl& changed = changed_scene.impl();
-  const RayScene scene(candidate.mesh);
+  std::optional<RayScene> own_scene;
+  if (!candidate_scene) own_scene.emplace(candidate.mesh);
+  const RayScene& scene = candidate_scene ? *candidate_scene : *own_scene;
   const tracing::PrimTable prims = tracing::prim_table(scene.impl(), sides);
   // Sides of faces that overlap another face in one plane (coincident_faces.h), in the
   // reference and in the candidate. A hit on such a group is resolved by the tie rule among

@@ -129,10 +129,10 @@ SimulationResult simulate_candidate(const ThermalModel& cand, const RadiationRef
   }
   FaceViewFactors vf;
   IncrementalStats stats;
-  const NodeCouplings couplings = radiative_couplings_incremental(radiation, cand, &stats, &vf);
+  const RayScene scene(cand.mesh);  // (traced by both the couplings and the loads)
+  const NodeCouplings couplings = radiative_couplings_incremental(radiation, cand, &stats, &vf, &scene);
   t.couplings_s = since(t0);
   t0 = Clock::now();
-  const RayScene scene(cand.mesh);
   ExternalLoadSettings load_settings = settings.loads;
   load_settings.seed = cand.radiation.seed;
   LoadReuse reuse;

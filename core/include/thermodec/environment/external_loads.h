@@ -130,6 +130,9 @@ struct LoadSamples {
   //! #sides: could the spacecraft block the side's Earth view at all (conservative bounding-
   //! sphere test; it decides, with the pilot rays, how many rays the side traces)
   std::vector<char> earth_may_be_blocked;
+  //! #sides x (#nodes + 2) solar-band Gebhart factors (reflections), the warm start of a
+  //! trial's solve (empty if the run had no solar reflections)
+  RowMatrixXd solar_gebhart;
   bool earth_fixed = true;
   Eigen::VectorXi sun_rays, earth_rays;  //!< #sides sample counts used (see the *_min_rays_per_node)
   //! Per-ray records (see RayRecords), kept when they fit settings.ray_record_budget_bytes:

@@ -10,6 +10,9 @@ namespace thermodec {
 struct GebhartSettings {
   double tolerance = 1e-10;  //!< stop when no entry of B changes by more than this [-]
   int max_iterations = 10000;
+  //! With max(rho) > 0.6, start from a BiCGSTAB solve per column (false: the sweeps alone,
+  //! from the warm start or the direct term; for checking one against the other).
+  bool krylov_start = true;
 };
 
 //! Row-major dense matrix (row = surface side), the layout the sparse products stream over.
@@ -29,9 +32,9 @@ struct GebhartFactors {
 //! P(t, g) = [group_of_side(t) == g], plus the space column, by a parallel Jacobi (Neumann
 //! series) iteration over sparse F: each sweep absorbs one more reflection, so the error after
 //! k sweeps is at most max(rho)^k; it stops when no entry changes by more than
-//! tolerance x (1 - max rho). When max(rho) > 0.6 and no warm start is given, a BiCGSTAB solve
-//! per column (Eigen, diagonal preconditioner) provides the start and the sweeps only polish
-//! and certify it. Deterministic for any thread count.
+//! tolerance x (1 - max rho). When max(rho) > 0.6, a BiCGSTAB solve per column (Eigen,
+//! diagonal preconditioner; from the warm start if one is given) provides the start and the
+//! sweeps only polish and certify it. Deterministic for any thread count.
 //!
 //! IR: absorptivity = side emissivity; GR between groups I, J = sum_{s in I} A_s eps_s B(s, J).
 //! Solar: a side receiving direct flux Q_s [W] makes group g absorb

@@ -21,6 +21,7 @@
 #include "thermodec/radiation/face_view_factors.h"
 #include "thermodec/radiation/gebhart_factors.h"
 #include "thermodec/radiation/radiative_couplings.h"
+#include "thermodec/radiation/ray_scene.h"
 
 namespace thermodec {
 
@@ -73,9 +74,11 @@ struct IncrementalStats {
 //! Couplings of `candidate` with the reference's settings, reusing the reference's rays.
 //! Equal to radiative_couplings(candidate, reference.settings()) up to the Gebhart solver
 //! tolerance (view factors bit-identical). `face_vf`, if non-null, receives the candidate's
-//! face-level view factors.
+//! face-level view factors. `candidate_scene` (optional): the candidate mesh's scene, if the
+//! caller has it (a trial traces its loads in it too); else one is built.
 //! \throw InvalidInput as radiative_couplings.
 NodeCouplings radiative_couplings_incremental(const RadiationReference& reference, const ThermalModel& candidate,
-                                              IncrementalStats* stats = nullptr, FaceViewFactors* face_vf = nullptr);
+                                              IncrementalStats* stats = nullptr, FaceViewFactors* face_vf = nullptr,
+                                              const RayScene* candidate_scene = nullptr);
 
 }  // namespace thermodec
