@@ -172,6 +172,7 @@ void oct_decode(std::uint32_t code, float* d) {
 struct CellCone {
   Eigen::Vector3f axis;
   float radius;  // [rad]
+  float cos_r, sin_r;
 };
 const std::array<CellCone, kCells>& cell_cones() {
   static const std::array<CellCone, kCells> cones = [] {
@@ -197,7 +198,7 @@ const std::array<CellCone, kCells>& cell_cones() {
         }
         const float radius = std::acos(std::clamp(worst, -1.0f, 1.0f)) * 1.1f + 0.02f;
         const float r = std::min(radius, 3.14159265f);
-        out[cu + kCellsPerAxis * cv] = {axis, r};
+        out[cu + kCellsPerAxis * cv] = {axis, r, std::cos(r), std::sin(r)};
       }
     return out;
   }();
@@ -211,6 +212,7 @@ const std::array<CellCone, kCells>& cell_cones() {
 struct ConeTarget {
   Eigen::Vector3f dir = Eigen::Vector3f::Zero();
   float spread = 0.0f;  // asin(reach / dist) [rad]
+  float cos_s = 1.0f, sin_s = 0.0f;  // of spread + 1e-4
   bool inside = true;   // the apex sphere touches the target: every direction can meet it
   ConeTarget() = default;
   ConeTarget(const Eigen::Vector3f& apex, float apex_radius, const Eigen::Vector3f& centre, float radius) {
@@ -220,11 +222,15 @@ struct ConeTarget {
     if (inside) return;
     dir = to / dist;
     spread = std::asin(std::min(1.0f, reach / dist));
+    cos_s = std::cos(spread + 1e-4f);
+    sin_s = std::sin(spread + 1e-4f);
   }
+  // angle(axis, dir) <= R = radius + spread + 1e-4 as dir . axis >= cos R, cos R by the angle
+  // sum (no acos per test: a side tests every cell against up to 64 targets); R >= pi: always.
   bool seen_from(const CellCone& cone) const {
-    if (inside) return true;
-    const float a = std::acos(std::clamp(cone.axis.dot(dir), -1.0f, 1.0f));
-    return a <= cone.radius + spread + 1e-4f;
+    if (inside || cone.radius + spread + 1e-4f >= 3.14159f) return true;
+    const float cos_r = cone.cos_r * cos_s - cone.sin_r * sin_s;
+    return cone.axis.dot(dir) >= cos_r - 1e-6f;
   }
 };
 
