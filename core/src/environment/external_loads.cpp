@@ -130,8 +130,9 @@ struct ChangeBox {
   float reach(float t_stop) const { return t_stop * (1.0f + 1e-4f) + margin; }
   bool clear_of_box(const float* o, const float* d, float t_stop) const {
     if (nothing) return true;
-    const float entry = tracing::ray_box_entry(o, d, box);
-    return entry == kInf || entry > reach(t_stop);
+    const float lo[3] = {box.min().x(), box.min().y(), box.min().z()};
+    const float hi[3] = {box.max().x(), box.max().y(), box.max().z()};
+    return !tracing::segment_may_enter(o, d, lo, hi, reach(t_stop));
   }
   bool clear_before_tracing(const float* o, const float* d, float t_stop) const {
     return exact_before_tracing ? clear(o, d, t_stop) : clear_of_box(o, d, t_stop);
@@ -744,6 +745,8 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
         const bool has_cos = static_cast<std::int64_t>(rec.cos_theta.size()) == rec.ray_begin.back();
         status.resize(cursor.count);
         again.clear();
+        again_o.clear();
+        again_d.clear();
         std::int64_t hit = cursor.hit;
         long kept_ref = 0;
         for (std::int64_t i = 0; i < cursor.count; ++i) {
@@ -767,8 +770,6 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
           tracer.flush();
           for (std::size_t k = 0; k < again.size(); ++k) status[again[k]] = traced.blocked[k];
         }
-        again_o.clear();
-        again_d.clear();
         bool changed = false;
         for (std::int64_t i = 0; i < cursor.count && !changed; ++i) changed = status[i] != cursor.bit(i);
         const long reused_here = cursor.count - static_cast<long>(again.size());
