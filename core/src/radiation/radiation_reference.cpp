@@ -38,6 +38,9 @@ struct RadiationReference::Impl {
   std::vector<tracing::RayRecord> records;
   std::vector<std::int64_t> record_begin;
   std::vector<std::uint32_t> record_dir;    // each recorded ray's direction, octahedral 2 x 16 bits
+  // Each recorded ray's origin on its face: barycentric weights (w1, w2) of edges e1, e2,
+  // 16 bits each (kOriginStep), so that a candidate places a ray without hashing its sample.
+  std::vector<std::uint32_t> record_origin;
   std::vector<std::uint32_t> ray_order;
   std::vector<std::int32_t> cell_begin;
   tracing::PrimTable prims;                 // hit classification in the reference scene
@@ -57,6 +60,12 @@ const NodeCouplings& RadiationReference::couplings() const { return impl_->coupl
 
 namespace {
 std::uint32_t oct_encode(const float* d);
+// Barycentric weights in [0, 1] <-> 2 x 16 bits, to within kOriginStep / 2 each.
+constexpr float kOriginStep = 1.0f / 65535.0f;
+inline std::uint32_t origin_encode(float w1, float w2) {
+  auto q = [](float w) { return static_cast<std::uint32_t>(std::lround(std::clamp(w, 0.0f, 1.0f) * 65535.0f)); };
+  return q(w1) | (q(w2) << 16);
+}
 // Above this many changed faces, a side's rays are tested against the box of all of them
 // instead of the box of those it can reach (a loop over them per side).
 constexpr std::size_t kMaxRefinedFaces = 4096;
@@ -73,22 +82,26 @@ RadiationReference prepare_radiation(const ThermalModel& reference, const Radiat
   const int N = static_cast<int>(reference.nodes.size());
   const SurfaceSides sides = surface_sides(impl->model);
   const Eigen::VectorXi rays = side_ray_counts(sides, settings);
-  const bool keep = double(rays.cast<double>().sum()) * (sizeof(tracing::RayRecord) + sizeof(std::uint32_t)) <=
+  const bool keep = double(rays.cast<double>().sum()) * (sizeof(tracing::RayRecord) + 3 * sizeof(std::uint32_t)) <=
                     double(max_record_bytes);
   impl->vf = detail::trace_all(impl->scene, sides, settings, keep ? &impl->records : nullptr, &impl->record_begin);
   if (keep) {
     // Directions, compressed, so that a candidate can skip most rays without generating them.
     impl->record_dir.resize(impl->records.size());
+    impl->record_origin.resize(impl->records.size());
     const auto sobol_table = tracing::shared_sobol_table(sides.size() ? rays.maxCoeff() : 0);
     const tracing::SobolTable& sobol = *sobol_table;
     tbb::parallel_for(tbb::blocked_range<int>(0, sides.size(), 8), [&](const tbb::blocked_range<int>& range) {
       for (int s = range.begin(); s != range.end(); ++s) {
         const sampling::Emitter e = tracing::side_emitter(impl->model.mesh, sides, s, settings.seed);
         std::uint32_t* out = impl->record_dir.data() + impl->record_begin[s];
+        std::uint32_t* out_origin = impl->record_origin.data() + impl->record_begin[s];
         for (int i = 0; i < rays[s]; ++i) {
-          float org[3], dir[3];
+          float org[3], dir[3], w1, w2;
           sampling::emit(e, sobol[i], true, org, dir);
+          sampling::origin_weights(e, sobol[i], w1, w2);
           out[i] = oct_encode(dir);
+          out_origin[i] = origin_encode(w1, w2);
         }
       }
     });
@@ -117,6 +130,8 @@ RadiationReference prepare_radiation(const ThermalModel& reference, const Radiat
           impl->records[b + k] = rec[impl->ray_order[b + k]];
           impl->record_dir[b + k] = dir[impl->ray_order[b + k]];
         }
+        dir.assign(impl->record_origin.begin() + b, impl->record_origin.begin() + b + rays[s]);
+        for (int k = 0; k < rays[s]; ++k) impl->record_origin[b + k] = dir[impl->ray_order[b + k]];
       }
     });
   }
@@ -415,30 +430,31 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
         const double lift = 2.0 * e.offset + 1e-6 * (face_box.max().cwiseAbs().maxCoeff() + 1.0);
         const Eigen::Vector3d gap = (sbox.min().cast<double>() - face_box.max()).cwiseMax(face_box.min() - sbox.max().cast<double>()).cwiseMax(0.0);
         const float reach = static_cast<float>(std::max(0.0, gap.norm() - lift) * (1.0 - 1e-5));
-        // Every origin of this side lies within `radius` of `centre`; a ray longer than `far`
-        // is past the box. A ray whose compressed direction, widened by its error, cannot bring
-        // its segment into the box is kept without being generated.
+        // Every origin of this side lies within `radius` of the face box's centre; a ray longer
+        // than `far` is past the box. A ray whose recorded origin and direction, widened by
+        // their errors, cannot bring its segment into the box is kept without being generated.
         const Eigen::Vector3d centre_d = face_box.center();
         const float radius = static_cast<float>(0.5 * face_box.diagonal().norm() + lift);
-        const float centre[3] = {float(centre_d.x()), float(centre_d.y()), float(centre_d.z())};
         const float far = static_cast<float>((centre_d - sbox_centre).norm() +
                                              0.5 * sbox.diagonal().cast<double>().norm()) + radius;
-        // Those that pass, from their own origin (cheap: no direction generated): the decoded
-        // direction within kOctAngle of the ray's, so its point at any distance l lies within
-        // l kOctAngle of the ray's.
+        // From its recorded origin and direction, each within a known distance of the ray's:
+        // the decoded direction within kOctAngle, so the point at distance l within
+        // l kOctAngle; the origin within (|e1| + |e2|) kOriginStep / 2 (plus float rounding).
         const std::uint32_t* rdir = ref.record_dir.data() + ref.record_begin[r];
+        const std::uint32_t* rorg = ref.record_origin.data() + ref.record_begin[r];
         const std::uint32_t* ray_of = ref.ray_order.data() + ref.record_begin[r];
+        const float origin_pad = static_cast<float>((e.e1.norm() + e.e2.norm()) * kOriginStep) + 1e-6f * far;
+        const float smin[3] = {sbox.min().x(), sbox.min().y(), sbox.min().z()};
+        const float smax[3] = {sbox.max().x(), sbox.max().y(), sbox.max().z()};
         auto may_enter = [&](int i) {
-          float d[3];
+          float d[3], o[3];
           oct_decode(rdir[i], d);
-          const float len = std::min(rec[i].t, far);
-          const float pad = len * kOctAngle + 1e-6f * far;
-          const Eigen::AlignedBox3f grown(sbox.min().array() - (pad + radius), sbox.max().array() + (pad + radius));
-          if (!(tracing::ray_box_entry(centre, d, grown) <= len)) return false;
-          float o[3];
-          sampling::emit_origin(e, sobol[ray_of[i]], o);
-          const Eigen::AlignedBox3f near(sbox.min().array() - pad, sbox.max().array() + pad);
-          return tracing::ray_box_entry(o, d, near) <= len;
+          const float w1 = float(rorg[i] & 0xFFFFu) * kOriginStep, w2 = float(rorg[i] >> 16) * kOriginStep;
+          for (int k = 0; k < 3; ++k) o[k] = e.fa[k] + e.fe1[k] * w1 + e.fe2[k] * w2;
+          const float len = std::min(rec[i].t, far), pad = len * kOctAngle + origin_pad;
+          const float lo[3] = {smin[0] - pad, smin[1] - pad, smin[2] - pad};
+          const float hi[3] = {smax[0] + pad, smax[1] + pad, smax[2] + pad};
+          return tracing::segment_may_enter(o, d, lo, hi, len);
         };
         // Only the direction cells whose cone, cast from the side's bounding sphere, can meet the
         // box hold rays worth looking at: first against the box's bounding sphere, then, for the

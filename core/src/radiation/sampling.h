@@ -147,23 +147,25 @@ inline Emitter make_emitter(const Eigen::Vector3d& a, const Eigen::Vector3d& b, 
   return e;
 }
 
-//! Origin of ray i of an emitter (the one emit() writes, bit for bit), without its direction:
-//! for filters that need only where a ray starts.
-inline void emit_origin(const Emitter& e, const std::array<std::uint32_t, 4>& reversed, float* org) {
+//! Barycentric weights (w1, w2) of edges e1, e2 of ray i's origin: the area-preserving square
+//! -> triangle map (Shirley) of its first two coordinates (low distortion keeps the
+//! stratification).
+inline void origin_weights(const Emitter& e, const std::array<std::uint32_t, 4>& reversed, float& w1, float& w2) {
   const float u1 = to_unit_float(reverse_bits(laine_karras(reversed[0], e.seed[0])));
   const float u2 = to_unit_float(reverse_bits(laine_karras(reversed[1], e.seed[1])));
-  // Area-preserving square -> triangle map (Shirley): low distortion keeps the stratification.
-  // note: float is enough: the lift (1e-5 x coordinate magnitude) is ~100x the rounding.
   const float su = std::sqrt(u1);
-  const float w1 = su * (1.0f - u2), w2 = su * u2;
-  for (int k = 0; k < 3; ++k) org[k] = e.fa[k] + e.fe1[k] * w1 + e.fe2[k] * w2;
+  w1 = su * (1.0f - u2);
+  w2 = su * u2;
 }
 
 //! Ray i of an emitter: origin uniform on the triangle, direction cosine-weighted (Malley) or
 //! uniform on the hemisphere. Writes single-precision origin and unit direction.
 //! `reversed` is a row of sobol_4d_reversed().
 inline void emit(const Emitter& e, const std::array<std::uint32_t, 4>& reversed, bool cosine, float* org, float* dir) {
-  emit_origin(e, reversed, org);
+  float w1, w2;
+  origin_weights(e, reversed, w1, w2);
+  // note: float is enough: the lift (1e-5 x coordinate magnitude) is ~100x the rounding.
+  for (int k = 0; k < 3; ++k) org[k] = e.fa[k] + e.fe1[k] * w1 + e.fe2[k] * w2;
   const float u3 = to_unit_float(reverse_bits(laine_karras(reversed[2], e.seed[2])));
   const float u4 = to_unit_float(reverse_bits(laine_karras(reversed[3], e.seed[3])));
   float ct, st;
