@@ -472,10 +472,12 @@ int pilot_count(int rays, int pilot_rays) {
 // sides; only sides where the pilot disagrees trace all `rays`. note: a shadow that slips
 // between all P pilot points is missed; it then covers well under 1/P of the face (measured on
 // the sample: P = 16 left 0.6 W seed-to-seed differences on single nodes, P = 64 < 0.2 W).
+// `origins` (per side, filled on first use): the sample points, the same at every step.
 Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
                                 const Eigen::Vector3d& toward, const Eigen::VectorXi& side_rays, int pilot_rays,
                                 std::uint64_t seed, const tracing::SobolTable& sobol, const Occluders& occ,
-                                const PassContext& pass, const std::vector<char>* todo = nullptr) {
+                                const PassContext& pass, std::vector<std::vector<std::array<float, 3>>>& origins,
+                                const std::vector<char>* todo = nullptr) {
   const int ns = sides.size();
   Eigen::VectorXd frac = Eigen::VectorXd::Zero(ns);
   const float dir[3] = {float(toward.x()), float(toward.y()), float(toward.z())};
@@ -497,11 +499,10 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
       // Traces sample points from..to of the side's scrambled net; returns how many see the sun.
       auto trace = [&](const std::array<std::uint32_t, 4>& sd, int from, int to) {
         const std::size_t first = rays_out.blocked.size();
-        for (int k = from; k < to; ++k) {
-          float o[3];
-          on_side(g, scrambled(sobol[k][0], sd[0]), scrambled(sobol[k][1], sd[1]), o);
-          tracer.add(o, dir);
-        }
+        auto& points = origins[s];  // (a side is one thread's at a step, and steps run in turn)
+        for (int k = static_cast<int>(points.size()); k < to; ++k)
+          on_side(g, scrambled(sobol[k][0], sd[0]), scrambled(sobol[k][1], sd[1]), points.emplace_back().data());
+        for (int k = from; k < to; ++k) tracer.add(points[k].data(), dir);
         tracer.flush();
         int open = 0;
         for (std::size_t i = first; i < rays_out.blocked.size(); ++i) open += !rays_out.blocked[i];
@@ -1308,6 +1309,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
   if (progress) progress("direct sun: " + std::to_string(steps) + " step(s)");
   Eigen::Vector3d last_dir = Eigen::Vector3d::Zero();
   Eigen::VectorXd lit;
+  std::vector<std::vector<std::array<float, 3>>> sun_points(ns);  // per side, for every step
   std::vector<char> todo(ns, 1);
   for (int k = 0; k < steps; ++k) {
     const OrbitState& st = states[k];
@@ -1327,7 +1329,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
       const PassContext pass = make_pass(ref && static_cast<int>(ref->sun_records.size()) == steps ? &ref->sun_records[k] : nullptr,
                                          &reused_sun_rays, &traced_sun_rays);
       lit = sunlit_fraction(scene, geo, sides, st.sun_direction_body, sun_rays, settings.sun_pilot_rays, settings.seed,
-                            sobol, occ, pass, ref ? &todo : nullptr);
+                            sobol, occ, pass, sun_points, ref ? &todo : nullptr);
       if (pass.recording() && recorder.active()) samples->sun_records[k] = pack_records(recorded);
       if (ref)
         for (int s = 0; s < ns; ++s)
