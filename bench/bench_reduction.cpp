@@ -4,18 +4,18 @@
 // the total is representative of a sweep, not of a chosen node. Also prints the trial noise
 // floor (each node's samples redrawn in turn).
 //   bench_reduction [MODEL] [trials (default: number of nodes)] [--sweep] [--no-trial-noise] [--incremental-only]
-//                   [--reduce-sampling]
+//                   [--reduce-sampling] [--gaps]
 // --reduce-sampling first multiplies the noisy nodes' samples as `reduce` does (its noise
 // target, decide_sampling_boosts), so the trials cost what they cost inside `reduce`.
 // MODEL is a model.json or a bare mesh; a bare mesh gets `reduce`'s size-aware ray budgets
 // (apply_bare_mesh_reduction_budget), not its noise-targeted boosts.
-// --sweep also runs the whole sensitivity sweep of `reduce` (every node, its ratios, cap 1 K)
-// twice, serially: with incremental trials, then with every trial simulated from scratch; the
-// ratio includes the trials that change nothing (answered by the reference) as a real sweep
-// meets them.
+// --sweep also runs the whole sensitivity sweep of `reduce` (every node, its ratios, cap 1 K),
+// serially, each trial incremental and then simulated from scratch right after it; the ratio
+// includes the trials that change nothing (answered by the reference) as a real sweep meets
+// them.
 #include <chrono>
 #include <ctime>
-#include <mutex>
+#include <optional>
 #include <cstdio>
 #include <algorithm>
 #include <string>
@@ -32,13 +32,14 @@ using Clock = std::chrono::steady_clock;
 
 int main(int argc, char** argv) {
   std::vector<std::string> args;
-  bool sweep = false, trial_noise = true, incremental_only = false, reduce_sampling = false;
+  bool sweep = false, trial_noise = true, incremental_only = false, reduce_sampling = false, show_gaps = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--sweep") sweep = true;
     else if (a == "--no-trial-noise") trial_noise = false;
     else if (a == "--incremental-only") incremental_only = true;  // for profilers: no naive trials
     else if (a == "--reduce-sampling") reduce_sampling = true;
+    else if (a == "--gaps") show_gaps = true;
     else args.push_back(a);
   }
   const std::string path = args.size() > 0 ? args[0] : THERMODEC_SOURCE_DIR "/sample_models/satellite/model.json";
@@ -109,39 +110,60 @@ int main(int argc, char** argv) {
   std::printf("incremental vs naive, CPU time of all threads: %.2f s vs %.2f s = %.1fx less work\n", inc_cpu, full_cpu,
               full_cpu / inc_cpu);
   if (sweep) {
-    // Fresh references, so that neither sweep finds the other's (or the trials') results cached.
+    // The whole sensitivity sweep of `reduce` (serial, each trial using both cores), every
+    // trial evaluated incrementally and then naively right after it, with fresh references (so
+    // that neither finds the other's, or the trials above', results cached). Side by side, a
+    // change in the machine's speed during the run (other guests on this host) moves both
+    // alike; run one after the other, the ratio moved by +-0.5x. Both should give the same
+    // results, so the sweep takes the path either would alone (it follows the incremental one);
+    // the largest gap is printed, and with --gaps every trial whose gap exceeds 1e-8 K.
     SensitivityOptions so = settings.sensitivity;  // (the coarse sweep on big bare meshes)
-    so.parallel = false;  // one trial at a time, each using both cores, as above
-    double wall[2] = {0.0, 0.0}, cpu[2] = {0.0, 0.0};
-    TrialResult::Timing sweep_phases[2];
-    int count[2] = {0, 0};
-    for (int full = 0; full < (incremental_only ? 1 : 2); ++full) {
-      const ReductionReference sweep_ref(model, settings.reference);
-      std::mutex m;
-      const TrialFunction trial = [&](const Eigen::VectorXd& r) {
-        TrialResult t = full ? sweep_ref.verify(r) : sweep_ref.trial(r);
-        std::lock_guard<std::mutex> lock(m);
-        sweep_phases[full].decimation_s += t.timing.decimation_s;
-        sweep_phases[full].couplings_s += t.timing.couplings_s;
-        sweep_phases[full].loads_s += t.timing.loads_s;
-        sweep_phases[full].solve_s += t.timing.solve_s;
-        sweep_phases[full].simulation_s += t.timing.simulation_s;
-        return t;
-      };
-      t0 = Clock::now();
-      const std::clock_t c0 = std::clock();
-      sensitivity_analysis(n, trial, so);
-      wall[full] = std::chrono::duration<double>(Clock::now() - t0).count();
-      cpu[full] = double(std::clock() - c0) / CLOCKS_PER_SEC;
-      count[full] = sweep_ref.trials_evaluated();
-    }
+    so.parallel = false;
+    const ReductionReference inc_ref(model, settings.reference);
+    std::optional<ReductionReference> full_ref;
+    if (!incremental_only) full_ref.emplace(model, settings.reference);
+    double wall[2] = {0.0, 0.0}, cpu[2] = {0.0, 0.0}, gap = 0.0;
+    TrialResult::Timing sweep_phases;  // incremental trials actually evaluated (not cached)
+    const TrialFunction trial = [&](const Eigen::VectorXd& r) {
+      const int before = inc_ref.trials_evaluated();
+      auto w0 = Clock::now();
+      std::clock_t c0 = std::clock();
+      TrialResult a = inc_ref.trial(r);
+      wall[0] += std::chrono::duration<double>(Clock::now() - w0).count();
+      cpu[0] += double(std::clock() - c0) / CLOCKS_PER_SEC;
+      if (inc_ref.trials_evaluated() > before) {
+        sweep_phases.decimation_s += a.timing.decimation_s;
+        sweep_phases.couplings_s += a.timing.couplings_s;
+        sweep_phases.loads_s += a.timing.loads_s;
+        sweep_phases.solve_s += a.timing.solve_s;
+      }
+      if (full_ref) {
+        w0 = Clock::now();
+        c0 = std::clock();
+        const TrialResult b = full_ref->verify(r);
+        wall[1] += std::chrono::duration<double>(Clock::now() - w0).count();
+        cpu[1] += double(std::clock() - c0) / CLOCKS_PER_SEC;
+        gap = std::max(gap, std::abs(a.max_abs_dT_K - b.max_abs_dT_K));
+        if (show_gaps && std::abs(a.max_abs_dT_K - b.max_abs_dT_K) > 1e-8) {
+          Eigen::Index node;
+          r.maxCoeff(&node);
+          std::printf("gap %.3e K: node %s ratio %.3f, %d faces: incremental %.6f K, naive %.6f K\n",
+                      std::abs(a.max_abs_dT_K - b.max_abs_dT_K), model.nodes[node].name.c_str(), r[node], a.faces_after,
+                      a.max_abs_dT_K, b.max_abs_dT_K);
+        }
+      }
+      return a;
+    };
+    sensitivity_analysis(n, trial, so);
+    const int count = inc_ref.trials_evaluated();
     std::printf("sweep, incremental trials, wall time per phase: decimation %.2f s, couplings %.2f s, loads %.2f s, solve %.2f s\n",
-                sweep_phases[0].decimation_s, sweep_phases[0].couplings_s, sweep_phases[0].loads_s, sweep_phases[0].solve_s);
+                sweep_phases.decimation_s, sweep_phases.couplings_s, sweep_phases.loads_s, sweep_phases.solve_s);
     if (incremental_only)
-      std::printf("whole sensitivity sweep (%d trials, serial): incremental %.2f s, CPU %.2f s\n", count[0], wall[0], cpu[0]);
+      std::printf("whole sensitivity sweep (%d trials, serial): incremental %.2f s, CPU %.2f s\n", count, wall[0], cpu[0]);
     else
-      std::printf("whole sensitivity sweep (%d trials, serial): incremental %.2f s vs naive %.2f s = %.1fx faster; CPU %.2f s vs %.2f s = %.1fx\n",
-                  count[0], wall[0], wall[1], wall[1] / wall[0], cpu[0], cpu[1], cpu[1] / cpu[0]);
+      std::printf("whole sensitivity sweep (%d trials, serial, each incremental then naive): incremental %.2f s vs naive %.2f s = "
+                  "%.1fx faster; CPU %.2f s vs %.2f s = %.1fx; max |dT| gap %.2e K\n",
+                  count, wall[0], wall[1], wall[1] / wall[0], cpu[0], cpu[1], cpu[1] / cpu[0], gap);
   }
   return 0;
 }
