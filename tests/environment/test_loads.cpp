@@ -317,6 +317,21 @@ ReuseCase reuse_case(const std::string& name, const ExternalLoadSettings& s, Att
     }
   return c;
 }
+// Loads of `trial`, in full and reusing `reference`'s samples outside `changed`.
+struct FullAndReused {
+  Loads full, incremental;
+  LoadReuse reuse;
+};
+FullAndReused full_and_reused(const ThermalModel& trial, const LoadSamples& reference, const Eigen::AlignedBox3d& changed,
+                              const ExternalLoadSettings& s) {
+  const RayScene scene(trial.mesh);
+  const SurfaceSides sides = surface_sides(trial);
+  FullAndReused r;
+  r.full = external_loads(trial, scene, sides, nullptr, s);
+  r.reuse = LoadReuse{&reference, changed};
+  r.incremental = external_loads(trial, scene, sides, nullptr, s, {}, nullptr, &r.reuse);
+  return r;
+}
 ExternalLoadSettings small_budgets() {
   ExternalLoadSettings s;
   s.sun_rays_per_face = 64;
@@ -512,15 +527,11 @@ TEST(LoadReuse, decimated_node_trial_keeps_earth_pilot_decisions_and_equals_a_fu
     for (int f = 0; f < m->num_faces(); ++f)
       if (m->face_node[f] == node)
         for (int k = 0; k < 3; ++k) changed.extend(Eigen::Vector3d(m->V.row(m->F(f, k)).transpose()));
-  const RayScene scene(trial.mesh);
-  const SurfaceSides sides = surface_sides(trial);
-  const Loads full = external_loads(trial, scene, sides, nullptr, s);
-  LoadReuse reuse{&reference, changed};
-  const Loads incremental = external_loads(trial, scene, sides, nullptr, s, {}, nullptr, &reuse);
-  EXPECT_EQ(incremental.solar_W, full.solar_W);
-  EXPECT_EQ(incremental.albedo_W, full.albedo_W);
-  EXPECT_EQ(incremental.earth_ir_W, full.earth_ir_W);
-  EXPECT_GT(reuse.reused_earth_rays, 0);
+  const FullAndReused r = full_and_reused(trial, reference, changed, s);
+  EXPECT_EQ(r.incremental.solar_W, r.full.solar_W);
+  EXPECT_EQ(r.incremental.albedo_W, r.full.albedo_W);
+  EXPECT_EQ(r.incremental.earth_ir_W, r.full.earth_ir_W);
+  EXPECT_GT(r.reuse.reused_earth_rays, 0);
 }
 
 TEST(LoadReuse, a_grazing_shadow_ray_traced_again_meets_what_a_full_run_meets) {
@@ -555,12 +566,8 @@ TEST(LoadReuse, a_grazing_shadow_ray_traced_again_meets_what_a_full_run_meets) {
         for (int k = 0; k < 3; ++k) changed.extend(Eigen::Vector3d(a->V.row(a->F(f, k)).transpose()));
   }
   ASSERT_FALSE(changed.isEmpty());
-  const RayScene scene(trial.mesh);
-  const SurfaceSides sides = surface_sides(trial);
-  const Loads full = external_loads(trial, scene, sides, nullptr, s);
-  LoadReuse reuse{&reference, changed};
-  const Loads incremental = external_loads(trial, scene, sides, nullptr, s, {}, nullptr, &reuse);
-  EXPECT_EQ(incremental.solar_W, full.solar_W);
-  EXPECT_GT(reuse.reused_sun_rays, 0);
-  EXPECT_GT(reuse.traced_sun_rays, 0);
+  const FullAndReused r = full_and_reused(trial, reference, changed, s);
+  EXPECT_EQ(r.incremental.solar_W, r.full.solar_W);
+  EXPECT_GT(r.reuse.reused_sun_rays, 0);
+  EXPECT_GT(r.reuse.traced_sun_rays, 0);
 }
