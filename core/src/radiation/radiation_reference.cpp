@@ -443,7 +443,10 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
         const std::uint32_t* rdir = ref.record_dir.data() + ref.record_begin[r];
         const std::uint32_t* rorg = ref.record_origin.data() + ref.record_begin[r];
         const std::uint32_t* ray_of = ref.ray_order.data() + ref.record_begin[r];
-        const float origin_pad = static_cast<float>((e.e1.norm() + e.e2.norm()) * kOriginStep) + 1e-6f * far;
+        // (plus float rounding: of the origin's coordinates, and of the box entry along the ray)
+        const float origin_pad = static_cast<float>((e.e1.norm() + e.e2.norm()) * kOriginStep +
+                                                    1e-6 * (e.a.cwiseAbs().maxCoeff() + e.e1.norm() + e.e2.norm())) +
+                                 1e-6f * far;
         const float smin[3] = {sbox.min().x(), sbox.min().y(), sbox.min().z()};
         const float smax[3] = {sbox.max().x(), sbox.max().y(), sbox.max().z()};
         auto may_enter = [&](int i) {
