@@ -177,12 +177,17 @@ struct RecordCursor {
 // reference record, ray i < the record's count keeps the recorded result when its path up to
 // the recorded blocker (or to infinity) does not enter the changed region: what it met there
 // is unchanged and nothing new lies on it.
+// Always incoherent (one ray at a time), also for the sun's parallel rays that Embree's packet
+// traversal would fit: a packet decides a grazing ray with the other rays in it, and a trial
+// traces only some of a side's rays again, in other packets than a full run's (measured: one
+// sun ray of 2 278 on the sample, 4.6 mW; LoadReuse test a_grazing_shadow_ray...). Each ray's
+// outcome must not depend on its neighbours.
 class SideTracer {
  public:
-  SideTracer(const RayScene& scene, bool coherent, bool record, const ChangeBox* change)
+  SideTracer(const RayScene& scene, bool record, const ChangeBox* change)
       : scene_(scene.impl().scene), record_(record), change_(change) {
     rtcInitIntersectContext(&ctx_);
-    ctx_.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+    ctx_.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
   }
   void begin(SideRays* out, RecordCursor ref = {}) {
     out_ = out;
@@ -484,12 +489,7 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
   const bool recording = pass.recording();
   const std::vector<char> shadowable = may_be_shadowed(geo, occ, toward, todo);
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 32), [&](const tbb::blocked_range<int>& range) {
-    // Incoherent (one ray at a time), though these are parallel rays from one triangle that
-    // Embree's packet traversal would fit: a packet decides a grazing ray with the other rays
-    // in it, and a trial traces only some of a side's rays again, in other packets than a full
-    // run's (measured: one sun ray of 2 278 on the sample, 4.6 mW; LoadReuse test
-    // a_grazing_shadow_ray...). Each ray's outcome must not depend on its neighbours.
-    SideTracer tracer(scene, /*coherent=*/false, recording, pass.change);
+    SideTracer tracer(scene, recording, pass.change);
     SideRays rays_out;
     for (int s = range.begin(); s < range.end(); ++s) {
       const Side& g = geo[s];
@@ -693,7 +693,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   Eigen::AlignedBox3d change_box;  // the changed region, margin included
   if (can_replay) change_box = Eigen::AlignedBox3d(pass.change->box.min().cast<double>(), pass.change->box.max().cast<double>());
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 16), [&](const tbb::blocked_range<int>& range) {
-    SideTracer tracer(scene, /*coherent=*/false, recording, pass.change);
+    SideTracer tracer(scene, recording, pass.change);
     SideRays rays_out;
     std::vector<std::uint8_t> status;               // patch_side: per recorded ray, blocked now
     std::vector<std::int64_t> again;                // patch_side: the rays traced again
@@ -937,7 +937,7 @@ std::vector<std::vector<Eigen::Vector3f>> escaping_directions(const RayScene& sc
   std::vector<std::vector<Eigen::Vector3f>> per_side(ns);
   const bool recording = pass.recording();
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 16), [&](const tbb::blocked_range<int>& range) {
-    SideTracer tracer(scene, /*coherent=*/false, recording, pass.change);
+    SideTracer tracer(scene, recording, pass.change);
     SideRays rays_out;
     std::vector<Eigen::Vector3f> dirs;
     for (int s = range.begin(); s < range.end(); ++s) {
