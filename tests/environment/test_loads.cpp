@@ -405,6 +405,26 @@ TEST(LoadReuse, rays_shadowed_by_a_shrunk_body_panel_are_traced_again_and_match_
   EXPECT_GT(reuse.traced_earth_rays, 0);
 }
 
+TEST(LoadReuse, earth_rays_recorded_with_or_without_their_geometry_give_the_same_trial) {
+  // With room, the Earth record keeps each ray's origin and direction (tested as they are);
+  // without, a trial generates the rays it tests again. Both must give a full run's loads.
+  ExternalLoadSettings with = small_budgets(), without = small_budgets();
+  without.earth_ray_geometry_budget_bytes = 0;
+  for (const ExternalLoadSettings* s : {&with, &without}) {
+    ReuseCase c = reuse_case("body_pz", *s);
+    ASSERT_GE(c.node, 0);
+    const RayRecords& rec = c.reference.earth_records;
+    ASSERT_FALSE(rec.empty());
+    EXPECT_EQ(rec.origin_direction.size(), s == &with ? 6 * rec.sample_index.size() : 0u);
+    const FullAndReused r = full_and_reused(c.trial, c.reference, c.changed, *s);
+    EXPECT_EQ(r.incremental.albedo_W, r.full.albedo_W);
+    EXPECT_EQ(r.incremental.earth_ir_W, r.full.earth_ir_W);
+    EXPECT_EQ(r.incremental.sampling_standard_error_W, r.full.sampling_standard_error_W);
+    EXPECT_GT(r.reuse.reused_earth_rays, 0);
+    EXPECT_GT(r.reuse.traced_earth_rays, 0);
+  }
+}
+
 // The removed and added triangles of a reuse case (faces with a moved vertex, before and after).
 Mesh changed_triangles(const ReuseCase& c) {
   const Mesh& a = c.model.mesh;

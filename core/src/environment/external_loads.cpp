@@ -154,6 +154,7 @@ struct SideRays {
   std::vector<std::uint32_t> sample_index;  // Earth cone rays, recorded runs: see RayRecords
   std::vector<std::uint8_t> cell;
   std::vector<float> cos_theta;
+  std::vector<float> origin_direction;  // Earth cone rays, recorded runs: 6 floats a ray
 };
 
 // One side's rays in a reference record, read in ray order.
@@ -196,6 +197,7 @@ class SideTracer {
     out_->sample_index.clear();
     out_->cell.clear();
     out_->cos_theta.clear();
+    out_->origin_direction.clear();
     ref_ = ref;
     next_ref_ = 0;
   }
@@ -286,6 +288,11 @@ struct Recorder {
   std::size_t budget = 0;
   std::atomic<std::size_t> used{0};
   std::atomic<bool> over{false};
+  // Earth rays' origins and directions: a budget of their own; once exceeded, none are kept
+  // (the rest of the record stays).
+  std::size_t geometry_budget = 0;
+  std::atomic<std::size_t> geometry_used{0};
+  std::atomic<bool> geometry_over{false};
   bool active() const { return !over.load(std::memory_order_relaxed); }
   // Keeps side s's rays for packing, if the budget allows.
   void keep(std::vector<SideRays>& per_side, int s, SideRays& rays) {
@@ -302,6 +309,13 @@ struct Recorder {
     per_side[s].sample_index = rays.sample_index;
     per_side[s].cell = rays.cell;
     per_side[s].cos_theta = rays.cos_theta;
+    const std::size_t geometry_bytes = 4 * rays.origin_direction.size();
+    if (geometry_bytes > 0 && !geometry_over.load(std::memory_order_relaxed)) {
+      if (geometry_used.fetch_add(geometry_bytes) + geometry_bytes > geometry_budget)
+        geometry_over = true;
+      else
+        per_side[s].origin_direction = rays.origin_direction;
+    }
   }
 };
 
@@ -333,6 +347,16 @@ RayRecords pack_records(const std::vector<SideRays>& per_side) {
       r.cell.insert(r.cell.end(), per_side[s].cell.begin(), per_side[s].cell.end());
       r.cos_theta.insert(r.cos_theta.end(), per_side[s].cos_theta.begin(), per_side[s].cos_theta.end());
     }
+  }
+  // Origins and directions likewise, only if every side kept them.
+  bool with_geometry = indexed;
+  for (int s = 0; s < ns && with_geometry; ++s)
+    with_geometry = per_side[s].origin_direction.size() == 6 * per_side[s].blocked.size();
+  if (with_geometry) {
+    r.origin_direction.reserve(6 * r.ray_begin[ns]);
+    for (int s = 0; s < ns; ++s)
+      r.origin_direction.insert(r.origin_direction.end(), per_side[s].origin_direction.begin(),
+                                per_side[s].origin_direction.end());
   }
   for (int s = 0; s < ns; ++s) {
     std::int64_t bit = r.ray_begin[s], hit = r.hit_begin[s];
@@ -748,6 +772,10 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
         const int r_s = (*pass.ref_side)[s];
         const auto& ref_kept = replay.ref->earth[r_s];
         const bool has_cos = static_cast<std::int64_t>(rec.cos_theta.size()) == rec.ray_begin.back();
+        // The rays as traced, if recorded (else generated again, the same numbers).
+        const float* recorded_od = static_cast<std::int64_t>(rec.origin_direction.size()) == 6 * rec.ray_begin.back()
+                                       ? rec.origin_direction.data() + 6 * cursor.ray0
+                                       : nullptr;
         status.resize(cursor.count);
         again.clear();
         again_o.clear();
@@ -761,11 +789,17 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
           const float t = b ? rec.hit_m[hit++] : kInf;
           if (!seen[rec.cell[cursor.ray0 + i]]) continue;
           EarthRay ray;
-          if (!make_ray(static_cast<int>(rec.sample_index[cursor.ray0 + i]), true, ray)) return false;  // not the reference's ray
-          if (pass.change->clear_before_tracing(ray.o, ray.d, t)) continue;
+          const float *o = ray.o, *d = ray.d;
+          if (recorded_od) {
+            o = recorded_od + 6 * i;
+            d = o + 3;
+          } else if (!make_ray(static_cast<int>(rec.sample_index[cursor.ray0 + i]), true, ray)) {
+            return false;  // not the reference's ray
+          }
+          if (pass.change->clear_before_tracing(o, d, t)) continue;
           again.push_back(i);
-          std::copy(ray.o, ray.o + 3, again_o.emplace_back().begin());
-          std::copy(ray.d, ray.d + 3, again_d.emplace_back().begin());
+          std::copy(o, o + 3, again_o.emplace_back().begin());
+          std::copy(d, d + 3, again_d.emplace_back().begin());
         }
         if (!again.empty()) {
           if (!has_cos || kept_ref != static_cast<long>(ref_kept.size())) return false;
@@ -866,6 +900,9 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
             rays_out.sample_index.push_back(static_cast<std::uint32_t>(k));
             rays_out.cell.push_back(ray.cell);
             rays_out.cos_theta.push_back(ray.cos_t);
+            if (!may_be_blocked[s]) on_side(g, scrambled(sobol[k][0], sd[0]), scrambled(sobol[k][1], sd[1]), ray.o);
+            rays_out.origin_direction.insert(rays_out.origin_direction.end(), ray.o, ray.o + 3);
+            rays_out.origin_direction.insert(rays_out.origin_direction.end(), ray.d, ray.d + 3);
           }
           cos_theta.push_back(ray.cos_t);
           earth_normal.push_back(n_earth);
@@ -1138,6 +1175,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
   // Recording (reference runs only: a run that itself reuses records nothing per ray).
   Recorder recorder;
   recorder.budget = settings.ray_record_budget_bytes;
+  recorder.geometry_budget = settings.earth_ray_geometry_budget_bytes;
   const bool record = samples && !reuse;
   std::vector<SideRays> recorded;
   auto make_pass = [&](const RayRecords* ref_records, std::atomic<long>* reused_rays, std::atomic<long>* traced_rays) {

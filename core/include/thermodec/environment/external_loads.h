@@ -68,6 +68,11 @@ struct ExternalLoadSettings {
   //! every ray of a side whose rays may meet the change. Juno's 17 k faces need 816 MB (402 M
   //! sun rays over 72 steps); at 512 MB its trials lost per-ray reuse.
   std::size_t ray_record_budget_bytes = std::size_t(2) << 30;
+  //! Memory cap [bytes] for the Earth cone rays' origins and directions in those records (24
+  //! bytes a ray; the sample's 2.2 M rays take 52 MB): a trial then tests the recorded rays of
+  //! a side near the change as they are instead of generating them again. Beyond the cap none
+  //! are kept and trials generate them (the same results, slower).
+  std::size_t earth_ray_geometry_budget_bytes = std::size_t(512) << 20;
 };
 
 //! View factor from each side to the Earth, F_side->Earth = (1/pi) int cos(theta) V dw over
@@ -104,10 +109,14 @@ struct RayRecords {
   //! trial can rebuild a side's Earth hits after a few of its rays changed outcome without
   //! generating the others again.
   std::vector<float> cos_theta;
+  //! Earth cone rays only, if they fit ExternalLoadSettings::earth_ray_geometry_budget_bytes
+  //! (else empty), per ray: origin [m] and unit direction (body axes), 6 floats, exactly what
+  //! the ray was traced with.
+  std::vector<float> origin_direction;
   bool empty() const { return ray_begin.empty(); }
   std::size_t bytes() const {
     return blocked.size() * 8 + hit_m.size() * 4 + (ray_begin.size() + hit_begin.size()) * 8 +
-           sample_index.size() * 4 + cell.size() + cos_theta.size() * 4;
+           sample_index.size() * 4 + cell.size() + cos_theta.size() * 4 + origin_direction.size() * 4;
   }
 };
 
