@@ -129,10 +129,15 @@ struct ChangeBox {
   // escaped ray, NaN if the blocker's distance is unknown).
   float reach(float t_stop) const { return t_stop * (1.0f + 1e-4f) + margin; }
   bool clear_of_box(const float* o, const float* d, float t_stop) const {
+    const float inv_d[3] = {1.0f / d[0], 1.0f / d[1], 1.0f / d[2]};
+    return clear_of_box_inv(o, inv_d, t_stop);
+  }
+  // The same, `inv_d` = 1 / d per component.
+  bool clear_of_box_inv(const float* o, const float* inv_d, float t_stop) const {
     if (nothing) return true;
     const float lo[3] = {box.min().x(), box.min().y(), box.min().z()};
     const float hi[3] = {box.max().x(), box.max().y(), box.max().z()};
-    return !tracing::segment_may_enter(o, d, lo, hi, reach(t_stop));
+    return !tracing::segment_may_enter_inv(o, inv_d, lo, hi, reach(t_stop));
   }
   bool clear_before_tracing(const float* o, const float* d, float t_stop) const {
     return exact_before_tracing ? clear(o, d, t_stop) : clear_of_box(o, d, t_stop);
@@ -191,6 +196,7 @@ class SideTracer {
     ctx_.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
   }
   void begin(SideRays* out, RecordCursor ref = {}) {
+    counted_ = 0;
     out_ = out;
     out_->blocked.clear();
     out_->hit_m.clear();
@@ -260,9 +266,48 @@ class SideTracer {
     }
     n_ = 0;
   }
+  // A pass that keeps no per-ray outcome (not recording; the sun's): how many of the rays
+  // from points[from..to) along the one direction `d` are open. Each ray is decided as add()
+  // decides it (the reference outcome where its path cannot meet the change, else traced), in
+  // the order given, continuing the side's earlier count_open calls; nothing is written to
+  // `out`. The slab test's 1 / d is computed once for all of them.
+  int count_open(const std::array<float, 3>* points, int from, int to, const float* d) {
+    const float inv_d[3] = {1.0f / d[0], 1.0f / d[1], 1.0f / d[2]};
+    int open = 0;
+    for (int k = from; k < to; ++k, ++counted_) {
+      const float* o = points[k].data();
+      if (counted_ < ref_.count) {
+        const bool b = ref_.bit(next_ref_++);
+        const float t = b ? ref_.rec->hit_m[ref_.hit++] : kInf;
+        if (change_->clear_of_box_inv(o, inv_d, t) || (change_->exact_before_tracing && change_->clear(o, d, t))) {
+          open += !b;
+          ++reused;
+          continue;
+        }
+      }
+      RTCRay& r = buf_[n_++];
+      r.org_x = o[0]; r.org_y = o[1]; r.org_z = o[2];
+      r.dir_x = d[0]; r.dir_y = d[1]; r.dir_z = d[2];
+      r.tnear = 0.0f;
+      r.tfar = kInf;
+      r.time = 0.0f; r.mask = 0xFFFFFFFFu; r.id = 0; r.flags = 0;
+      if (n_ == kChunk) open += flush_count();
+    }
+    return open + flush_count();
+  }
   long reused = 0, traced = 0;
 
  private:
+  // Traces the queued rays of count_open; how many are open.
+  int flush_count() {
+    if (n_ == 0) return 0;
+    traced += n_;
+    rtcOccluded1M(scene_, &ctx_, buf_, static_cast<unsigned>(n_), sizeof(RTCRay));
+    int open = 0;
+    for (int k = 0; k < n_; ++k) open += !(buf_[k].tfar < 0.0f);  // Embree sets tfar = -inf on occlusion
+    n_ = 0;
+    return open;
+  }
   // The next ray's outcome is the reference's: blocked flag and blocker distance `t` [m].
   void keep_reference(bool b, float t) {
     out_->blocked.push_back(b);
@@ -275,7 +320,7 @@ class SideTracer {
   const ChangeBox* change_;
   SideRays* out_ = nullptr;
   RecordCursor ref_;
-  std::int64_t next_ref_ = 0;
+  std::int64_t next_ref_ = 0, counted_ = 0;
   int n_ = 0;
   alignas(16) RTCRay buf_[kChunk];
   alignas(16) RTCRayHit hits_[kChunk];
@@ -530,6 +575,7 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
         auto& points = origins[s];  // (a side is one thread's at a step, and steps run in turn)
         for (int k = static_cast<int>(points.size()); k < to; ++k)
           on_side(g, scrambled(sobol[k][0], sd[0]), scrambled(sobol[k][1], sd[1]), points.emplace_back().data());
+        if (!recording) return tracer.count_open(points.data(), from, to, dir);  // (outcomes not kept)
         for (int k = from; k < to; ++k) tracer.add(points[k].data(), dir);
         tracer.flush();
         int open = 0;

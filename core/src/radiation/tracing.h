@@ -63,17 +63,21 @@ inline float ray_box_entry(const float* o, const float* d, const Eigen::AlignedB
 //! jumps on the data (reduction trials run it on ~1e6 recorded rays each, about half of which
 //! pass: branches there were mispredicted). NaN counts as entering: a slab of a zero direction
 //! component met exactly at the origin, or len = NaN (read as +inf).
-inline bool segment_may_enter(const float* o, const float* d, const float* lo, const float* hi, float len) {
+//! `inv_d` = 1 / d per component (rays of one direction share it: the sun's).
+inline bool segment_may_enter_inv(const float* o, const float* inv_d, const float* lo, const float* hi, float len) {
   constexpr float kInf = std::numeric_limits<float>::infinity();
   float t0 = 0.0f, t1 = len == len ? len : kInf;
   for (int k = 0; k < 3; ++k) {
-    const float inv = 1.0f / d[k];
-    const float ta = (lo[k] - o[k]) * inv, tb = (hi[k] - o[k]) * inv;
+    const float ta = (lo[k] - o[k]) * inv_d[k], tb = (hi[k] - o[k]) * inv_d[k];
     const bool nan = ta != ta || tb != tb;
     t0 = std::max(t0, nan ? -kInf : std::min(ta, tb));
     t1 = std::min(t1, nan ? kInf : std::max(ta, tb));
   }
   return t0 <= t1;
+}
+inline bool segment_may_enter(const float* o, const float* d, const float* lo, const float* hi, float len) {
+  const float inv_d[3] = {1.0f / d[0], 1.0f / d[1], 1.0f / d[2]};
+  return segment_may_enter_inv(o, inv_d, lo, hi, len);
 }
 
 //! A reduction trial's ray that enters the changed region's box either is tested exactly

@@ -42,7 +42,8 @@ struct GebhartFactors {
 //!
 //! \param absorptivity #S values in (0, 1].
 //! \param group_of_side #S values in [0, num_groups).
-//! \param warm_start optional #S x (G + 1) initial guess (e.g. a previous solution).
+//! \param warm_start optional #S x (G + 1) initial guess (e.g. a previous solution); its rows
+//!        left at zero (sides new to it) are first filled from the others by two local passes.
 //! \throw InvalidInput on size mismatch or values out of range; SolverError if not converged.
 GebhartFactors gebhart_factors(const FaceViewFactors& vf, const Eigen::VectorXd& absorptivity,
                                const Eigen::VectorXi& group_of_side, int num_groups,
