@@ -68,6 +68,24 @@ TEST(IncrementalCouplings, equal_a_full_recompute_of_the_candidate) {
   }
 }
 
+TEST(IncrementalCouplings, geometry_change_finds_the_faces_and_box_the_couplings_find) {
+  // A trial starts its loads from geometry_change alongside the couplings: it must name the
+  // same changed region and triangles as the couplings' own analysis.
+  const ThermalModel ref = satellite(0.0, 6);
+  const ThermalModel cand = satellite(0.05, 3);
+  const RadiationReference prepared = prepare_radiation(ref, ref.radiation);
+  IncrementalStats stats;
+  radiative_couplings_incremental(prepared, cand, &stats);
+  const GeometryChange change = geometry_change(prepared, cand);
+  EXPECT_FALSE(change.box.isEmpty());
+  EXPECT_EQ(change.box.min(), stats.changed_box.min());
+  EXPECT_EQ(change.box.max(), stats.changed_box.max());
+  EXPECT_EQ(change.faces.num_faces(), 2 * (6 * 6 + 3 * 3)) << "the old antenna's triangles and the new one's";
+  EXPECT_EQ(change.faces.V, stats.changed_faces.V);
+  EXPECT_TRUE(geometry_change(prepared, ref).box.isEmpty()) << "nothing changed";
+  EXPECT_EQ(geometry_change(prepared, ref).faces.num_faces(), 0);
+}
+
 TEST(IncrementalCouplings, one_node_change_is_far_below_independent_seed_noise) {
   // Re-meshing the antenna (same plane, 6x6 -> 3x3 grid) changes no other exchange: with
   // correlated sampling the body/panel factors move only through rays that meet the antenna,

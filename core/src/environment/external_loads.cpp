@@ -1135,7 +1135,7 @@ Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& si
 Loads external_loads(const ThermalModel& model, const RayScene& scene, const SurfaceSides& sides,
                      const FaceViewFactors* view_factors, const ExternalLoadSettings& settings,
                      const std::function<void(const std::string&)>& progress, LoadSamples* samples,
-                     LoadReuse* reuse) {
+                     LoadReuse* reuse, Eigen::MatrixXd* solar_incident_W) {
   const Environment& env = model.environment;
   if (settings.sun_rays_per_face < 1) throw InvalidInput("sun_rays_per_face must be >= 1");
   if (settings.earth_pilot_rays < 1) throw InvalidInput("earth_pilot_rays must be >= 1");
@@ -1608,33 +1608,50 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     loads.albedo_W.row(node) += alpha[s] * incident_albedo.row(s);
   }
 
+  if (solar_incident_W) *solar_incident_W = incident_direct + incident_albedo;
   if (settings.solar_reflections && view_factors) {
     if (progress) progress("solar reflections");
-    if (view_factors->sides.size() != ns)
-      throw InvalidInput("external loads: view factors are for " + std::to_string(view_factors->sides.size()) +
-                         " sides, the model has " + std::to_string(ns));
-    // A trial starts from the reference's solution (sides present in both; the others from 0).
-    RowMatrixXd guess;
-    const bool warm = ref && ref->solar_gebhart.rows() == static_cast<Eigen::Index>(ref->key.size()) &&
-                      ref->solar_gebhart.cols() == num_nodes + 2;
-    if (warm) {
-      guess = RowMatrixXd::Zero(ns, num_nodes + 2);
-      for (int s = 0; s < ns; ++s)
-        if (ref_of[s] >= 0) guess.row(s) = ref->solar_gebhart.row(ref_of[s]);
-    }
-    const GebhartFactors solar =
-        gebhart_factors(*view_factors, alpha, node_groups(sides, num_nodes), num_nodes + 1, {}, warm ? &guess : nullptr);
-    if (samples) samples->solar_gebhart = solar.B;
-    // A side receiving Q in the solar band absorbs alpha Q itself (counted above) and reflects
-    // (1 - alpha) Q, of which node g finally absorbs the fraction B(s, g).
-    const Eigen::MatrixXd incident = incident_direct + incident_albedo;
-    for (int s = 0; s < ns; ++s) {
-      if (incident.row(s).isZero()) continue;
-      for (int g = 0; g < num_nodes; ++g)
-        if (solar.B(s, g) != 0.0) loads.reflected_solar_W.row(g) += (1.0 - alpha[s]) * solar.B(s, g) * incident.row(s);
-    }
+    add_solar_reflections(loads, model, sides, *view_factors,
+                          solar_incident_W ? *solar_incident_W : Eigen::MatrixXd(incident_direct + incident_albedo), ref,
+                          samples);
   }
   return loads;
+}
+
+void add_solar_reflections(Loads& loads, const ThermalModel& model, const SurfaceSides& sides,
+                           const FaceViewFactors& view_factors, const Eigen::MatrixXd& solar_incident_W,
+                           const LoadSamples* warm, LoadSamples* samples) {
+  const int ns = sides.size(), num_nodes = static_cast<int>(model.nodes.size());
+  if (view_factors.sides.size() != ns)
+    throw InvalidInput("solar reflections: view factors are for " + std::to_string(view_factors.sides.size()) +
+                       " sides, the model has " + std::to_string(ns));
+  if (solar_incident_W.rows() != ns || loads.reflected_solar_W.rows() != num_nodes ||
+      loads.reflected_solar_W.cols() != solar_incident_W.cols())
+    throw InvalidInput("solar reflections: incident power is " + std::to_string(solar_incident_W.rows()) + " x " +
+                       std::to_string(solar_incident_W.cols()) + " for " + std::to_string(ns) + " sides and loads of " +
+                       std::to_string(loads.reflected_solar_W.cols()) + " steps");
+  const Eigen::VectorXd alpha = side_absorptivity(model, sides);
+  // A trial starts from the reference's solution (sides present in both; the others from 0).
+  RowMatrixXd guess;
+  const bool warm_ok = warm && warm->solar_gebhart.rows() == static_cast<Eigen::Index>(warm->key.size()) &&
+                       warm->solar_gebhart.cols() == num_nodes + 2;
+  if (warm_ok) {
+    std::unordered_map<std::uint64_t, int> index;
+    for (size_t i = 0; i < warm->key.size(); ++i) index.emplace(warm->key[i], static_cast<int>(i));
+    guess = RowMatrixXd::Zero(ns, num_nodes + 2);
+    for (int s = 0; s < ns; ++s) {
+      const auto it = index.find(sides.key[s]);
+      if (it != index.end()) guess.row(s) = warm->solar_gebhart.row(it->second);
+    }
+  }
+  const GebhartFactors solar =
+      gebhart_factors(view_factors, alpha, node_groups(sides, num_nodes), num_nodes + 1, {}, warm_ok ? &guess : nullptr);
+  if (samples) samples->solar_gebhart = solar.B;
+  for (int s = 0; s < ns; ++s) {
+    if (solar_incident_W.row(s).isZero()) continue;
+    for (int g = 0; g < num_nodes; ++g)
+      if (solar.B(s, g) != 0.0) loads.reflected_solar_W.row(g) += (1.0 - alpha[s]) * solar.B(s, g) * solar_incident_W.row(s);
+  }
 }
 
 }  // namespace thermodec

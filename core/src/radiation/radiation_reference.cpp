@@ -277,7 +277,65 @@ Mesh changed_faces(const Mesh& a, const std::vector<char>& in_a, const Mesh& b, 
   return m;
 }
 
+// Twins by identity: same vertex coordinates, side and sidedness => same geometry
+// (geo_twin); with the same ray count too => same rays (twin). A side of a node whose face
+// count changed emits a different number of rays: traced afresh, but it is still the same
+// surface for the rays of other sides that hit it. The changed geometry: candidate faces with
+// a side new to the reference (added_face) and reference faces with a side gone from the
+// candidate (removed_face), and their box.
+struct SideMatch {
+  std::vector<int> twin, geo_twin, cand_of_ref;
+  std::vector<char> added_face, removed_face;
+  Eigen::AlignedBox3d changed_box;
+  int changed_sides = 0, reused_sides = 0, removed_sides = 0;
+};
+SideMatch match_sides(const RadiationReference::Impl& ref, const ThermalModel& candidate, const SurfaceSides& sides,
+                      const Eigen::VectorXi& rays) {
+  const int S = sides.size(), Sr = ref.vf.sides.size();
+  const Eigen::VectorXi& ref_rays = ref.vf.side_rays;
+  SideMatch m;
+  m.twin.assign(S, -1);
+  m.geo_twin.assign(S, -1);
+  m.cand_of_ref.assign(Sr, -1);
+  for (int c = 0; c < S; ++c) {
+    const auto it = ref.side_of_key.find(sides.key[c]);
+    if (it != ref.side_of_key.end() && m.cand_of_ref[it->second] < 0) {
+      m.geo_twin[c] = it->second;
+      m.cand_of_ref[it->second] = c;
+      if (ref_rays[it->second] == rays[c]) m.twin[c] = it->second;
+    }
+  }
+  m.added_face.assign(candidate.mesh.num_faces(), 0);
+  m.removed_face.assign(ref.model.mesh.num_faces(), 0);
+  for (int c = 0; c < S; ++c) {
+    (m.twin[c] < 0 ? m.changed_sides : m.reused_sides) += 1;
+    if (m.geo_twin[c] < 0 && !m.added_face[sides.face[c]]) {
+      m.added_face[sides.face[c]] = 1;
+      extend_by_face(m.changed_box, candidate.mesh, sides.face[c]);
+    }
+  }
+  for (int r = 0; r < Sr; ++r)
+    if (m.cand_of_ref[r] < 0) {
+      ++m.removed_sides;
+      if (!m.removed_face[ref.vf.sides.face[r]]) {
+        m.removed_face[ref.vf.sides.face[r]] = 1;
+        extend_by_face(m.changed_box, ref.model.mesh, ref.vf.sides.face[r]);
+      }
+    }
+  return m;
+}
+
 }  // namespace
+
+GeometryChange geometry_change(const RadiationReference& reference, const ThermalModel& candidate) {
+  const RadiationReference::Impl& ref = reference.impl();
+  const SurfaceSides sides = surface_sides(candidate);
+  const SideMatch m = match_sides(ref, candidate, sides, side_ray_counts(sides, ref.settings));
+  GeometryChange change;
+  change.box = m.changed_box;
+  change.faces = changed_faces(ref.model.mesh, m.removed_face, candidate.mesh, m.added_face);
+  return change;
+}
 
 NodeCouplings radiative_couplings_incremental(const RadiationReference& reference, const ThermalModel& candidate,
                                               IncrementalStats* stats, FaceViewFactors* face_vf,
@@ -286,43 +344,17 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
   const RadiationSettings& settings = ref.settings;
   const int N = static_cast<int>(candidate.nodes.size());
   const SurfaceSides sides = surface_sides(candidate);
-  const int S = sides.size(), Sr = ref.vf.sides.size();
+  const int S = sides.size();
   const Eigen::VectorXi rays = side_ray_counts(sides, settings);
-  const Eigen::VectorXi& ref_rays = ref.vf.side_rays;
 
-  // Twins by identity: same vertex coordinates, side and sidedness => same geometry
-  // (geo_twin); with the same ray count too => same rays (twin). A side of a node whose face
-  // count changed emits a different number of rays: traced afresh, but it is still the same
-  // surface for the rays of other sides that hit it.
-  std::vector<int> twin(S, -1), geo_twin(S, -1), cand_of_ref(Sr, -1);
-  for (int c = 0; c < S; ++c) {
-    const auto it = ref.side_of_key.find(sides.key[c]);
-    if (it != ref.side_of_key.end() && cand_of_ref[it->second] < 0) {
-      geo_twin[c] = it->second;
-      cand_of_ref[it->second] = c;
-      if (ref_rays[it->second] == rays[c]) twin[c] = it->second;
-    }
-  }
-  // The changed geometry: candidate faces with a side new to the reference and reference faces
-  // with a side gone from the candidate. Its box filters rays cheaply; the faces themselves
-  // (a small Embree scene) decide exactly which rays can see a difference.
+  const SideMatch match = match_sides(ref, candidate, sides, rays);
+  const std::vector<int>&twin = match.twin, &cand_of_ref = match.cand_of_ref;
   IncrementalStats st;
-  std::vector<char> added_face(candidate.mesh.num_faces(), 0), removed_face(ref.model.mesh.num_faces(), 0);
-  for (int c = 0; c < S; ++c) {
-    (twin[c] < 0 ? st.changed_sides : st.reused_sides) += 1;
-    if (geo_twin[c] < 0 && !added_face[sides.face[c]]) {
-      added_face[sides.face[c]] = 1;
-      extend_by_face(st.changed_box, candidate.mesh, sides.face[c]);
-    }
-  }
-  for (int r = 0; r < Sr; ++r)
-    if (cand_of_ref[r] < 0) {
-      ++st.removed_sides;
-      if (!removed_face[ref.vf.sides.face[r]]) {
-        removed_face[ref.vf.sides.face[r]] = 1;
-        extend_by_face(st.changed_box, ref.model.mesh, ref.vf.sides.face[r]);
-      }
-    }
+  st.changed_sides = match.changed_sides;
+  st.reused_sides = match.reused_sides;
+  st.removed_sides = match.removed_sides;
+  st.changed_box = match.changed_box;
+  const std::vector<char>&added_face = match.added_face, &removed_face = match.removed_face;
   Mesh changed_mesh = changed_faces(ref.model.mesh, removed_face, candidate.mesh, added_face);
   const RayScene changed_scene(changed_mesh);
   // Their corners, for the per-side test of which of them a side's rays can reach at all.

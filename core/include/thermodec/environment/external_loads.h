@@ -189,9 +189,26 @@ struct LoadReuse {
 //! `samples` (optional, out) records what was sampled for later reuse; `reuse` (optional)
 //! takes unaffected sides from a reference run: the result is identical to a full run.
 //! \throw InvalidInput on bad settings (rays < 1, steps < 2 for an orbit) or environment.
+//! `solar_incident_W` (optional, out): #sides x steps solar-band power each side receives,
+//! direct and albedo [W], what the reflections are computed from: with `view_factors` =
+//! nullptr a caller can add them later (add_solar_reflections), e.g. once view factors
+//! computed alongside are ready.
 Loads external_loads(const ThermalModel& model, const RayScene& scene, const SurfaceSides& sides,
                      const FaceViewFactors* view_factors, const ExternalLoadSettings& settings = {},
                      const std::function<void(const std::string&)>& progress = {},
-                     LoadSamples* samples = nullptr, LoadReuse* reuse = nullptr);
+                     LoadSamples* samples = nullptr, LoadReuse* reuse = nullptr,
+                     Eigen::MatrixXd* solar_incident_W = nullptr);
+
+//! Adds the diffuse solar-band reflections between faces to `loads.reflected_solar_W`
+//! (#nodes x steps [W]): a side receiving Q_s [W] (`solar_incident_W`, #sides x steps) absorbs
+//! alpha_s Q_s itself (in solar_W / albedo_W already) and reflects (1 - alpha_s) Q_s, of which
+//! node g finally absorbs the fraction B(s, g), the solar-band Gebhart factors over
+//! `view_factors` (of the same sides). `warm` (optional): a reference run's samples, whose
+//! Gebhart factors start the solve (sides matched by key); `samples` (optional, out) keeps
+//! this run's factors for later runs.
+//! \throw InvalidInput if the sizes disagree.
+void add_solar_reflections(Loads& loads, const ThermalModel& model, const SurfaceSides& sides,
+                           const FaceViewFactors& view_factors, const Eigen::MatrixXd& solar_incident_W,
+                           const LoadSamples* warm = nullptr, LoadSamples* samples = nullptr);
 
 }  // namespace thermodec

@@ -74,6 +74,16 @@ struct IncrementalStats {
   int sides_traced_whole = 0;
 };
 
+//! What differs between the reference's mesh and `candidate`'s, found by face identity
+//! (SurfaceSides::key) as radiative_couplings_incremental finds it (the same box and faces as
+//! its IncrementalStats), without tracing anything: so a trial can start its loads, which
+//! reuse rays outside this region, alongside the couplings.
+struct GeometryChange {
+  Eigen::AlignedBox3d box;  //!< of the removed and the added faces [m]; empty: nothing changed
+  Mesh faces;               //!< the removed (reference) and the added (candidate) triangles
+};
+GeometryChange geometry_change(const RadiationReference& reference, const ThermalModel& candidate);
+
 //! Couplings of `candidate` with the reference's settings, reusing the reference's rays.
 //! Equal to radiative_couplings(candidate, reference.settings()) up to the Gebhart solver
 //! tolerance (view factors bit-identical). `face_vf`, if non-null, receives the candidate's

@@ -16,6 +16,7 @@ struct TrialResult {
   int faces_after = 0;                 //!< total faces of the candidate mesh
   //! Wall time of the trial's phases [s] (for benchmarks; 0 for a phase it skipped). A full
   //! (non-incremental) simulation puts its couplings, loads and solve all in `simulation_s`.
+  //! An incremental trial computes its couplings and loads side by side: their times overlap.
   struct Timing {
     double decimation_s = 0.0, couplings_s = 0.0, loads_s = 0.0, solve_s = 0.0, simulation_s = 0.0;
   } timing;
