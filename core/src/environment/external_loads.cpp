@@ -219,13 +219,8 @@ class SideTracer {
     }
     out_->blocked.push_back(0);
     if (record_) out_->hit_m.push_back(kInf);
-    RTCRay& r = buf_[n_];
-    index_[n_++] = static_cast<int>(i);
-    r.org_x = o[0]; r.org_y = o[1]; r.org_z = o[2];
-    r.dir_x = d[0]; r.dir_y = d[1]; r.dir_z = d[2];
-    r.tnear = 0.0f;
-    r.tfar = kInf;
-    r.time = 0.0f; r.mask = 0xFFFFFFFFu; r.id = 0; r.flags = 0;
+    index_[n_] = static_cast<int>(i);
+    queue(o, d);
     if (n_ == kChunk) flush();
   }
   // The next ray keeps its reference outcome without being looked at (a conservative test
@@ -285,12 +280,7 @@ class SideTracer {
           continue;
         }
       }
-      RTCRay& r = buf_[n_++];
-      r.org_x = o[0]; r.org_y = o[1]; r.org_z = o[2];
-      r.dir_x = d[0]; r.dir_y = d[1]; r.dir_z = d[2];
-      r.tnear = 0.0f;
-      r.tfar = kInf;
-      r.time = 0.0f; r.mask = 0xFFFFFFFFu; r.id = 0; r.flags = 0;
+      queue(o, d);
       if (n_ == kChunk) open += flush_count();
     }
     return open + flush_count();
@@ -298,6 +288,15 @@ class SideTracer {
   long reused = 0, traced = 0;
 
  private:
+  // Appends the ray o + t d, t in [0, inf), to the chunk to trace.
+  void queue(const float* o, const float* d) {
+    RTCRay& r = buf_[n_++];
+    r.org_x = o[0]; r.org_y = o[1]; r.org_z = o[2];
+    r.dir_x = d[0]; r.dir_y = d[1]; r.dir_z = d[2];
+    r.tnear = 0.0f;
+    r.tfar = kInf;
+    r.time = 0.0f; r.mask = 0xFFFFFFFFu; r.id = 0; r.flags = 0;
+  }
   // Traces the queued rays of count_open; how many are open.
   int flush_count() {
     if (n_ == 0) return 0;
@@ -1608,13 +1607,12 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     loads.albedo_W.row(node) += alpha[s] * incident_albedo.row(s);
   }
 
-  if (solar_incident_W) *solar_incident_W = incident_direct + incident_albedo;
+  const Eigen::MatrixXd incident = incident_direct + incident_albedo;
   if (settings.solar_reflections && view_factors) {
     if (progress) progress("solar reflections");
-    add_solar_reflections(loads, model, sides, *view_factors,
-                          solar_incident_W ? *solar_incident_W : Eigen::MatrixXd(incident_direct + incident_albedo), ref,
-                          samples);
+    add_solar_reflections(loads, model, sides, *view_factors, incident, ref, samples);
   }
+  if (solar_incident_W) *solar_incident_W = incident;
   return loads;
 }
 
