@@ -33,7 +33,7 @@ void run_convert(const ConvertArgs& args) {
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext == ".json") {
     // A model: write its mesh with every face's node and resolved material.
-    ThermalModel model = load_model(in, read);
+    ThermalModel model = load_model(in, model_load_options(read, false));
     write.protected_inputs.push_back(model.mesh_path);
     mesh = std::move(model.mesh);
   } else {

@@ -11,6 +11,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/decimation/decimate_nodes.h"
 #include "thermodec/mesh/io.h"
+#include "thermodec/common/output_paths.h"
 #include "thermodec/nodes/load_model.h"
 
 namespace thermodec::cli {
@@ -67,7 +68,17 @@ Eigen::VectorXd read_node_ratios(const fs::path& path, const std::vector<std::st
 }
 
 void run_decimate(const DecimateArgs& args) {
-  ThermalModel model = load_model(args.model);
+  ThermalModel model = load_model(args.model, model_load_options());
+  // Outputs checked before the work: extension, folder, and every input (model, mesh, ratios).
+  std::vector<fs::path> inputs{args.model, model.mesh_path};
+  if (!args.node_ratios.empty()) inputs.push_back(args.node_ratios);
+  {
+    const fs::path out(args.output);
+    check_output_file(out, "-o", {".json", ".obj", ".ply", ".stl"}, inputs);
+    fs::path other = out;
+    other.replace_extension(out.extension() == ".json" ? ".obj" : ".json");
+    if (out.extension() != ".stl") check_output_file(other, "-o (companion file)", {}, inputs);
+  }
   const Mesh& mesh = model.mesh;
   DecimationResult r;
   if (!args.node_ratios.empty()) {
@@ -103,11 +114,11 @@ void run_decimate(const DecimateArgs& args) {
   else
     json.replace_extension(".json");
   for (const fs::path& p : {json, mesh_out})
-    if (same_file(p, args.model) || (!model.mesh_path.empty() && same_file(p, model.mesh_path)))
-      throw InvalidInput(p.string() + ": refusing to overwrite an input file");
+    for (const fs::path& in : inputs)
+      if (!in.empty() && same_file(p, in)) throw InvalidInput(p.string() + ": refusing to overwrite an input file");
   if (ext == ".stl") {
     MeshWriteOptions w;
-    w.protected_inputs = {args.model, model.mesh_path};
+    w.protected_inputs = inputs;
     write_mesh(out, model.mesh, w);
     std::cout << "wrote " << out.string() << " (STL keeps geometry only; no model written)\n";
     return;

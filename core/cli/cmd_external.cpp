@@ -22,7 +22,7 @@ struct ExternalOptions {
 };
 
 void run(const ExternalOptions& o) {
-  ThermalModel model = load_model(o.model);
+  ThermalModel model = load_model(o.model, model_load_options());
   const std::filesystem::path out(o.out);
   for (const auto& input : {std::filesystem::path(o.model), model.mesh_path})
     if (!input.empty() && same_file(out, input))

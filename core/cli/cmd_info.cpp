@@ -28,7 +28,7 @@ void run_info(const InfoArgs& args) {
   MeshReadOptions read;
   read.weld_tolerance = args.weld_tolerance;
   read.drop_degenerate_faces = false;  // info reports them instead
-  const ThermalModel model = load_model(args.model, read);
+  const ThermalModel model = load_model(args.model, model_load_options(read, false));
   const Mesh& mesh = model.mesh;
   const MeshStats s = mesh_stats(mesh);
   const auto counts = node_face_counts(mesh);

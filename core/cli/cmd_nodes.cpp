@@ -28,7 +28,7 @@ void run_nodes(const NodesArgs& args) {
   Mesh mesh;
   if (model_path.extension() == ".json") {
     // A model file: its mesh in metres (unit_scale applied), with coatings and sidedness.
-    ThermalModel model = load_model(model_path);
+    ThermalModel model = load_model(model_path, model_load_options());
     inputs.push_back(model.mesh_path);
     mesh = std::move(model.mesh);
   } else {

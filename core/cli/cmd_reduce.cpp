@@ -6,6 +6,7 @@
 #include "commands.h"
 #include "thermodec/common/errors.h"
 #include "thermodec/nodes/load_case.h"
+#include "thermodec/common/output_paths.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/reduction/reduce_model.h"
 #include "thermodec/report/reduction_report.h"
@@ -31,10 +32,18 @@ struct ReduceCliOptions {
   std::vector<std::string> case_files;
 };
 
+// What `reduce` writes into its folder (report/reduction_report.h); only these may be there.
+const std::vector<std::string> kReduceOutputs = {"model.json", "reduced.obj", "report.json", "sensitivity.png",
+                                                 "predicted_vs_real.png", "temperatures.png", "mesh.png"};
+
 void run_reduce(const ReduceCliOptions& o) {
-  ModelLoadOptions load;
+  ModelLoadOptions load = model_load_options();
   load.clean_bare_mesh = !o.raw_mesh;
   ThermalModel model = load_model(o.model, load);
+  // Every input is protected from the outputs, and the folder is checked before the work.
+  std::vector<std::filesystem::path> inputs{o.model, model.mesh_path};
+  for (const auto& f : o.case_files) inputs.push_back(f);
+  check_output_folder(o.out_dir, kReduceOutputs, inputs);
   ReduceSettings s;
   s.informed.max_evaluations = o.max_evaluations;
   apply_bare_mesh_reduction_budget(model, s);
@@ -66,7 +75,8 @@ void run_reduce(const ReduceCliOptions& o) {
             << s.reference.simulation.loads.sun_rays_per_face << " sun samples per face side, tolerance " << o.tolerance_K << " K, strategy " << o.strategy
             << (s.extra_cases.empty() ? std::string() : ", " + std::to_string(1 + s.extra_cases.size()) + " load cases") << "\n";
   const ReductionRun run = reduce_model(model, s);
-  const auto warnings = write_reduction_outputs(run, o.out_dir, {o.model, model.mesh_path}, !o.no_plots);
+  clear_own_outputs(o.out_dir, kReduceOutputs);
+  const auto warnings = write_reduction_outputs(run, o.out_dir, inputs, !o.no_plots);
   for (const auto& w : warnings) std::cerr << "reduce: warning: plot not written: " << w << "\n";
   std::cout << reduction_summary(run);
   std::cout << "results: " << o.out_dir << " (model.json, reduced.obj, report.json"

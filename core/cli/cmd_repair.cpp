@@ -51,7 +51,7 @@ void write_model_or_mesh(const ThermalModel& model, const fs::path& out, const f
 void run_repair(const RepairArgs& args) {
   MeshReadOptions read;
   read.drop_degenerate_faces = false;  // repair drops them and says so
-  ThermalModel model = load_model(args.model, read);
+  ThermalModel model = load_model(args.model, model_load_options(read, false));
   const int faces_before = model.mesh.num_faces(), vertices_before = model.mesh.num_vertices();
   RepairResult r = repair_mesh(model.mesh, args.options);
   model.mesh = std::move(r.mesh);

@@ -1,4 +1,5 @@
 // `thermodec simulate MODEL --json OUT [--plot OUT.png] [--noise-floor]`
+#include <chrono>
 #include <cstdio>
 #include <iostream>
 
@@ -6,6 +7,7 @@
 #include "thermodec/common/atomic_write.h"
 #include "thermodec/common/errors.h"
 #include "thermodec/nodes/load_model.h"
+#include "thermodec/common/output_paths.h"
 #include "thermodec/report/plot.h"
 #include "thermodec/thermal/result_json.h"
 #include "thermodec/thermal/simulate_model.h"
@@ -37,7 +39,7 @@ struct SimulateOptions {
 };
 
 void run_simulate(const SimulateOptions& o) {
-  ModelLoadOptions load;
+  ModelLoadOptions load = model_load_options();
   load.clean_bare_mesh = !o.raw_mesh;
   ThermalModel model = load_model(o.model, load);
   ModelSimulationSettings settings;
@@ -48,9 +50,11 @@ void run_simulate(const SimulateOptions& o) {
   if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
   const std::vector<std::filesystem::path> inputs{o.model, model.mesh_path};
   // Refuse before the work, not after it.
-  for (const auto& in : inputs)
-    for (const auto& out : {o.json_out, o.plot_out})
-      if (!out.empty() && same_file(in, out)) throw InvalidInput("output " + out + " would overwrite the input " + in.string());
+  if (!o.json_out.empty()) check_output_file(o.json_out, "--json", {".json"}, inputs);
+  if (!o.plot_out.empty()) check_output_file(o.plot_out, "--plot", {".png"}, inputs);
+  if (!o.json_out.empty() && !o.plot_out.empty() && same_file(o.json_out, o.plot_out))
+    throw InvalidInput("--json and --plot name the same file " + o.json_out);
+  const auto start = std::chrono::steady_clock::now();
   if (!o.quiet) settings.progress = [](const std::string& m) { std::cerr << "simulate: " << m << "\n"; };
 
   nlohmann::json extra;
@@ -109,6 +113,14 @@ void run_simulate(const SimulateOptions& o) {
   for (auto& [k, v] : extra.items()) j[k] = v;
   if (!o.json_out.empty()) write_text_atomically(o.json_out, j.dump(1) + "\n", inputs);
   if (!o.plot_out.empty()) plot_png("temperatures", j, o.plot_out);
+  if (!o.quiet) {
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!o.json_out.empty()) std::printf("wrote %s\n", o.json_out.c_str());
+    if (!o.plot_out.empty()) std::printf("wrote %s\n", o.plot_out.c_str());
+    std::printf("simulate: done in %.1f s (environment %s, analysis %s)\n", seconds,
+                model.environment.type == EnvironmentType::orbit ? "orbit" : "fixed_sun",
+                model.analysis.type == AnalysisType::steady ? "steady" : "transient_orbit");
+  }
 }
 
 }  // namespace

@@ -34,7 +34,7 @@ nlohmann::ordered_json matrix(const Eigen::MatrixXd& m) {
 nlohmann::ordered_json vector(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
 
 void run(const ViewFactorsOptions& o) {
-  ThermalModel model = load_model(o.model);
+  ThermalModel model = load_model(o.model, model_load_options());
   if (o.two_sided)  // thin sheets everywhere: the robust reading of open or badly oriented meshes
     for (int f = 0; f < model.mesh.num_faces(); ++f)
       if (model.mesh.face_back_material[f] < 0) model.mesh.face_back_material[f] = model.mesh.face_material[f];

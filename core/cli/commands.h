@@ -5,6 +5,8 @@
 #include <functional>
 #include <string>
 
+#include "thermodec/nodes/load_model.h"
+
 namespace thermodec::cli {
 
 void add_info(CLI::App& app);
@@ -26,5 +28,9 @@ void run_guarded(const std::function<void()>& body);
 void not_implemented(CLI::App* sub, const std::string& what);
 
 int exit_code();
+
+//! Model loading options carrying the global `--allow-unknown-keys` flag; `mesh` and
+//! `clean_bare_mesh` as given (load_model(path, MeshReadOptions) takes meshes as read).
+thermodec::ModelLoadOptions model_load_options(const thermodec::MeshReadOptions& mesh = {}, bool clean_bare_mesh = true);
 
 }  // namespace thermodec::cli

@@ -7,6 +7,15 @@
 namespace thermodec::cli {
 namespace {
 int g_exit_code = 0;
+bool g_allow_unknown_keys = false;
+}
+
+thermodec::ModelLoadOptions model_load_options(const thermodec::MeshReadOptions& mesh, bool clean_bare_mesh) {
+  thermodec::ModelLoadOptions o;
+  o.mesh = mesh;
+  o.clean_bare_mesh = clean_bare_mesh;
+  o.allow_unknown_keys = g_allow_unknown_keys;
+  return o;
 }
 
 int exit_code() { return g_exit_code; }
@@ -49,6 +58,10 @@ int main(int argc, char** argv) {
       "reduces each node as far as a temperature tolerance allows, and verifies the result.\n"
       "MODEL is a thermodec model.json (docs/model-format.md) or a bare mesh (.obj .ply .stl)."};
   app.require_subcommand(1);
+  // Accepted before or after the subcommand (fallthrough).
+  app.add_flag("--allow-unknown-keys", g_allow_unknown_keys,
+               "Unknown keys in a model file warn instead of failing (e.g. a file from a newer version)");
+  app.fallthrough();
   app.set_version_flag("--version", "thermodec 0.1.0");
   add_info(app);
   add_convert(app);

@@ -43,6 +43,8 @@ Mesh parse_obj(std::string_view data, const std::string& file) {
     const int ln = lines.line_number();
     const std::string_view line = trim(raw);
     if (line.empty()) continue;
+    // A NUL byte would travel into group and material names and on into every written file.
+    if (line.find('\0') != std::string_view::npos) throw line_error(file, ln, "NUL byte in the line (not a text OBJ file?)");
     if (line.front() == '#') {
       if (line.substr(0, kBackMaterialDirective.size()) == kBackMaterialDirective) {
         const std::string_view name = trim(line.substr(kBackMaterialDirective.size()));
@@ -77,14 +79,32 @@ Mesh parse_obj(std::string_view data, const std::string& file) {
         const std::string_view index_text = w.substr(0, w.find('/'));
         long long i;
         if (!parse_long(index_text, i)) throw line_error(file, ln, "bad vertex index '" + std::string(w) + "'");
+        // v, v/vt, v//vn or v/vt/vn: the texture and normal indices are not used, but anything
+        // else after the vertex index (`1/a`) is a malformed file, not something to skip.
+        if (index_text.size() < w.size()) {
+          std::string_view rest_of_index = w.substr(index_text.size() + 1);
+          int parts = 0;
+          while (true) {
+            const std::string_view part = rest_of_index.substr(0, rest_of_index.find('/'));
+            long long ignored;
+            if (++parts > 2 || (!part.empty() && !parse_long(part, ignored)))
+              throw line_error(file, ln, "bad face corner '" + std::string(w) + "' (expected v, v/vt, v//vn or v/vt/vn)");
+            if (part.size() == rest_of_index.size()) break;
+            rest_of_index = rest_of_index.substr(part.size() + 1);
+          }
+        }
         if (i == 0) throw line_error(file, ln, "vertex index 0 (OBJ indices start at 1)");
         if (i < 0) {
-          // Relative index: -1 is the latest vertex defined above this line.
-          if (-i > nv) throw line_error(file, ln, "relative vertex index " + std::to_string(i) + " points before the first vertex (" + std::to_string(nv) + " defined so far)");
+          // Relative index: -1 is the latest vertex defined above this line (compared as
+          // i < -nv: negating i overflows for the most negative integer).
+          if (i < -nv) throw line_error(file, ln, "relative vertex index " + std::to_string(i) + " points before the first vertex (" + std::to_string(nv) + " defined so far)");
           polygon.push_back(nv + i);
         } else {
-          if (i > std::numeric_limits<int>::max()) throw line_error(file, ln, "vertex index " + std::to_string(i) + " out of range");
-          polygon.push_back(i - 1);  // range checked once all vertices are known
+          // Faces may only use vertices defined above them, as relative indices already must.
+          if (i > nv)
+            throw line_error(file, ln, "vertex index " + std::to_string(i) + " out of range (" + std::to_string(nv) +
+                                           " vertices defined above this face; faces may only use earlier vertices)");
+          polygon.push_back(i - 1);
         }
       }
       for (std::size_t t = 1; t + 1 < polygon.size(); ++t) {

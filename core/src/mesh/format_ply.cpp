@@ -160,15 +160,20 @@ void compact_ids(std::vector<std::string>& names, std::vector<Eigen::VectorXi*> 
 
 }  // namespace
 
-Mesh parse_ply(std::string_view data, const std::string& file) {
-  if (trim(data).empty()) throw file_error(file, "empty file");
-  LineReader lines(data);
-  std::string_view raw;
-  if (!lines.next(raw) || trim(raw) != "ply") throw line_error(file, 1, "not a PLY file (first line must be 'ply')");
+namespace {
+
+struct PlyHeader {
   Format format = Format::ascii;
-  bool have_format = false;
   std::vector<Element> elements;
   std::map<int, std::string> node_names, material_names;
+};
+
+// Reads the header up to and including `end_header`; `lines` is left at the first body byte.
+PlyHeader parse_header(LineReader& lines, const std::string& file) {
+  std::string_view raw;
+  if (!lines.next(raw) || trim(raw) != "ply") throw line_error(file, 1, "not a PLY file (first line must be 'ply')");
+  PlyHeader h;
+  bool have_format = false;
   bool ended = false;
   while (!ended && lines.next(raw)) {
     const int ln = lines.line_number();
@@ -178,9 +183,9 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
     const std::string_view key = words[0];
     if (key == "format") {
       if (words.size() < 2) throw line_error(file, ln, "format line without a format");
-      if (words[1] == "ascii") format = Format::ascii;
-      else if (words[1] == "binary_little_endian") format = Format::binary_le;
-      else if (words[1] == "binary_big_endian") format = Format::binary_be;
+      if (words[1] == "ascii") h.format = Format::ascii;
+      else if (words[1] == "binary_little_endian") h.format = Format::binary_le;
+      else if (words[1] == "binary_big_endian") h.format = Format::binary_be;
       else throw line_error(file, ln, "unknown PLY format '" + std::string(words[1]) + "'");
       have_format = true;
     } else if (key == "comment" || key == "obj_info") {
@@ -191,15 +196,20 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
         // The name is the rest of the line after the id (it may contain spaces).
         const std::size_t at = static_cast<std::size_t>(words[3].data() + words[3].size() - line.data());
         const std::string name(trim(line.substr(at)));
-        (words[2] == "node" ? node_names : material_names)[static_cast<int>(id)] = name;
+        (words[2] == "node" ? h.node_names : h.material_names)[static_cast<int>(id)] = name;
       }
     } else if (key == "element") {
       long long count;
       if (words.size() != 3 || !parse_long(words[2], count) || count < 0)
         throw line_error(file, ln, "expected 'element <name> <count>'");
-      elements.push_back({std::string(words[1]), count, {}});
+      // A second `vertex` or `face` element would make faces index one vertex list while
+      // another is stored: refuse rather than guess which one is meant.
+      for (const Element& e : h.elements)
+        if (e.name == words[1])
+          throw line_error(file, ln, "element '" + std::string(words[1]) + "' declared twice");
+      h.elements.push_back({std::string(words[1]), count, {}});
     } else if (key == "property") {
-      if (elements.empty()) throw line_error(file, ln, "property before any element");
+      if (h.elements.empty()) throw line_error(file, ln, "property before any element");
       Property p;
       if (words.size() == 5 && words[1] == "list") {
         p.is_list = true;
@@ -212,7 +222,7 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
       } else {
         throw line_error(file, ln, "expected 'property <type> <name>' or 'property list <count type> <type> <name>'");
       }
-      elements.back().properties.push_back(p);
+      h.elements.back().properties.push_back(p);
     } else if (key == "end_header") {
       ended = true;
     } else {
@@ -221,6 +231,32 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
   }
   if (!ended) throw file_error(file, "truncated PLY: no 'end_header'");
   if (!have_format) throw file_error(file, "PLY header has no 'format' line");
+  return h;
+}
+
+// Every record takes at least one byte (a binary scalar or list count, an ASCII digit), so
+// a count above the bytes after the header is refused before any loop or allocation depends
+// on it (a header may declare 9e18 records in a 1 KB file). Smaller shortfalls are reported
+// where the data ends, naming the record.
+void check_counts_fit(const PlyHeader& h, std::size_t body_bytes, const std::string& file) {
+  for (const Element& e : h.elements) {
+    if (e.count > 0 && e.properties.empty())
+      throw file_error(file, "PLY element '" + e.name + "' declares " + std::to_string(e.count) + " records but no properties");
+    if (static_cast<unsigned long long>(e.count) > body_bytes)
+      throw file_error(file, "truncated PLY: element '" + e.name + "' declares " + std::to_string(e.count) +
+                                 " records, more than the " + std::to_string(body_bytes) + " bytes after the header");
+  }
+}
+
+}  // namespace
+
+Mesh parse_ply(std::string_view data, const std::string& file) {
+  if (trim(data).empty()) throw file_error(file, "empty file");
+  LineReader lines(data);
+  const PlyHeader header = parse_header(lines, file);
+  const Format format = header.format;
+  const std::vector<Element>& elements = header.elements;
+  check_counts_fit(header, data.size() - lines.position(), file);
 
   // Binary data starts right after the "end_header" line's '\n'.
   Body body(data, lines.position(), lines.line_number(), format, file);
@@ -340,9 +376,9 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
     if (has_material) mesh.face_material[f] = static_cast<int>(tri_material[f]);
     if (has_back) mesh.face_back_material[f] = static_cast<int>(tri_back[f]);
   }
-  compact_ids(mesh.node_names, {&mesh.face_node}, node_names, "node");
+  compact_ids(mesh.node_names, {&mesh.face_node}, header.node_names, "node");
   // Front and back materials share one name table.
-  compact_ids(mesh.material_names, {&mesh.face_material, &mesh.face_back_material}, material_names, "material");
+  compact_ids(mesh.material_names, {&mesh.face_material, &mesh.face_back_material}, header.material_names, "material");
   return mesh;
 }
 

@@ -29,13 +29,25 @@ MeshFormat format_of(const std::filesystem::path& path) {
 
 std::string read_bytes(const std::filesystem::path& path) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw IOError(path.string() + ": is a folder, not a mesh file");
+  const auto status = std::filesystem::status(path, ec);
+  if (std::filesystem::is_directory(status)) throw IOError(path.string() + ": is a folder, not a mesh file");
+  if (!std::filesystem::exists(status)) throw IOError(path.string() + ": cannot open for reading (no such file)");
+  if (!std::filesystem::is_regular_file(status))
+    throw IOError(path.string() + ": not a regular file (a device, FIFO or socket); mesh files must be regular files");
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw IOError(path.string() + ": cannot read its size: " + ec.message());
+  if (size > kMaxMeshFileBytes)
+    throw IOError(path.string() + ": " + std::to_string(size) + " bytes, more than the " +
+                  std::to_string(kMaxMeshFileBytes) + "-byte limit for mesh files");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IOError(path.string() + ": cannot open for reading");
-  std::ostringstream s;
-  s << in.rdbuf();
+  // Read at most the size checked above (+1 to notice a file that grew meanwhile).
+  std::string data(static_cast<std::size_t>(size) + 1, '\0');
+  in.read(data.data(), static_cast<std::streamsize>(data.size()));
   if (in.bad()) throw IOError(path.string() + ": read failed");
-  return s.str();
+  data.resize(static_cast<std::size_t>(in.gcount()));
+  if (data.size() > size) throw IOError(path.string() + ": the file grew while being read");
+  return data;
 }
 
 std::string list_faces(const std::vector<int>& faces) {

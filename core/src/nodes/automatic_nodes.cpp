@@ -55,12 +55,24 @@ std::vector<EdgeFaces> sorted_edge_faces(const Mesh& mesh) {
   return edges;
 }
 
+// Edges shared by more faces than this (a "book" of sheets on one spine) are not expanded into
+// face-to-face links, whose number grows with the square of the faces on the edge (10 000
+// sheets would need 10^8 links, gigabytes from a 400 KB file). Such an edge becomes a hub that
+// region growing crosses once per region, so memory stays linear in the faces.
+constexpr std::size_t kMaxLinkedFacesPerEdge = 16;
+
 // Compressed face adjacency (CSR), each neighbour list sorted and without duplicates, with
-// the shared edge's length [m].
+// the shared edge's length [m]; plus the hub edges (see kMaxLinkedFacesPerEdge), each with
+// its faces in ascending order and its length [m].
 struct FaceAdjacency {
   std::vector<int> offset;  // #F + 1
   std::vector<int> neighbour;
   std::vector<double> edge_length_m;
+  std::vector<int> hub_offset;  // #hubs + 1, into hub_face
+  std::vector<int> hub_face;
+  std::vector<double> hub_length_m;
+  std::vector<int> face_hub_offset;  // #F + 1, into face_hub
+  std::vector<int> face_hub;
 };
 
 FaceAdjacency face_adjacency(const Mesh& mesh, const std::vector<EdgeFaces>& edges) {
@@ -72,22 +84,35 @@ FaceAdjacency face_adjacency(const Mesh& mesh, const std::vector<EdgeFaces>& edg
   };
   std::vector<Link> links;
   links.reserve(edges.size());
+  FaceAdjacency adj;
+  adj.hub_offset.push_back(0);
+  std::vector<std::pair<int, int>> face_hub_pairs;  // (face, hub)
   for (size_t i = 0; i < edges.size();) {
     size_t j = i;
     while (j < edges.size() && edges[j].key == edges[i].key) ++j;
     if (j - i > 1) {
       const int a = static_cast<int>(edges[i].key / nv), b = static_cast<int>(edges[i].key % nv);
       const double length = (mesh.V.row(a) - mesh.V.row(b)).norm();
-      for (size_t p = i; p < j; ++p)
-        for (size_t q = i; q < j; ++q)
-          if (edges[p].face != edges[q].face) links.push_back({edges[p].face, edges[q].face, length});
+      if (j - i <= kMaxLinkedFacesPerEdge) {
+        for (size_t p = i; p < j; ++p)
+          for (size_t q = i; q < j; ++q)
+            if (edges[p].face != edges[q].face) links.push_back({edges[p].face, edges[q].face, length});
+      } else {
+        const int hub = static_cast<int>(adj.hub_length_m.size());
+        for (size_t p = i; p < j; ++p) {
+          if (p > i && edges[p].face == edges[p - 1].face) continue;
+          adj.hub_face.push_back(edges[p].face);
+          face_hub_pairs.push_back({edges[p].face, hub});
+        }
+        adj.hub_offset.push_back(static_cast<int>(adj.hub_face.size()));
+        adj.hub_length_m.push_back(length);
+      }
     }
     i = j;
   }
   std::sort(links.begin(), links.end(), [](const Link& x, const Link& y) {
     return std::tie(x.from, x.to) < std::tie(y.from, y.to);
   });
-  FaceAdjacency adj;
   adj.offset.assign(nf + 1, 0);
   for (size_t i = 0; i < links.size();) {
     // Two faces sharing two edges (a folded pair) count once, with both lengths summed.
@@ -103,6 +128,13 @@ FaceAdjacency face_adjacency(const Mesh& mesh, const std::vector<EdgeFaces>& edg
     i = j;
   }
   for (int f = 0; f < nf; ++f) adj.offset[f + 1] += adj.offset[f];
+  std::sort(face_hub_pairs.begin(), face_hub_pairs.end());
+  adj.face_hub_offset.assign(nf + 1, 0);
+  for (const auto& [face, hub] : face_hub_pairs) {
+    adj.face_hub.push_back(hub);
+    ++adj.face_hub_offset[face + 1];
+  }
+  for (int f = 0; f < nf; ++f) adj.face_hub_offset[f + 1] += adj.face_hub_offset[f];
   return adj;
 }
 
@@ -117,6 +149,7 @@ std::vector<int> grow_planar_regions(const FaceGeometry& geom, const FaceAdjacen
   std::stable_sort(order.begin(), order.end(),
                    [&](int a, int b) { return geom.area_m2[a] > geom.area_m2[b]; });
   std::vector<int> region(nf, -1);
+  std::vector<int> hub_region(adj.hub_length_m.size(), -1);
   std::vector<int> queue;
   queue.reserve(nf);
   num_regions = 0;
@@ -130,18 +163,25 @@ std::vector<int> grow_planar_regions(const FaceGeometry& geom, const FaceAdjacen
     region[seed] = r;
     for (size_t head = 0; head < queue.size(); ++head) {
       const int f = queue[head];
-      for (int k = adj.offset[f]; k < adj.offset[f + 1]; ++k) {
-        const int g = adj.neighbour[k];
-        if (region[g] >= 0) continue;
+      auto visit = [&](int g) {
+        if (region[g] >= 0) return;
         const Eigen::Vector3d n = geom.unit_normal.row(g).transpose();
         const bool g_degenerate = n.squaredNorm() == 0.0;
         // A degenerate seed (only when every bigger face is taken) collects degenerate
         // neighbours only, so it cannot swallow an oriented region.
         const bool accept = seed_degenerate ? g_degenerate
                                             : (g_degenerate || seed_normal.dot(n) >= cos_max_deviation);
-        if (!accept) continue;
+        if (!accept) return;
         region[g] = r;
         queue.push_back(g);
+      };
+      for (int k = adj.offset[f]; k < adj.offset[f + 1]; ++k) visit(adj.neighbour[k]);
+      // Acceptance depends only on the seed's normal, so one pass over a hub per region suffices.
+      for (int k = adj.face_hub_offset[f]; k < adj.face_hub_offset[f + 1]; ++k) {
+        const int h = adj.face_hub[k];
+        if (hub_region[h] == r) continue;
+        hub_region[h] = r;
+        for (int i = adj.hub_offset[h]; i < adj.hub_offset[h + 1]; ++i) visit(adj.hub_face[i]);
       }
     }
   }
@@ -276,6 +316,17 @@ void assign_automatic_nodes(Mesh& mesh, const AutomaticNodeOptions& options) {
     for (int k = adj.offset[f]; k < adj.offset[f + 1]; ++k) {
       const int g = adj.neighbour[k];
       if (face_region[g] != face_region[f]) r.shared_edge_m[face_region[g]] += adj.edge_length_m[k];
+    }
+  }
+  // A hub edge links each region on it to the region of its lowest face (linear, see
+  // kMaxLinkedFacesPerEdge), with the edge length once per face on it.
+  for (std::size_t h = 0; h < adj.hub_length_m.size(); ++h) {
+    const int base = face_region[adj.hub_face[adj.hub_offset[h]]];
+    for (int i = adj.hub_offset[h] + 1; i < adj.hub_offset[h + 1]; ++i) {
+      const int other = face_region[adj.hub_face[i]];
+      if (other == base) continue;
+      regions[base].shared_edge_m[other] += adj.hub_length_m[h];
+      regions[other].shared_edge_m[base] += adj.hub_length_m[h];
     }
   }
   merge_regions(regions, options.min_node_area_fraction * total_area_m2, options.max_nodes);

@@ -1,11 +1,14 @@
-// The thermal model file (docs/model-format.md). Validation is strict inside every section
-// (an unknown key is most often a typo that would otherwise silently fall back to a default);
-// unknown top-level sections only warn, so later pipeline stages can add their own.
+// The thermal model file (docs/model-format.md). Validation is strict everywhere: an unknown
+// key is most often a typo that would otherwise silently fall back to a default (a misspelt
+// "enviroment" would run the default orbit), so it is an error with the nearest known key
+// suggested; ModelLoadOptions::allow_unknown_keys downgrades it to a warning. Keys starting
+// with '_' and "description" are free for comments.
 #include "thermodec/nodes/load_model.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -38,7 +41,19 @@ bool is_mesh_path(const fs::path& p) {
 // Error context: the model file and the dotted key path ("nodes.body_px.capacitance").
 class Keys {
  public:
-  explicit Keys(std::string file) : file_(std::move(file)) {}
+  explicit Keys(std::string file, bool allow_unknown = false) : file_(std::move(file)), allow_unknown_(allow_unknown) {}
+
+  //! An unknown key: an error naming the nearest known key, or a warning when allowed.
+  void unknown(const std::string& key, const std::string& name, const std::vector<std::string>& known,
+               const std::string& context = "") const {
+    std::string list;
+    for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+    const std::string hint = nearest(name, known);
+    const std::string what = "unknown key" + context + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
+                             "; known: " + list;
+    if (!allow_unknown_) fail(join(key, name), what + " (--allow-unknown-keys ignores it)");
+    std::cerr << "thermodec: warning: " << file_ << ": '" << join(key, name) << "': " << what << "; ignored\n";
+  }
 
   [[noreturn]] void fail(const std::string& key, const std::string& what) const {
     throw InvalidInput(file_ + ": " + (key.empty() ? std::string() : "'" + key + "': ") + what);
@@ -52,10 +67,30 @@ class Keys {
                  const std::string& context = "") const {
     for (const auto& item : obj.items()) {
       if (std::find_if(known.begin(), known.end(), [&](const char* k) { return item.key() == k; }) != known.end()) continue;
-      std::string list;
-      for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
-      fail(join(key, item.key()), "unknown key" + context + " (known: " + list + ")");
+      unknown(key, item.key(), std::vector<std::string>(known.begin(), known.end()), context);
     }
+  }
+
+  //! The known key closest to `name` by edit distance, if close enough to be a typo.
+  static std::string nearest(const std::string& name, const std::vector<std::string>& known) {
+    std::string best;
+    std::size_t best_d = std::max<std::size_t>(2, name.size() / 3) + 1;
+    for (const auto& k : known) {
+      std::vector<std::size_t> row(k.size() + 1);
+      for (std::size_t j = 0; j <= k.size(); ++j) row[j] = j;
+      for (std::size_t i = 1; i <= name.size(); ++i) {
+        std::size_t diag = row[0];
+        row[0] = i;
+        for (std::size_t j = 1; j <= k.size(); ++j) {
+          const std::size_t up = row[j];
+          row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (std::tolower(static_cast<unsigned char>(name[i - 1])) !=
+                                                                  std::tolower(static_cast<unsigned char>(k[j - 1])))});
+          diag = up;
+        }
+      }
+      if (row[k.size()] < best_d) best_d = row[k.size()], best = k;
+    }
+    return best;
   }
 
   double number(const json& obj, const std::string& key, const char* name) const {
@@ -106,10 +141,19 @@ class Keys {
     return v.get<bool>();
   }
 
+  //! Node and material names end up as whole lines of OBJ and PLY files: one printable line.
+  void name(const std::string& key, const std::string& n) const {
+    for (const char c : n)
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+        fail(key, "names must not contain control characters (newline, tab, NUL)");
+    if (n.empty() || n.front() == ' ' || n.back() == ' ') fail(key, "names must be non-empty without leading/trailing spaces");
+  }
+
   static std::string join(const std::string& a, const std::string& b) { return a.empty() ? b : a + "." + b; }
 
  private:
   std::string file_;
+  bool allow_unknown_ = false;
 };
 
 constexpr const char* kDefaultMaterialName = "default";
@@ -225,13 +269,41 @@ ThermalModel model_from_bare_mesh(const fs::path& path, const MeshReadOptions& o
   return model;
 }
 
+// Model and case files are small; a bigger file is a mistake (or /dev/zero), not a model.
+constexpr std::uintmax_t kMaxJsonFileBytes = std::uintmax_t{64} << 20;
+// No model key nests deeper than 4; the limit keeps recursive code (dump() in messages,
+// destruction) far from the stack's end on a file of thousands of '['.
+constexpr int kMaxJsonDepth = 32;
+
 json read_json(const fs::path& path) {
+  std::error_code ec;
+  const auto status = fs::status(path, ec);
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    throw IOError(path.string() + ": not a regular file (a folder, device or FIFO)");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (!ec && size > kMaxJsonFileBytes)
+    throw IOError(path.string() + ": " + std::to_string(size) + " bytes, more than the " +
+                  std::to_string(kMaxJsonFileBytes) + "-byte limit for JSON files");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IOError(path.string() + ": cannot open for reading");
   std::stringstream s;
   s << in.rdbuf();
+  // nlohmann keeps the last of two equal keys; a duplicated node or material would silently
+  // lose its first definition, so duplicates are refused while parsing (one key set per open
+  // object), as is nesting beyond kMaxJsonDepth.
+  std::vector<std::set<std::string>> open_objects;
+  const auto check = [&](int depth, json::parse_event_t event, json& parsed) {
+    if (depth > kMaxJsonDepth)
+      throw InvalidInput(path.string() + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    if (event == json::parse_event_t::object_start) open_objects.emplace_back();
+    else if (event == json::parse_event_t::object_end && !open_objects.empty()) open_objects.pop_back();
+    else if (event == json::parse_event_t::key && !open_objects.empty() &&
+             !open_objects.back().insert(parsed.get<std::string>()).second)
+      throw InvalidInput(path.string() + ": key '" + parsed.get<std::string>() + "' appears twice in the same object");
+    return true;
+  };
   try {
-    return json::parse(s.str());
+    return json::parse(s.str(), check);
   } catch (const json::parse_error& e) {
     // nlohmann's message carries the line and column.
     std::string what = e.what();
@@ -313,9 +385,13 @@ void parse_radiation(const json& j, const Keys& k, RadiationSettings& r) {
   const std::string key = "radiation";
   k.require_object(j, key);
   k.only_keys(j, key, {"rays_per_face", "min_rays_per_node", "seed"});
-  if (j.contains("rays_per_face")) r.rays_per_face = static_cast<int>(k.integer(j, key, "rays_per_face", 1, 100000000));
+  // One side emits at most max(rays_per_face, min_rays_per_node) rays and the Sobol table
+  // holds that many 16-byte points: 1e7 keeps it at 160 MB (40x the default
+  // min_rays_per_node), where 1e9 would ask for 16 GB.
+  constexpr long long kMaxRaysPerSide = 10000000;
+  if (j.contains("rays_per_face")) r.rays_per_face = static_cast<int>(k.integer(j, key, "rays_per_face", 1, kMaxRaysPerSide));
   if (j.contains("min_rays_per_node"))
-    r.min_rays_per_node = static_cast<int>(k.integer(j, key, "min_rays_per_node", 0, 1000000000));
+    r.min_rays_per_node = static_cast<int>(k.integer(j, key, "min_rays_per_node", 0, kMaxRaysPerSide));
   if (j.contains("seed")) {
     const json& s = j.at("seed");
     if (!s.is_number_unsigned() && !(s.is_number_integer() && s.get<long long>() >= 0))
@@ -324,26 +400,28 @@ void parse_radiation(const json& j, const Keys& k, RadiationSettings& r) {
   }
 }
 
-ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& options) {
+ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& options, bool allow_unknown_keys) {
   const std::string file = path.string();
-  const Keys k(file);
+  const Keys k(file, allow_unknown_keys);
   const json j = read_json(path);
   k.require_object(j, "");
   if (!j.contains("mesh") && j.contains("environment") && !j.contains("nodes") && !j.contains("materials"))
     k.fail("", "this looks like a load case file (environment/analysis only, no mesh): give it to "
                "`thermodec reduce MODEL --case FILE`; a model file needs a 'mesh' key");
   for (const auto& item : j.items()) {
-    static const std::set<std::string> known = {"mesh", "unit_scale", "materials", "default_material", "nodes",
-                                                "conductances", "environment", "analysis", "radiation"};
-    if (!known.count(item.key()) && item.key().rfind("_", 0) != 0 && item.key() != "description")
-      std::cerr << "thermodec: warning: " << file << ": top-level key '" << item.key() << "' is not read by the model loader\n";
+    static const std::vector<std::string> known = {"mesh", "unit_scale", "materials", "default_material", "nodes",
+                                                   "conductances", "environment", "analysis", "radiation", "description"};
+    if (std::find(known.begin(), known.end(), item.key()) == known.end() && item.key().rfind("_", 0) != 0)
+      k.unknown("", item.key(), known, " at the top level");
   }
   ThermalModel model;
   if (!j.contains("mesh")) k.fail("mesh", "missing: the model needs a mesh file (.obj, .ply or .stl)");
   const fs::path mesh_rel = k.string(j, "", "mesh");
   if (!is_mesh_path(mesh_rel)) k.fail("mesh", "'" + mesh_rel.string() + "' is not a .obj, .ply or .stl file");
   model.mesh_path = mesh_rel.is_absolute() ? mesh_rel : path.parent_path() / mesh_rel;
-  if (j.contains("unit_scale")) model.unit_scale = k.number_in(j, "", "unit_scale", 0, 1e12, true, " m per file unit");
+  // Micrometres to kilometres: far smaller or larger scales put the geometry where the ray
+  // tracer's offsets and the double range no longer hold (1e-200 underflows the areas).
+  if (j.contains("unit_scale")) model.unit_scale = k.number_in(j, "", "unit_scale", 1e-6, 1e6, false, " m per file unit");
 
   // Materials, in file order.
   if (j.contains("materials")) {
@@ -357,6 +435,7 @@ ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& option
         if (!item.value().contains(req)) k.fail(key, std::string("missing '") + req + "'");
       Material m;
       m.name = item.key();
+      k.name(key, m.name);
       m.absorptivity = k.number_in(item.value(), key, "absorptivity", 0, 1, true, "");
       m.emissivity = k.number_in(item.value(), key, "emissivity", 0, 1, true, "");
       model.materials.push_back(m);
@@ -406,7 +485,7 @@ ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& option
       if (v.contains("material")) node.material = material_key("material");
       if (v.contains("capacitance")) node.capacitance_J_per_K = k.number_in(v, key, "capacitance", 0, 1e15, false, " J/K");
       if (v.contains("power")) node.power_W = k.number(v, key, "power");
-      if (v.contains("fixed_temperature")) node.fixed_temperature_K = k.number_in(v, key, "fixed_temperature", 0, 1e5, true, " K");
+      if (v.contains("fixed_temperature")) node.fixed_temperature_K = k.number_in(v, key, "fixed_temperature", 1, 1e5, false, " K");
       if (v.contains("sampling_boost")) {
         const json& b = v.at("sampling_boost");
         const std::string bk = key + ".sampling_boost";
@@ -471,14 +550,16 @@ ThermalModel load_model(const fs::path& path, const MeshReadOptions& options) {
   if (is_mesh_path(path)) return model_from_bare_mesh(path, options, nullptr);
   if (lower_extension(path) != ".json")
     throw InvalidInput(path.string() + ": a model is a .json model file or a .obj, .ply or .stl mesh");
-  return model_from_json(path, options);
+  return model_from_json(path, options, false);
 }
 
 ThermalModel load_model(const fs::path& path, const ModelLoadOptions& options) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw IOError(path.string() + ": no such file");
   if (is_mesh_path(path)) return model_from_bare_mesh(path, options.mesh, options.clean_bare_mesh ? &options.cleanup : nullptr);
-  return load_model(path, options.mesh);
+  if (lower_extension(path) != ".json")
+    throw InvalidInput(path.string() + ": a model is a .json model file or a .obj, .ply or .stl mesh");
+  return model_from_json(path, options.mesh, options.allow_unknown_keys);
 }
 
 ThermalModel load_model(const fs::path& path) { return load_model(path, ModelLoadOptions{}); }

@@ -3,12 +3,18 @@
 //! and binary (face properties `node`, `material`, `back_material`; float `quality` read as node
 //! id for MeshLab interop) and STL ascii and binary. Format chosen by file extension
 //! (case-insensitive). Details of each format: docs/model-format.md, section "Mesh files".
+#include <cstdint>
 #include <filesystem>
 #include <vector>
 
 #include "thermodec/mesh/mesh.h"
 
 namespace thermodec {
+
+//! Largest mesh file read_mesh accepts [bytes] (1 GiB, about 20 million triangles in binary
+//! STL): the whole file is read into memory, so a bigger file, a device such as /dev/zero or
+//! a FIFO is refused before reading rather than exhausting memory.
+constexpr std::uintmax_t kMaxMeshFileBytes = std::uintmax_t{1} << 30;
 
 struct MeshReadOptions {
   //! Vertices closer than this are merged [file units]; < 0 disables welding. STL always
@@ -30,7 +36,8 @@ struct MeshReadReport {
 //! Reads a mesh. face_node/face_material/face_back_material are -1 where the file has no
 //! group/material/back material. Polygons are fan-triangulated (a polygon's triangles keep its
 //! corner order).
-//! \throw IOError if the file cannot be opened; InvalidInput for malformed content, with
+//! \throw IOError if the file cannot be opened, is not a regular file (folder, FIFO, device)
+//! or is larger than kMaxMeshFileBytes; InvalidInput for malformed content, with
 //! file name and line (text) or face index (binary): NaN/inf coordinates, out-of-range or
 //! negative indices, truncated binary data, empty files (no faces), unknown extension.
 Mesh read_mesh(const std::filesystem::path& path, const MeshReadOptions& options = {});

@@ -26,6 +26,9 @@ struct ModelLoadOptions {
   //! sidedness and faces are the user's.
   bool clean_bare_mesh = true;
   BareMeshCleanupOptions cleanup;
+  //! An unknown key in the model file is an error naming the nearest known key; true makes
+  //! it a warning (CLI `--allow-unknown-keys`), e.g. for a file written by a newer version.
+  bool allow_unknown_keys = false;
 };
 
 //! Same, with all loading options. load_model(path) = load_model(path, ModelLoadOptions{}).
