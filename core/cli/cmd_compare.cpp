@@ -1,36 +1,55 @@
-// `thermodec compare A.json B.json`: max |dT| over nodes and times between two results.
+// `thermodec compare A.json B.json [--tolerance K]`: max |dT| over nodes and times between two
+// results, per node and overall. With --tolerance the exit code says whether it holds (3 when
+// exceeded), so a thermal model's CI can run it.
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "thermodec/common/errors.h"
 #include "thermodec/thermal/result_json.h"
 
 namespace thermodec::cli {
 
+//! Exit code of `compare --tolerance` when the largest |dT| exceeds it (1 stays "bad input").
+constexpr int kToleranceExceededExitCode = 3;
+
 void add_compare(CLI::App& app) {
   auto a = std::make_shared<std::string>(), b = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
+  auto tolerance = std::make_shared<double>(-1.0);
   auto* sub = app.add_subcommand(
-      "compare", "compare two simulation results (thermodec simulate --json): max |dT| over nodes and times, "
-                 "with the node and time where it occurs");
+      "compare", "compare two simulation results (thermodec simulate --json): max |dT| per node and overall, "
+                 "with the time where it occurs; --tolerance K exits 3 when exceeded");
   sub->add_option("A", *a, "first result JSON")->required();
   sub->add_option("B", *b, "second result JSON")->required();
   sub->add_flag("--json", *json, "print the comparison as JSON");
-  sub->callback([a, b, json] {
+  sub->add_option("--tolerance", *tolerance, "largest acceptable |dT| [K]: exit code 3 when exceeded")
+      ->check(CLI::NonNegativeNumber);
+  sub->callback([a, b, json, tolerance] {
+    bool exceeded = false;
     run_guarded([&] {
       const TemperatureDifference d = compare_results(read_result(*a), read_result(*b));
-      if (*json)
-        std::printf("%s\n", nlohmann::json{{"max_abs_dT_K", d.max_abs_K},
-                                           {"node", d.node},
-                                           {"time_s", d.time_s},
-                                           {"time_index", d.time_index}}
-                                 .dump()
-                                 .c_str());
-      else
-        std::printf("max |dT| = %.6g K at node %s, t = %.1f s (step %d)\n", d.max_abs_K, d.node.c_str(),
-                    d.time_s, d.time_index);
+      exceeded = *tolerance >= 0.0 && !(d.max_abs_K <= *tolerance);
+      if (*json) {
+        nlohmann::json nodes = nlohmann::json::array();
+        for (const auto& n : d.per_node) nodes.push_back({{"node", n.node}, {"max_abs_dT_K", n.max_abs_K}, {"time_s", n.time_s}});
+        nlohmann::json j{{"max_abs_dT_K", d.max_abs_K}, {"node", d.node}, {"time_s", d.time_s},
+                         {"time_index", d.time_index}, {"nodes", nodes}};
+        if (*tolerance >= 0.0) j["tolerance_K"] = *tolerance, j["within_tolerance"] = !exceeded;
+        std::printf("%s\n", j.dump().c_str());
+        return;
+      }
+      std::printf("%-24s %12s %12s\n", "node", "max |dT| K", "at t [s]");
+      for (const auto& n : d.per_node)
+        std::printf("%-24s %12.6g %12.1f%s\n", n.node.c_str(), n.max_abs_K, n.time_s,
+                    *tolerance >= 0.0 && !(n.max_abs_K <= *tolerance) ? "  exceeds tolerance" : "");
+      std::printf("max |dT| = %.6g K at node %s, t = %.1f s (step %d)\n", d.max_abs_K, d.node.c_str(),
+                  d.time_s, d.time_index);
+      if (*tolerance >= 0.0)
+        std::printf("%s tolerance %.6g K\n", exceeded ? "EXCEEDS" : "within", *tolerance);
     });
+    if (exceeded && exit_code() == 0) set_exit_code(kToleranceExceededExitCode);
   });
 }
 

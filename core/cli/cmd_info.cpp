@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "thermodec/common/output_paths.h"
+#include "thermodec/common/version.h"
 #include "thermodec/common/atomic_write.h"
 #include "thermodec/mesh/mesh_stats.h"
 #include "thermodec/nodes/load_model.h"
@@ -29,6 +31,7 @@ void run_info(const InfoArgs& args) {
   read.weld_tolerance = args.weld_tolerance;
   read.drop_degenerate_faces = false;  // info reports them instead
   const ThermalModel model = load_model(args.model, model_load_options(read, false));
+  if (!args.json_out.empty()) check_output_file(args.json_out, "--json", {".json"}, {args.model, model.mesh_path});
   const Mesh& mesh = model.mesh;
   const MeshStats s = mesh_stats(mesh);
   const auto counts = node_face_counts(mesh);
@@ -50,7 +53,8 @@ void run_info(const InfoArgs& args) {
   line("boundary edges", std::to_string(s.boundary_edges));
   line("non-manifold edges", std::to_string(s.non_manifold_edges));
   line("degenerate faces", std::to_string(s.degenerate_faces));
-  line("area", fmt::format("{:.6g} m^2", s.area_m2));
+  line("area", fmt::format("{:.6g} m^2 (each face once, two-sided faces too)", s.area_m2));
+  out += environment_analysis_text(model);
   line("materials", std::to_string(model.materials.size()));
   for (const auto& m : model.materials)
     out += fmt::format("  {:<18}absorptivity {:.3g}  emissivity {:.3g}\n", m.name, m.absorptivity, m.emissivity);
@@ -67,6 +71,8 @@ void run_info(const InfoArgs& args) {
 
   if (!args.json_out.empty()) {
     nlohmann::ordered_json j;
+    j["schema_version"] = kInfoSchemaVersion;
+    j["thermodec_version"] = kThermodecVersion;
     j["model"] = args.model;
     j["mesh"] = model.mesh_path.string();
     j["faces"] = s.faces;
@@ -78,6 +84,8 @@ void run_info(const InfoArgs& args) {
     j["non_manifold_edges"] = s.non_manifold_edges;
     j["degenerate_faces"] = s.degenerate_faces;
     j["area_m2"] = s.area_m2;
+    const auto settings = environment_analysis_json(model);
+    for (const auto& [key, value] : settings.items()) j[key] = value;
     j["materials"] = nlohmann::ordered_json::array();
     for (const auto& m : model.materials)
       j["materials"].push_back({{"name", m.name}, {"absorptivity", m.absorptivity}, {"emissivity", m.emissivity}});

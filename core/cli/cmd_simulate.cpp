@@ -105,6 +105,8 @@ void run_simulate(const SimulateOptions& o) {
                   result.temperature_K.row(i).maxCoeff());
   nlohmann::json j = result_to_json(result);
   j["model"] = o.model;
+  const auto used = environment_analysis_json(model);
+  for (const auto& [key, value] : used.items()) j[key == "analysis" ? "analysis_settings" : key] = value;
   j["settings"] = {{"rays_per_face", model.radiation.rays_per_face},
                    {"seed", model.radiation.seed},
                    {"sun_rays_per_face", settings.loads.sun_rays_per_face},

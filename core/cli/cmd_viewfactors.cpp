@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "thermodec/common/output_paths.h"
+#include "thermodec/common/version.h"
 #include "thermodec/common/atomic_write.h"
 #include "thermodec/common/errors.h"
 #include "thermodec/nodes/load_model.h"
@@ -38,6 +40,7 @@ void run(const ViewFactorsOptions& o) {
   if (o.two_sided)  // thin sheets everywhere: the robust reading of open or badly oriented meshes
     for (int f = 0; f < model.mesh.num_faces(); ++f)
       if (model.mesh.face_back_material[f] < 0) model.mesh.face_back_material[f] = model.mesh.face_material[f];
+  check_output_file(o.json, "--json", {".json"}, {o.model, model.mesh_path});
   RadiationSettings settings = model.radiation;
   if (o.rays != -1) settings.rays_per_face = o.rays;
   if (o.seed != -1) settings.seed = static_cast<std::uint64_t>(o.seed);
@@ -48,8 +51,14 @@ void run(const ViewFactorsOptions& o) {
   nlohmann::ordered_json j;
   nlohmann::ordered_json names = nlohmann::ordered_json::array();
   for (const auto& n : model.nodes) names.push_back(n.name);
+  j["schema_version"] = kInfoSchemaVersion;
+  j["thermodec_version"] = kThermodecVersion;
+  j["model"] = o.model;
   j["nodes"] = names;
+  // Radiating area: a two-sided face radiates from both sides and counts twice (`info` counts
+  // each face once).
   j["area_m2"] = vector(c.area_m2);
+  j["area_note"] = "radiating area: two-sided faces count both sides (thermodec info counts each face once)";
   j["view_factors"] = matrix(c.view_factors);
   j["to_space"] = vector(c.to_space);
   j["radiative_couplings_m2"] = matrix(c.radiative_couplings_m2);
@@ -95,6 +104,7 @@ void run(const ViewFactorsOptions& o) {
   for (std::size_t i = 0; i < model.nodes.size(); ++i)
     fmt::print("{:<20} {:>10.4g} {:>10.4f} {:>12.4g}\n", model.nodes[i].name, c.area_m2[i], c.to_space[i],
                c.to_space_couplings_m2[i]);
+  fmt::print("area_m2 is the radiating area: two-sided faces count both sides (info counts each face once)\n");
   fmt::print("wrote {}\n", o.json);
 }
 

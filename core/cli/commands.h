@@ -5,6 +5,8 @@
 #include <functional>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "thermodec/nodes/load_model.h"
 
 namespace thermodec::cli {
@@ -28,6 +30,13 @@ void run_guarded(const std::function<void()>& body);
 void not_implemented(CLI::App* sub, const std::string& what);
 
 int exit_code();
+
+//! The model's environment and analysis as {"environment": {...}, "analysis": {...}}.
+nlohmann::ordered_json environment_analysis_json(const thermodec::ThermalModel& model);
+//! The same as two aligned lines for text output.
+std::string environment_analysis_text(const thermodec::ThermalModel& model);
+//! Sets the process exit code (e.g. 3 for `compare --tolerance` exceeded).
+void set_exit_code(int code);
 
 //! Model loading options carrying the global `--allow-unknown-keys` flag; `mesh` and
 //! `clean_bare_mesh` as given (load_model(path, MeshReadOptions) takes meshes as read).

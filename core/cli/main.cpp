@@ -3,6 +3,7 @@
 
 #include "commands.h"
 #include "thermodec/common/errors.h"
+#include "thermodec/common/version.h"
 
 namespace thermodec::cli {
 namespace {
@@ -19,6 +20,7 @@ thermodec::ModelLoadOptions model_load_options(const thermodec::MeshReadOptions&
 }
 
 int exit_code() { return g_exit_code; }
+void set_exit_code(int code) { g_exit_code = code; }
 
 void run_guarded(const std::function<void()>& body) {
   try {
@@ -50,6 +52,10 @@ void not_implemented(CLI::App* sub, const std::string& what) {
 
 }  // namespace thermodec::cli
 
+namespace thermodec::cli {
+int run_and_exit(CLI::App& app, int argc, char** argv);
+}
+
 int main(int argc, char** argv) {
   using namespace thermodec::cli;
   CLI::App app{
@@ -62,7 +68,7 @@ int main(int argc, char** argv) {
   app.add_flag("--allow-unknown-keys", g_allow_unknown_keys,
                "Unknown keys in a model file warn instead of failing (e.g. a file from a newer version)");
   app.fallthrough();
-  app.set_version_flag("--version", "thermodec 0.1.0");
+  app.set_version_flag("--version", std::string("thermodec ") + thermodec::kThermodecVersion);
   add_info(app);
   add_convert(app);
   add_nodes(app);
@@ -77,6 +83,24 @@ int main(int argc, char** argv) {
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     return "thermodec: usage error: " + std::string(e.what()) + " (see --help)\n";
   });
+  // The first word that is not an option must be a command; CLI11 alone would only say
+  // "A subcommand is required".
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.empty() || word[0] == '-') continue;
+    std::string names;
+    for (const auto* s : app.get_subcommands([](const CLI::App*) { return true; })) {
+      if (s->get_name() == word) return run_and_exit(app, argc, argv);
+      names += (names.empty() ? "" : ", ") + s->get_name();
+    }
+    std::cerr << "thermodec: usage error: unknown command '" << word << "' (commands: " << names << "; see --help)\n";
+    return 1;
+  }
+  return run_and_exit(app, argc, argv);
+}
+
+namespace thermodec::cli {
+int run_and_exit(CLI::App& app, int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -84,3 +108,4 @@ int main(int argc, char** argv) {
   }
   return exit_code();
 }
+}  // namespace thermodec::cli

@@ -219,3 +219,59 @@ TEST(CliOutputChecks, reduce_refuses_a_file_or_foreign_folder_and_its_case_file_
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(read_text(d / "prev" / "report.json"), before);
 }
+
+TEST(CliCompare, per_node_table_and_tolerance_exit_code_3_when_exceeded) {
+  auto d = temp_dir("compare");
+  write_text(d / "a.json", R"({"nodes": ["dish", "bus"], "times_s": [0, 10],
+    "temperatures_K": {"dish": [300, 301], "bus": [280, 280]}})");
+  write_text(d / "b.json", R"({"nodes": ["bus", "dish"], "times_s": [0, 10],
+    "temperatures_K": {"dish": [300, 301.5], "bus": [280.1, 280]}})");
+  CliRun r = run_cli("compare " + q(d / "a.json") + " " + q(d / "b.json"), d);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "dish")) << r.out;
+  EXPECT_TRUE(has(r.out, "bus")) << r.out;
+  r = run_cli("compare " + q(d / "a.json") + " " + q(d / "b.json") + " --tolerance 1", d);
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_TRUE(has(r.out, "within tolerance")) << r.out;
+  r = run_cli("compare " + q(d / "a.json") + " " + q(d / "b.json") + " --tolerance 0.2", d);
+  EXPECT_EQ(r.exit_code, 3) << r.out << r.err;
+  EXPECT_TRUE(has(r.out, "EXCEEDS")) << r.out;
+}
+
+TEST(CliCompare, a_file_that_is_not_a_result_is_named_in_words) {
+  auto d = temp_dir("compare_bad");
+  write_text(d / "vf.json", R"({"nodes": ["a"], "view_factors": [[0]]})");
+  const CliRun r = run_cli("compare " + q(d / "vf.json") + " " + q(d / "vf.json"), d);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(has(r.err, "not a simulation result")) << r.err;
+  EXPECT_FALSE(has(r.err, "json.exception")) << r.err;
+}
+
+TEST(CliCommands, unknown_command_is_named_with_the_list_of_commands) {
+  auto d = temp_dir("frob");
+  const CliRun r = run_cli("frobnicate", d);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(has(r.err, "unknown command 'frobnicate'")) << r.err;
+  EXPECT_TRUE(has(r.err, "simulate")) << r.err;
+}
+
+TEST(CliInfo, says_which_environment_and_analysis_the_model_uses) {
+  auto d = temp_dir("info_env");
+  const CliRun r = run_cli("info " + q(kData / "example_model.json") + " --json " + q(d / "i.json"), d);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "fixed_sun")) << r.out;
+  EXPECT_TRUE(has(r.out, "steady")) << r.out;
+  const std::string j = read_text(d / "i.json");
+  EXPECT_TRUE(has(j, "\"environment\"")) << j;
+  EXPECT_TRUE(has(j, "\"schema_version\"")) << j;
+  EXPECT_TRUE(has(j, "\"thermodec_version\"")) << j;
+}
+
+TEST(CliSimulate, result_json_carries_versions_and_environment) {
+  auto d = temp_dir("sim_versions");
+  const CliRun r = run_cli("simulate " + q(kData / "example_model.json") + " --json " + q(d / "r.json"), d);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string j = read_text(d / "r.json");
+  for (const char* key : {"\"schema_version\"", "\"thermodec_version\"", "\"environment\"", "\"model\""})
+    EXPECT_TRUE(has(j, key)) << key;
+}

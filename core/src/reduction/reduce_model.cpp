@@ -192,6 +192,7 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
     InformedOptions io = settings.informed;
     io.tolerance_K = tol;
     io.log = log;
+    for (const Node& nd : model.nodes) io.node_names.push_back(nd.name);
     say("prediction and verified reduction");
     run.outcome = informed_reduction(run.curves, n, trial, verify, io);
 

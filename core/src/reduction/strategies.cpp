@@ -79,6 +79,9 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
   if (num_nodes < 1) throw InvalidInput("informed reduction needs at least one node");
   auto log = [&](const std::string& s) { if (o.log) o.log(s); };
   const double tol = o.tolerance_K;
+  auto name = [&](int k) {
+    return k >= 0 && k < static_cast<int>(o.node_names.size()) ? o.node_names[k] : "node " + std::to_string(k);
+  };
 
   std::vector<const SensitivityCurve*> curve_of(num_nodes, nullptr);
   for (const auto& c : curves)
@@ -142,7 +145,7 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
         ++done;
         if (reduced.size() > 4)
           log("back-off: leave-one-out " + std::to_string(done) + "/" + std::to_string(reduced.size()) +
-              " (node " + std::to_string(reduced[i]) + " backed off: max|dT| " + std::to_string(loo[i].max_abs_dT_K) + " K)");
+              " (" + name(reduced[i]) + " backed off: max|dT| " + std::to_string(loo[i].max_abs_dT_K) + " K)");
       };
       if (o.parallel) tbb::parallel_for(size_t(0), reduced.size(), run);
       else for (size_t i = 0; i < reduced.size(); ++i) run(i);
@@ -153,7 +156,7 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       const double excess_before = res.max_abs_dT_K - tol;
       ratios = cand[pick];
       res = loo[pick];
-      record(ratios, res, "back off node " + std::to_string(reduced[pick]) + " (contribution " +
+      record(ratios, res, "back off " + name(reduced[pick]) + " (contribution " +
                               std::to_string(out.history.back().result.max_abs_dT_K - res.max_abs_dT_K) + " K)");
       if (!within(res, tol) && o.stall_fraction > 0.0 &&
           excess_before - (res.max_abs_dT_K - tol) < o.stall_fraction * excess_before) {
@@ -251,7 +254,9 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       cand[pick] = step_for(pick);
       const TrialResult r = trial(cand);
       ++evaluations;
-      record(cand, r, "push node " + std::to_string(pick) + " to " + fmt_ratio(cand[pick]));
+      // A push over the tolerance is kept in the history, marked as rejected.
+      record(cand, r, "push " + name(pick) + " to " + fmt_ratio(cand[pick]) +
+                          (within(r, tol) ? "" : " (rejected: over the tolerance)"));
       if (within(r, tol)) {
         current = cand;
         pushed = true;

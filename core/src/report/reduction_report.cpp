@@ -1,3 +1,4 @@
+#include "thermodec/common/version.h"
 #include "thermodec/report/reduction_report.h"
 
 #include <cstdio>
@@ -37,6 +38,8 @@ json mesh_panel(const Mesh& m, const std::string& title, const Eigen::VectorXd* 
 
 json reduction_report_json(const ReductionRun& run) {
   json j;
+  j["schema_version"] = kReportSchemaVersion;
+  j["thermodec_version"] = kThermodecVersion;
   j["strategy"] = run.strategy;
   j["tolerance_K"] = run.tolerance_K;
   j["faces_before"] = run.faces_before;
@@ -108,7 +111,10 @@ std::vector<std::string> write_reduction_outputs(const ReductionRun& run, const 
       if (!in.empty() && same_file(out_dir / name, in))
         throw InvalidInput("output folder " + out_dir.string() + " would overwrite input " + in.string());
   save_model(run.reduced.model, out_dir / "model.json", out_dir / "reduced.obj");
-  write_text_atomically(out_dir / "report.json", reduction_report_json(run).dump(2) + "\n", protected_inputs);
+  json report = reduction_report_json(run);
+  std::error_code ec;
+  if (!protected_inputs.empty()) report["input_model"] = fs::absolute(protected_inputs.front(), ec).string();
+  write_text_atomically(out_dir / "report.json", report.dump(2) + "\n", protected_inputs);
 
   std::vector<std::string> warnings;
   if (!plots) return warnings;

@@ -3,6 +3,7 @@
 #include <fstream>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/common/version.h"
 
 namespace thermodec {
 namespace {
@@ -16,6 +17,8 @@ std::vector<double> row(const Eigen::MatrixXd& m, int i) {
 nlohmann::json result_to_json(const SimulationResult& r) {
   using nlohmann::json;
   json j;
+  j["schema_version"] = kResultSchemaVersion;
+  j["thermodec_version"] = kThermodecVersion;
   j["nodes"] = r.nodes;
   j["times_s"] = std::vector<double>(r.times_s.data(), r.times_s.data() + r.times_s.size());
   j["analysis"] = r.transient ? "transient_orbit" : "steady";
@@ -72,7 +75,14 @@ SimulationResult result_from_json(const nlohmann::json& j) {
     }
     r.transient = j.value("analysis", "steady") == std::string("transient_orbit");
   } catch (const nlohmann::json::exception& e) {
-    throw InvalidInput(std::string("result JSON: ") + e.what());
+    // Name the missing key in words, not the library's code (out_of_range.403 ...).
+    for (const char* key : {"nodes", "times_s", "temperatures_K"})
+      if (!j.is_object() || !j.contains(key))
+        throw InvalidInput(std::string("not a simulation result (thermodec simulate --json): no '") + key + "' key");
+    std::string what = e.what();
+    const auto end = what.find("] ");
+    if (what.rfind("[json.exception.", 0) == 0 && end != std::string::npos) what = what.substr(end + 2);
+    throw InvalidInput("malformed simulation result: " + what);
   }
   return r;
 }

@@ -66,16 +66,24 @@ TemperatureDifference compare_results(const SimulationResult& a, const Simulatio
                          " s vs " + std::to_string(b.times_s[k]) + " s)");
   TemperatureDifference d;
   d.max_abs_K = -1.0;
+  d.per_node.reserve(a.nodes.size());
   for (size_t i = 0; i < a.nodes.size(); ++i) {
     const auto it = index_b.find(a.nodes[i]);
     if (it == index_b.end()) throw InvalidInput("compare: node '" + a.nodes[i] + "' is only in the first result");
+    TemperatureDifference::PerNode node{a.nodes[i], -1.0, 0.0};
     for (int k = 0; k < a.times_s.size(); ++k) {
       const double diff = std::abs(a.temperature_K(i, k) - b.temperature_K(it->second, k));
+      if (diff > node.max_abs_K || std::isnan(diff)) node.max_abs_K = diff, node.time_s = a.times_s[k];
       if (diff > d.max_abs_K || std::isnan(diff)) {
-        d = {diff, a.nodes[i], a.times_s[k], k};
-        if (std::isnan(diff)) return d;
+        d.max_abs_K = diff, d.node = a.nodes[i], d.time_s = a.times_s[k], d.time_index = k;
+        if (std::isnan(diff)) {
+          d.per_node.push_back(node);
+          return d;
+        }
       }
     }
+    node.max_abs_K = std::max(node.max_abs_K, 0.0);
+    d.per_node.push_back(node);
   }
   if (d.max_abs_K < 0.0) d.max_abs_K = 0.0;
   return d;

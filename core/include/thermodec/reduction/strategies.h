@@ -61,6 +61,9 @@ struct InformedOptions {
   bool push = true;           //!< use remaining slack to reduce nodes further
   bool parallel = true;       //!< leave-one-out contributions measured concurrently
   std::function<void(const std::string&)> log;
+  //! Node names for progress lines and history actions ("push antenna_dish to 0.6"); nodes
+  //! without a name here are called "node <index>".
+  std::vector<std::string> node_names;
 };
 
 //! §V.B and beyond. Starts from each node's feasible ratio on its own curve (the paper's

@@ -16,7 +16,8 @@ namespace thermodec {
 //! area_after_m2}}, sensitivity curves, predicted-vs-real points, search history, timings.
 nlohmann::json reduction_report_json(const ReductionRun& run);
 
-//! Files written into `out_dir` (atomically; `protected_inputs` are never overwritten):
+//! Files written into `out_dir` (atomically; `protected_inputs` are never overwritten; the
+//! first of them is the input model, recorded as report.json's `input_model`):
 //! model.json + reduced.obj, report.json, sensitivity.png (informed), predicted_vs_real.png
 //! (informed), temperatures.png, mesh.png. A failed plot is reported in the returned
 //! warnings; the model and report are always written first.

@@ -51,6 +51,14 @@ struct TemperatureDifference {
   std::string node;        //!< where it occurs
   double time_s = 0.0;
   int time_index = 0;
+  //! Per node of the first result (its order): max over times of |T_a - T_b| [K] and the
+  //! time [s] where it occurs.
+  struct PerNode {
+    std::string node;
+    double max_abs_K = 0.0;
+    double time_s = 0.0;
+  };
+  std::vector<PerNode> per_node;
 };
 
 //! Compares results with the same node names (matched by name, any order) and the same
