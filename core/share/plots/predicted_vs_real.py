@@ -1,25 +1,64 @@
-"""Predicted vs real temperature difference (paper Fig. 11 analogue). Input: {"points":
-[{"target_K": t, "predicted_K": p, "real_K": r, "label": s}], "tolerance_K": t}"""
+"""Prediction vs verification (paper Fig. 11 analogue). Left: the max |dT| the sensitivity
+curves predicted (x) against the simulated one (y). Right: the search that followed (back-off
+and push trials, rejected ones marked) ending at the verified final model. Input: {"points":
+[{"target_K", "predicted_K", "real_K", "label"}], "tolerance_K": t, "history": [{"action",
+"max_abs_dT_K", "within_tolerance", "faces_after"}], "final": {"real_K", "faces_after"}}"""
 from _common import load_args, plt, save
 
 data, out = load_args()
-fig, ax = plt.subplots(figsize=(5.5, 5))
+tol = data.get("tolerance_K", 0.0)
+hist = data.get("history") or []
+fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 5.2), gridspec_kw={"width_ratios": [1, 1.5]})
 pts = data["points"]
 xs = [p["predicted_K"] for p in pts]
 ys = [p["real_K"] for p in pts]
-ax.scatter(xs, ys, c="tab:blue", s=25, zorder=3)
-for p in pts:
+hi = max(xs + ys + [tol]) * 1.15 or 1.0
+ax.fill_between([0, hi], 0, tol, color="tab:green", alpha=0.08, lw=0)
+ax.plot([0, hi], [0, hi], "k--", lw=1, label="real = predicted")
+ax.axhline(tol, color="tab:red", lw=1.2, ls="--", label=f"tolerance {tol:g} K")
+ax.scatter(xs, ys, c="tab:blue", s=40, zorder=3, label="prediction, simulated")
+for i, p in enumerate(pts):
     if p.get("label"):
-        ax.annotate(p["label"], (p["predicted_K"], p["real_K"]), fontsize=6, xytext=(3, 3), textcoords="offset points")
-hi = max(xs + ys + [data.get("tolerance_K", 0.0)]) * 1.1 or 1.0
-ax.plot([0, hi], [0, hi], "k--", lw=1, label="y = x")
-if "tolerance_K" in data:
-    ax.axhline(data["tolerance_K"], color="tab:red", lw=1, ls=":", label="tolerance")
+        ax.annotate(p["label"], (p["predicted_K"], p["real_K"]), fontsize=8, xytext=(6, 6 + 10 * (i % 3)),
+                    textcoords="offset points")
+final = data.get("final")
+if final:
+    ax.scatter([max(xs) if xs else 0], [final["real_K"]], marker="*", s=220, c="tab:green", ec="k", zorder=4,
+               label=f'verified final model ({final["faces_after"]} faces)')
 ax.set_xlim(0, hi)
 ax.set_ylim(0, hi)
-ax.set_xlabel("target max |dT| the curves predicted for [K]")
-ax.set_ylabel("real (simulated) max |dT| [K]")
+ax.set_xlabel("predicted max |dT| from the sensitivity curves [K]")
+ax.set_ylabel("simulated max |dT| [K]")
 ax.set_title("Prediction vs simulation")
 ax.grid(True, alpha=0.3)
-ax.legend(fontsize=8)
+ax.legend(fontsize=8, loc="upper left")
+
+if hist:
+    steps = list(range(len(hist)))
+    dts = [h["max_abs_dT_K"] for h in hist]
+    ax2.plot(steps, dts, color="0.6", lw=1, zorder=1)
+    ok = [i for i, h in enumerate(hist) if h["within_tolerance"]]
+    bad = [i for i, h in enumerate(hist) if not h["within_tolerance"]]
+    ax2.scatter(ok, [dts[i] for i in ok], c="tab:green", s=40, zorder=3, label="within tolerance")
+    ax2.scatter(bad, [dts[i] for i in bad], c="tab:red", marker="x", s=50, zorder=3, label="over tolerance (rejected / backed off)")
+    if final:
+        ax2.scatter([len(hist)], [final["real_K"]], marker="*", s=220, c="tab:green", ec="k", zorder=4,
+                    label="verified final model")
+    ax2.axhline(tol, color="tab:red", lw=1.2, ls="--")
+    ax2.text(0.01, tol, f" tolerance {tol:g} K", color="tab:red", va="bottom", fontsize=8,
+             transform=ax2.get_yaxis_transform())
+    # The faces of each trial, and the action of the trials that changed course.
+    for i, h in enumerate(hist):
+        if i == 0 or "back off" in h["action"] or not h["within_tolerance"]:
+            ax2.annotate(h["action"][:40], (i, dts[i]), fontsize=6, rotation=35, xytext=(3, 4),
+                         textcoords="offset points", color="0.3")
+    ax2.set_ylim(0, max(dts + [tol, final["real_K"] if final else 0]) * 1.35)
+    ax2.set_xlabel("trial after the prediction (0 = prediction)")
+    ax2.set_ylabel("simulated max |dT| [K]")
+    ax2.legend(fontsize=8, loc="upper right")
+else:
+    ax2.text(0.5, 0.5, "no search after the prediction", ha="center", va="center", transform=ax2.transAxes)
+ax2.set_title("Back-off and push to the verified model")
+ax2.grid(True, alpha=0.3)
+fig.tight_layout()
 save(fig, out)

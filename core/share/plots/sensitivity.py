@@ -1,23 +1,47 @@
 """Per-node sensitivity curves (paper Fig. 10): max |dT| of the whole model vs the node's
-reduction ratio. Input: {"tolerance_K": t, "cap_K": c, "curves": [{"node": name,
-"faces_before": n, "ratios": [...], "max_abs_dT_K": [...]}]}"""
+reduction ratio, with the ratio chosen for each node marked (star) and the tolerance
+labelled. Input: {"tolerance_K": t, "noise_floor_K": n, "curves": [{"node": name,
+"faces_before": n, "ratios": [...], "max_abs_dT_K": [...], "chosen_ratio": r}]}"""
+import numpy as np
+
 from _common import load_args, plt, save
+from _style import node_style
 
 data, out = load_args()
-fig, ax = plt.subplots(figsize=(8, 5))
+tol = data["tolerance_K"]
+fig, ax = plt.subplots(figsize=(10, 6))
 curves = sorted(data["curves"], key=lambda c: c.get("faces_before", 0))
-for c in curves:
+top = max([tol * 2] + [max(c["max_abs_dT_K"] or [0]) for c in curves])
+ymax = min(top, data.get("cap_K", top)) * 1.15 if top > 0 else 1
+for i, c in enumerate(curves):
+    st = node_style(i)
     r = [0.0] + list(c["ratios"])
     d = [0.0] + list(c["max_abs_dT_K"])
-    ax.plot([100 * x for x in r], d, marker="o", ms=3, label=f'{c["node"]} ({c.get("faces_before", "?")} faces)')
-ax.axhline(data["tolerance_K"], color="k", ls="--", lw=1, label=f'tolerance {data["tolerance_K"]} K')
-if "noise_floor_K" in data:
-    ax.axhline(max(data["noise_floor_K"], 1e-6), color="grey", ls=":", lw=1, label="noise floor")
-top = max([data["tolerance_K"] * 2] + [max(c["max_abs_dT_K"] or [0]) for c in curves])
-ax.set_ylim(0, min(top, data.get("cap_K", top)) * 1.15 if top > 0 else 1)
+    ax.plot([100 * x for x in r], d, color=st["color"], ls=st["ls"], marker=st["marker"], ms=4, lw=1.3,
+            label=f'{c["node"]} ({c.get("faces_before", "?")} faces)')
+    if "chosen_ratio" in c:
+        x = c["chosen_ratio"]
+        y = float(np.interp(x, r, d)) if len(r) > 1 else 0.0
+        ax.plot([100 * x], [min(y, ymax)], marker="*", ms=13, color=st["color"], mec="k", mew=0.7, ls="none",
+                zorder=5)
+    # Direct label at the curve's last point inside the axes.
+    k = max(j for j in range(len(d)) if d[j] <= ymax) if any(v <= ymax for v in d) else 0
+    ax.annotate(c["node"], (100 * r[k], d[k]), xytext=(4, 0), textcoords="offset points", fontsize=7,
+                color=st["color"], va="center")
+ax.axhline(tol, color="tab:red", ls="--", lw=1.2)
+ax.text(1, tol, f" tolerance {tol:g} K", color="tab:red", va="bottom", ha="left", fontsize=9,
+        transform=ax.get_yaxis_transform())
+if data.get("noise_floor_K"):
+    nf = max(data["noise_floor_K"], 1e-6)
+    ax.axhline(nf, color="grey", ls=":", lw=1)
+    ax.text(1, nf, f" noise floor {nf:.2g} K", color="grey", va="bottom", ha="left", fontsize=8,
+            transform=ax.get_yaxis_transform())
+ax.plot([], [], marker="*", ms=12, color="w", mec="k", ls="none", label="ratio chosen for the node")
+ax.set_ylim(0, ymax)
+ax.set_xlim(0, 100)
 ax.set_xlabel("reduction ratio of the node alone [% faces removed]")
 ax.set_ylabel("max |dT| over all nodes and the orbit [K]")
-ax.set_title("Sensitivity of each thermal node to decimation (smallest node first)")
+ax.set_title("Sensitivity of each thermal node to decimation (star: chosen ratio)")
 ax.grid(True, alpha=0.3)
-ax.legend(fontsize=7, ncol=2)
+ax.legend(fontsize=7, ncol=2, loc="upper left", bbox_to_anchor=(1.12, 1.0))
 save(fig, out)

@@ -4,8 +4,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <cctype>
+#include <fcntl.h>
+#include <sstream>
 #include <unistd.h>
 
+#include "thermodec/common/atomic_write.h"
 #include "thermodec/common/errors.h"
 
 namespace thermodec {
@@ -31,33 +35,73 @@ std::string shell_quote(const std::string& s) {
 }
 }  // namespace
 
+namespace {
+// A private folder (mkdtemp, mode 0700) for the data file and the picture: nobody else can
+// plant a symlink there, and the child never writes beside the user's files, so a killed
+// parent leaves at most an orphan in the temporary folder. Removed on every exit path.
+class PrivateTempDir {
+ public:
+  PrivateTempDir() {
+    std::string pattern = (fs::temp_directory_path() / "thermodec_plot_XXXXXX").string();
+    if (!::mkdtemp(pattern.data())) throw IOError("cannot create a private temporary folder in " + fs::temp_directory_path().string());
+    path_ = pattern;
+  }
+  ~PrivateTempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  PrivateTempDir(const PrivateTempDir&) = delete;
+  PrivateTempDir& operator=(const PrivateTempDir&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+// Creates `path` exclusively (O_EXCL | O_NOFOLLOW: never through a planted link).
+void write_exclusive(const fs::path& path, const std::string& text) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+  if (fd < 0) throw IOError("cannot create " + path.string());
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n <= 0) {
+      ::close(fd);
+      throw IOError("cannot write " + path.string());
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  if (::close(fd) != 0) throw IOError("cannot write " + path.string());
+}
+}  // namespace
+
 void plot_png(const std::string& kind, const nlohmann::json& data, const fs::path& png_path) {
+  // Pictures are PNG: another extension would get PNG bytes under a misleading name.
+  std::string ext = png_path.extension().string();
+  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".png") throw InvalidInput(png_path.string() + ": plots are PNG files; the name must end in .png");
   // note: Debian's python3, not whatever python3 is first on PATH: only it has matplotlib.
   const fs::path python = fs::exists("/usr/bin/python3") ? fs::path("/usr/bin/python3") : fs::path("python3");
   const fs::path script = plot_scripts_dir() / (kind + ".py");
   if (!fs::exists(script)) throw IOError("plot script not found: " + script.string());
-  const fs::path tmp = fs::temp_directory_path() /
-                       ("thermodec_plot_" + std::to_string(::getpid()) + "_" + kind + ".json");
-  {
-    std::ofstream out(tmp);
-    if (!out) throw IOError("cannot write " + tmp.string());
-    out << data.dump();
-  }
-  fs::create_directories(png_path.has_parent_path() ? png_path.parent_path() : fs::path("."));
+  const PrivateTempDir tmp;
+  const fs::path data_file = tmp.path() / "data.json", picture = tmp.path() / "plot.png";
+  write_exclusive(data_file, data.dump());
   const std::string cmd = "MPLBACKEND=Agg " + shell_quote(python.string()) + " " +
-                          shell_quote(script.string()) + " " + shell_quote(tmp.string()) + " " +
-                          shell_quote(png_path.string()) + " 2>&1";
+                          shell_quote(script.string()) + " " + shell_quote(data_file.string()) + " " +
+                          shell_quote(picture.string()) + " 2>&1";
   std::string output;
-  if (FILE* p = ::popen(cmd.c_str(), "r")) {
-    std::array<char, 512> buf{};
-    while (std::fgets(buf.data(), buf.size(), p)) output += buf.data();
-    const int status = ::pclose(p);
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    if (status != 0) throw IOError("plot '" + kind + "' failed: " + output);
-  } else {
-    throw IOError("cannot run " + python.string());
-  }
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p) throw IOError("cannot run " + python.string());
+  std::array<char, 512> buf{};
+  while (std::fgets(buf.data(), buf.size(), p)) output += buf.data();
+  const int status = ::pclose(p);
+  if (status != 0) throw IOError("plot '" + kind + "' failed: " + output);
+  std::ifstream in(picture, std::ios::binary);
+  if (!in) throw IOError("plot '" + kind + "' wrote no picture: " + output);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  write_text_atomically(png_path, bytes.str());
 }
 
 }  // namespace thermodec

@@ -20,7 +20,9 @@ json curve_json(const SensitivityCurve& c, const ReductionRun& run) {
           {"faces_before", run.nodes[c.node].faces_before},
           {"ratios", c.ratios},
           {"max_abs_dT_K", c.max_abs_dT_K},
-          {"faces_after", c.faces_after}};
+          {"faces_after", c.faces_after},
+          {"chosen_ratio", run.nodes[c.node].requested_ratio},
+          {"predicted_ratio", run.nodes[c.node].predicted_ratio}};
 }
 
 json mesh_panel(const Mesh& m, const std::string& title, const Eigen::VectorXd* value, const std::string& label) {
@@ -134,9 +136,18 @@ std::vector<std::string> write_reduction_outputs(const ReductionRun& run, const 
   if (!run.prediction.empty()) {
     json pts = json::array();
     for (const auto& p : run.prediction)
-      pts.push_back({{"target_K", p.target_K}, {"predicted_K", p.target_K}, {"real_K", p.real_K},
+      pts.push_back({{"target_K", p.target_K}, {"predicted_K", p.predicted_K}, {"real_K", p.real_K},
                      {"label", std::to_string(p.faces_after) + " f"}});
-    plot("predicted_vs_real", {{"points", pts}, {"tolerance_K", run.tolerance_K}}, "predicted_vs_real.png");
+    // The search after the prediction (back-off, push) and the verified final model, so the
+    // plot shows how a prediction over the tolerance was brought back within it.
+    json steps = json::array();
+    for (const auto& h : run.outcome.history)
+      steps.push_back({{"action", h.action}, {"max_abs_dT_K", h.result.max_abs_dT_K}, {"within_tolerance", h.within_tolerance},
+                       {"faces_after", h.result.faces_after}});
+    plot("predicted_vs_real",
+         {{"points", pts}, {"tolerance_K", run.tolerance_K}, {"history", steps},
+          {"final", {{"real_K", run.max_temperature_difference_K}, {"faces_after", run.faces_after}}}},
+         "predicted_vs_real.png");
   }
   {
     json ref = json::object(), red = json::object();
@@ -150,7 +161,10 @@ std::vector<std::string> write_reduction_outputs(const ReductionRun& run, const 
       red[a.nodes[k]] = tb;
     }
     std::vector<double> times(a.times_s.data(), a.times_s.data() + a.times_s.size());
-    plot("temperatures_before_after", {{"times_s", times}, {"nodes", a.nodes}, {"reference_K", ref}, {"reduced_K", red}},
+    plot("temperatures_before_after",
+         {{"times_s", times}, {"nodes", a.nodes}, {"reference_K", ref}, {"reduced_K", red},
+          {"tolerance_K", run.tolerance_K}, {"period_s", a.transient ? a.loads.period_s : 0.0},
+          {"in_shadow", std::vector<bool>(a.loads.in_shadow.begin(), a.loads.in_shadow.end())}},
          "temperatures.png");
   }
   {
