@@ -1,15 +1,16 @@
-"""Distinct per-node styles: 20 colours x 4 line styles x markers, so no two of up to 80
+"""Distinct per-node styles: 16 colours x 4 line styles x markers, so no two of up to 64
 nodes share a look (a repeated colour made two curves indistinguishable)."""
 from _common import plt
 
-_COLOURS = plt.cm.tab20.colors
+# Saturated colours only (tab20's pale halves are hard to tell from the background).
+_COLOURS = list(plt.cm.tab10.colors) + ["#000000", "#7f0000", "#006400", "#00008b", "#b8860b", "#8b008b"]
 _STYLES = ["-", "--", "-.", ":"]
 _MARKERS = ["o", "s", "^", "D", "v", "P", "X", "*"]
 
 
 def node_style(i):
-    colour = _COLOURS[(2 * i) % 20 if i < 10 else (2 * (i - 10) + 1) % 20]
-    return {"color": colour, "ls": _STYLES[(i // 20) % 4], "marker": _MARKERS[i % len(_MARKERS)]}
+    colour = _COLOURS[i % len(_COLOURS)]
+    return {"color": colour, "ls": _STYLES[(i // len(_COLOURS)) % 4], "marker": _MARKERS[i % len(_MARKERS)]}
 
 
 def shade_eclipse(ax, times_min, in_shadow, period_min):

@@ -31,7 +31,7 @@ ax.set_xlabel("predicted max |dT| from the sensitivity curves [K]")
 ax.set_ylabel("simulated max |dT| [K]")
 ax.set_title("Prediction vs simulation")
 ax.grid(True, alpha=0.3)
-ax.legend(fontsize=8, loc="upper left")
+ax.legend(fontsize=8, loc="center right")
 
 if hist:
     steps = list(range(len(hist)))
@@ -42,7 +42,7 @@ if hist:
     ax2.scatter(ok, [dts[i] for i in ok], c="tab:green", s=40, zorder=3, label="within tolerance")
     ax2.scatter(bad, [dts[i] for i in bad], c="tab:red", marker="x", s=50, zorder=3, label="over tolerance (rejected / backed off)")
     if final:
-        ax2.scatter([len(hist)], [final["real_K"]], marker="*", s=220, c="tab:green", ec="k", zorder=4,
+        ax2.scatter([len(hist) - 1 + 0.5], [final["real_K"]], marker="*", s=220, c="tab:green", ec="k", zorder=4,
                     label="verified final model")
     ax2.axhline(tol, color="tab:red", lw=1.2, ls="--")
     ax2.text(0.01, tol, f" tolerance {tol:g} K", color="tab:red", va="bottom", fontsize=8,
@@ -50,8 +50,9 @@ if hist:
     # The faces of each trial, and the action of the trials that changed course.
     for i, h in enumerate(hist):
         if i == 0 or "back off" in h["action"] or not h["within_tolerance"]:
-            ax2.annotate(h["action"][:40], (i, dts[i]), fontsize=6, rotation=35, xytext=(3, 4),
-                         textcoords="offset points", color="0.3")
+            text = h["action"].split(" (")[0]
+            ax2.annotate(text, (i, dts[i]), fontsize=7, xytext=(0, 9 if i % 2 == 0 else -14),
+                         textcoords="offset points", color="0.25", ha="left" if i == 0 else "center")
     ax2.set_ylim(0, max(dts + [tol, final["real_K"] if final else 0]) * 1.35)
     ax2.set_xlabel("trial after the prediction (0 = prediction)")
     ax2.set_ylabel("simulated max |dT| [K]")
