@@ -275,3 +275,16 @@ TEST(CliSimulate, result_json_carries_versions_and_environment) {
   for (const char* key : {"\"schema_version\"", "\"thermodec_version\"", "\"environment\"", "\"model\""})
     EXPECT_TRUE(has(j, key)) << key;
 }
+
+TEST(CliOutputChecks, reduce_clears_its_earlier_outputs_and_records_version_and_input) {
+  auto d = temp_dir("red_again");
+  fs::create_directories(d / "out");
+  write_text(d / "out" / "mesh.png", "stale picture of an earlier run");
+  const CliRun r = run_cli("reduce " + q(kData / "example_model.json") + " --no-plots --quiet --out " + q(d / "out"), d);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(fs::exists(d / "out" / "mesh.png")) << "a stale plot stayed beside the new model";
+  const std::string report = read_text(d / "out" / "report.json");
+  EXPECT_TRUE(has(report, "\"thermodec_version\"")) << report.substr(0, 300);
+  EXPECT_TRUE(has(report, "\"schema_version\""));
+  EXPECT_TRUE(has(report, "example_model.json"));
+}
