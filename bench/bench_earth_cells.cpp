@@ -16,7 +16,7 @@
 
 #include "thermodec/environment/orbit.h"
 #include "thermodec/nodes/load_model.h"
-#include "thermodec/radiation/surface_sides.h"
+#include "thermodec/rays/surface_sides.h"
 
 using namespace thermodec;
 using V3 = Eigen::Vector3d;

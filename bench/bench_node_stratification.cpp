@@ -25,10 +25,10 @@
 #include <string>
 #include <vector>
 
-#include "../core/src/radiation/sampling.h"
+#include "thermodec/rays/sampling.h"
 #include "thermodec/nodes/load_model.h"
-#include "thermodec/radiation/ray_scene.h"
-#include "thermodec/radiation/surface_sides.h"
+#include "thermodec/rays/ray_scene.h"
+#include "thermodec/rays/surface_sides.h"
 
 using namespace thermodec;
 

@@ -18,11 +18,11 @@
 
 #include "thermodec/common/errors.h"
 #include "thermodec/environment/orbit.h"
-// The radiative engine's Owen-scrambled Sobol sampler (private to the core library): the same
-// sequences and side seeding as the view factors, so loads get the same variance properties.
-#include "../radiation/sampling.h"
-#include "../radiation/ray_scene_impl.h"
-#include "../radiation/tracing.h"
+// The ray stage's Owen-scrambled Sobol sampler: the same sequences and side seeding as the
+// view factors, so loads get the same variance properties.
+#include "thermodec/rays/sampling.h"
+#include "thermodec/rays/embree_scene.h"
+#include "thermodec/rays/tracing.h"
 #include "sphere_tree.h"
 
 namespace thermodec {

@@ -14,8 +14,8 @@
 #include <unordered_map>
 
 #include "thermodec/common/errors.h"
-#include "thermodec/radiation/ray_scene.h"
-#include "tracing.h"
+#include "thermodec/rays/ray_scene.h"
+#include "thermodec/rays/tracing.h"
 #include "view_factor_rows.h"
 
 namespace thermodec {
