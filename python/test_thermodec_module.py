@@ -135,5 +135,55 @@ class LoadCases(unittest.TestCase):
                 thermodec.load_case(case_path, model)
 
 
+class BadFilesRaiseInsteadOfCrashing(unittest.TestCase):
+    """Front ends (FreeCAD, scripts) call the core through this module: files that once crashed
+    or hung the host process must raise a thermodec error."""
+
+    def setUp(self):
+        self.dir = tempfile.TemporaryDirectory()
+
+    def tearDown(self):
+        self.dir.cleanup()
+
+    def path(self, name, data):
+        p = os.path.join(self.dir.name, name)
+        with open(p, "wb") as f:
+            f.write(data)
+        return p
+
+    def test_ply_declaring_the_vertex_element_twice(self):
+        p = self.path("twice.ply", b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                      b"property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                      b"element vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n"
+                      b"0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n0 0 0\n")
+        with self.assertRaisesRegex(thermodec.InvalidInput, "declared twice"):
+            thermodec.read_mesh(p)
+
+    def test_ply_with_an_enormous_unused_element(self):
+        p = self.path("huge.ply", b"ply\nformat binary_little_endian 1.0\nelement junk 9000000000000000000\n"
+                      b"property uchar a\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                      b"end_header\n")
+        with self.assertRaisesRegex(thermodec.InvalidInput, "junk"):
+            thermodec.read_mesh(p)
+
+    def test_deeply_nested_model_json(self):
+        self.path("m.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+        p = self.path("model.json", b'{"mesh": "m.obj", "radiation": {"seed": ' + b"[" * 100000 + b"]" * 100000 + b"}}")
+        with self.assertRaisesRegex(thermodec.InvalidInput, "nested deeper"):
+            thermodec.load_model(p)
+
+    def test_tiny_unit_scale(self):
+        self.path("m.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+        p = self.path("model.json", b'{"mesh": "m.obj", "unit_scale": 1e-200}')
+        with self.assertRaisesRegex(thermodec.InvalidInput, "unit_scale"):
+            thermodec.load_model(p)
+
+    def test_device_as_mesh(self):
+        link = os.path.join(self.dir.name, "zero.stl")
+        os.symlink("/dev/zero", link)
+        with self.assertRaisesRegex(thermodec.IOError, "not a regular file"):
+            thermodec.read_mesh(link)
+
+
 if __name__ == "__main__":
     unittest.main()
