@@ -14,6 +14,19 @@ inline std::string real(double x) {
   return std::string(buf, r.ptr);
 }
 
+// A real as Fortran-family input languages (ESATAN, SINDA) want it: never an integer literal
+// ("6000.0", not "6000"), upper-case exponent.
+inline std::string fortran_real(double x) {
+  std::string s = real(x);
+  for (char& c : s)
+    if (c == 'e') c = 'E';
+  if (s.find_first_of(".En") == std::string::npos) {  // n: "nan"/"inf" are refused upstream
+    const std::size_t e = s.find('E');
+    s.insert(e == std::string::npos ? s.size() : e, ".0");
+  }
+  return s;
+}
+
 // A NASTRAN real of at most `width` characters, always with a decimal point ("1." not "1"),
 // upper-case exponent, as many significant digits as fit.
 inline std::string nastran_real(double x, int width) {

@@ -11,7 +11,7 @@
 namespace thermodec {
 namespace {
 
-using exchange_text::real;
+std::string real(double x) { return exchange_text::fortran_real(x); }
 constexpr int kSpaceNode = 99999;
 
 std::string quoted(std::string s) {  // ESATAN labels are single-quoted; a quote is doubled

@@ -45,9 +45,9 @@ void write_nastran_bulk(const std::filesystem::path& path, const ThermalModel& m
   using exchange_text::nastran_real;
   write_file_atomically(path, [&](std::ostream& out) {
     out << "$ thermodec export: NASTRAN bulk data of the radiating surface mesh\n"
-           "$ units: SI (m); RADM: solar absorptivity, IR emissivity (front side)\n"
-           "$ dialect: GRID* large-field (16 columns), other cards small-field (8 columns)\n"
-           "$ ids: GRID = vertex + 1, CTRIA3 = face + 1, PSHELL = thermal node (and material),\n"
+           "$ units: SI (m); RADM = solar absorptivity and IR emissivity of the front side\n"
+           "$ dialect: GRID* large-field (16 columns) and other cards small-field (8 columns)\n"
+           "$ ids: GRID = vertex + 1; CTRIA3 = face + 1; PSHELL = thermal node (and material);\n"
            "$       MID = RADM id = material + 1; names in '$ thermodec node|material' comments\n"
            "$ source: " << model.mesh_path.string() << "\n"
         << "BEGIN BULK\n";

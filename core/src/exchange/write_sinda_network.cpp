@@ -10,7 +10,7 @@
 namespace thermodec {
 namespace {
 
-using exchange_text::real;
+std::string real(double x) { return exchange_text::fortran_real(x); }
 constexpr int kSpaceNode = 99999;
 constexpr int kFirstArray = 1000;  // array id of node n's external load: kFirstArray + n
 
