@@ -27,6 +27,13 @@ std::string large(const std::string& s) {  // one left-aligned 16-column field
   return buf;
 }
 
+// A comment line must stay one line and comma-free (see the header comment below).
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r' || c == ',') c = ' ';
+  return s;
+}
+
 }  // namespace
 
 void write_nastran_bulk(const std::filesystem::path& path, const ThermalModel& model,
@@ -44,31 +51,33 @@ void write_nastran_bulk(const std::filesystem::path& path, const ThermalModel& m
   for (auto& [key, pid] : pid_of) pid = next++;
   using exchange_text::nastran_real;
   write_file_atomically(path, [&](std::ostream& out) {
+    // No card names and no commas in comments: some readers (FreeCAD's) search whole lines
+    // for card names and switch to free field on any comma.
     out << "$ thermodec export: NASTRAN bulk data of the radiating surface mesh\n"
-           "$ units: SI (m); RADM = solar absorptivity and IR emissivity of the front side\n"
-           "$ dialect: GRID* large-field (16 columns) and other cards small-field (8 columns)\n"
-           "$ ids: GRID = vertex + 1; CTRIA3 = face + 1; PSHELL = thermal node (and material);\n"
-           "$       MID = RADM id = material + 1; names in '$ thermodec node|material' comments\n"
-           "$ source: " << model.mesh_path.string() << "\n"
+           "$ units: SI (m); radiation material = solar absorptivity and IR emissivity (front side)\n"
+           "$ dialect: grid points large-field (16 columns); the other cards small-field (8 columns)\n"
+           "$ ids: grid = vertex + 1; element = face + 1; property = thermal node (and material);\n"
+           "$       material id = thermodec material + 1; names in the thermodec node and material comments\n"
+           "$ source: " << one_line(model.mesh_path.string()) << "\n"
         << "BEGIN BULK\n";
     for (std::size_t m = 0; m < model.materials.size(); ++m) {
       const Material& mat = model.materials[m];
-      out << "$ thermodec material " << m + 1 << " " << mat.name << "\n"
+      out << "$ thermodec material " << m + 1 << " " << one_line(mat.name) << "\n"
           << small("RADM") << small(std::to_string(m + 1)) << small(nastran_real(mat.absorptivity, 8))
           << small(nastran_real(mat.emissivity, 8)) << "\n";
     }
     for (const auto& [key, pid] : pid_of) {
       const int node = key.first;
-      out << "$ thermodec node " << pid << " " << model.nodes[node].name << "\n";
+      out << "$ thermodec node " << pid << " " << one_line(model.nodes[node].name) << "\n";
       // T (shell thickness) is nominal: thermodec models hold lumped capacitances, not thicknesses.
       out << small("PSHELL") << small(std::to_string(pid)) << small(std::to_string(key.second + 1)) << small("0.001") << "\n";
     }
     for (int f = 0; f < nf; ++f)
       if (mesh.is_two_sided(f)) {
-        out << "$ two-sided faces (thin sheets) radiate from both sides; back materials:\n";
+        out << "$ two-sided faces (thin sheets) radiate from both sides; their back materials:\n";
         for (int g = f; g < nf; ++g)
           if (mesh.is_two_sided(g))
-            out << "$ thermodec back_material " << g + 1 << " " << model.materials[mesh.face_back_material[g]].name << "\n";
+            out << "$ thermodec back_material " << g + 1 << " " << one_line(model.materials[mesh.face_back_material[g]].name) << "\n";
         break;
       }
     for (int v = 0; v < mesh.num_vertices(); ++v) {
