@@ -324,3 +324,14 @@ TEST(ExchangeCli, output_onto_the_input_is_refused_before_any_work) {
   EXPECT_EQ(r.err.find("simulate"), std::string::npos) << "refused only after simulating: " << r.err;
   EXPECT_EQ(exchange_test::slurp((d / "satellite.obj").string()), before);
 }
+
+TEST(ExchangeCli, simulate_vtk_writes_a_series_beside_the_result) {
+  const auto d = temp_dir("cli_simulate_vtk");
+  const CliRun r = run_cli("simulate " + q(kSource / "tests/data/example_model.json") + " --noise-target 0 -q --vtk " +
+                               q(d / "vtk"),
+                           d);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(d / "vtk" / "example_model.pvd"));
+  EXPECT_TRUE(fs::exists(d / "vtk" / "example_model_0000.vtu"));  // steady: one step
+  EXPECT_FALSE(fs::exists(d / "vtk" / "example_model_0001.vtu"));
+}
