@@ -12,6 +12,7 @@
 #include <pybind11/stl/filesystem.h>
 #include <pybind11/stl_bind.h>
 
+#include "thermodec/exchange/export_model.h"
 #include "thermodec/common/errors.h"
 #include "thermodec/decimation/decimate_nodes.h"
 #include "thermodec/mesh/face_geometry.h"
@@ -403,6 +404,26 @@ void bind_functions(py::module_& m) {
         py::arg("model"), py::arg("progress") = nullptr,
         "The reference simulation (`thermodec simulate`): couplings, external loads, solve. "
         "progress(message) is called with stage names. Raises InvalidInput, SolverError.");
+  // exchange/export_model.h
+  m.def("export_model",
+        [](const ThermalModel& model, const std::string& format, const std::filesystem::path& out, const std::string& stem,
+           std::function<void(const std::string&)> progress) {
+          ExportSettings settings;
+          settings.title = model.mesh_path.string();
+          settings.protected_inputs = {model.mesh_path};
+          if (progress) {
+            settings.simulation.progress = [progress](const std::string& message) {
+              py::gil_scoped_acquire gil;
+              progress(message);
+            };
+          }
+          const ExchangeFormat f = exchange_format(format);
+          py::gil_scoped_release unlocked;
+          return export_model(model, f, out, stem, settings);
+        },
+        py::arg("model"), py::arg("format"), py::arg("out"), py::arg("stem") = "model", py::arg("progress") = nullptr,
+        "`thermodec export`: format 'nastran', 'esatan', 'sinda', 'vtk' (out = folder) or 'csv' (out = prefix); "
+        "returns the files written (docs/exchange.md). Raises InvalidInput, SolverError.");
   m.def("compare_results", &compare_results, py::arg("a"), py::arg("b"));
   m.def("read_result", &read_result, py::arg("path"), "Reads a result JSON (nodes, times, temperatures).");
 

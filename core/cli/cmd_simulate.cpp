@@ -6,6 +6,8 @@
 #include "commands.h"
 #include "thermodec/common/atomic_write.h"
 #include "thermodec/common/errors.h"
+#include "thermodec/exchange/exported_network.h"
+#include "thermodec/exchange/write_vtk_series.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/common/output_paths.h"
 #include "thermodec/report/plot.h"
@@ -19,6 +21,7 @@ struct SimulateOptions {
   std::string model;
   std::string json_out;
   std::string plot_out;
+  std::string vtk_dir;  // ParaView series (exchange/write_vtk_series.h)
   bool noise_floor = false;
   int noise_runs = 3;
   bool quiet = false;
@@ -55,6 +58,10 @@ void run_simulate(const SimulateOptions& o) {
   if (!o.json_out.empty() && !o.plot_out.empty() && same_file(o.json_out, o.plot_out))
     throw InvalidInput("--json and --plot name the same file " + o.json_out);
   const auto start = std::chrono::steady_clock::now();
+  std::error_code ec;
+  if (!o.vtk_dir.empty() && std::filesystem::exists(o.vtk_dir, ec) && !std::filesystem::is_directory(o.vtk_dir, ec))
+    throw InvalidInput("--vtk " + o.vtk_dir + " is a file; it must be a folder (created if missing)");
+  if (!o.vtk_dir.empty() && o.noise_floor) throw InvalidInput("--vtk writes one simulation; it does not combine with --noise-floor");
   if (!o.quiet) settings.progress = [](const std::string& m) { std::cerr << "simulate: " << m << "\n"; };
 
   nlohmann::json extra;
@@ -96,7 +103,13 @@ void run_simulate(const SimulateOptions& o) {
                             {"time_s", nf.worst.time_s},
                             {"run_time_s", nf.run_time_s}};
   } else {
-    result = simulate_model(model, settings);
+    NodeCouplings couplings;
+    result = simulate_model(model, settings, &couplings);
+    if (!o.vtk_dir.empty()) {
+      const auto pvd = write_vtk_series(o.vtk_dir, std::filesystem::path(o.model).stem().string(), model,
+                                        exported_network(model, couplings, result, o.model), inputs);
+      if (!o.quiet) std::cerr << "simulate: wrote " << pvd.string() << "\n";
+    }
   }
   if (!o.quiet)
     for (size_t i = 0; i < result.nodes.size(); ++i)
@@ -136,6 +149,9 @@ void add_simulate(CLI::App& app) {
       "temperatures per node (docs/thermal.md)");
   sub->add_option("MODEL", opts->model, "model.json or mesh")->required();
   sub->add_option("--json", opts->json_out, "write the result JSON here");
+  sub->add_option("--vtk", opts->vtk_dir,
+                  "write a ParaView series into this folder: one .vtu per time step (per-face node, material, "
+                  "temperature K, absorbed flux W/m^2) and MODEL.pvd (docs/exchange.md)");
   sub->add_option("--plot", opts->plot_out, "write a PNG of every node's temperature over the orbit");
   sub->add_flag("--noise-floor", opts->noise_floor,
                 "run with several seeds (--noise-runs) and report the max |dT| over every pair of runs, the median pair and the run time");

@@ -62,7 +62,8 @@ int main(int argc, char** argv) {
       "thermodec: simulation-driven mesh reduction for radiative thermal analysis of spacecraft.\n"
       "It splits a model into thermal nodes, measures how sensitive each node is to decimation,\n"
       "reduces each node as far as a temperature tolerance allows, and verifies the result.\n"
-      "MODEL is a thermodec model.json (docs/model-format.md) or a bare mesh (.obj .ply .stl)."};
+      "MODEL is a thermodec model.json (docs/model-format.md) or a bare mesh (.obj .ply .stl,\n"
+      "NASTRAN .bdf .nas .dat)."};
   app.require_subcommand(1);
   // Accepted before or after the subcommand (fallthrough).
   app.add_flag("--allow-unknown-keys", g_allow_unknown_keys,
@@ -79,6 +80,7 @@ int main(int argc, char** argv) {
   add_repair(app);
   add_decimate(app);
   add_reduce(app);
+  add_export(app);
   // Usage errors follow the same contract as bad input: one line on stderr, exit code 1.
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     return "thermodec: usage error: " + std::string(e.what()) + " (see --help)\n";

@@ -380,6 +380,14 @@ class CoreRuns(_DocTest):
         with open(path) as f:
             self.assertEqual(json.load(f)["temperatures_K"], first)  # same seed, same numbers
 
+    def test_nastran_export_for_other_tools_reads_back_with_every_triangle(self):
+        out = os.path.join(self.analysis.OutputDirectory, "model.bdf")
+        files = results.export_for_tool(self.analysis, "nastran", out)
+        self.assertEqual(files, [out])
+        back = thermodec.load_model(out)
+        self.assertEqual(len(back.mesh.F), len(self.analysis.ThermalMesh.FaceNode))
+        self.assertEqual(sorted(back.mesh.node_names), sorted(self.analysis.ThermalMesh.NodeNames))
+
     def test_decimation_keeps_every_node_and_its_area(self):
         results.simulate(self.analysis)
         feature, summary = results.decimate(self.analysis, 0.8)

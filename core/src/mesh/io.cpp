@@ -16,7 +16,7 @@
 namespace thermodec {
 namespace {
 
-enum class MeshFormat { obj, ply, stl };
+enum class MeshFormat { obj, ply, stl, bdf };
 
 MeshFormat format_of(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
@@ -24,7 +24,8 @@ MeshFormat format_of(const std::filesystem::path& path) {
   if (ext == ".obj") return MeshFormat::obj;
   if (ext == ".ply") return MeshFormat::ply;
   if (ext == ".stl") return MeshFormat::stl;
-  throw InvalidInput(path.string() + ": unknown mesh format '" + ext + "' (expected .obj, .ply or .stl)");
+  if (ext == ".bdf" || ext == ".nas" || ext == ".dat") return MeshFormat::bdf;
+  throw InvalidInput(path.string() + ": unknown mesh format '" + ext + "' (expected .obj, .ply, .stl, or NASTRAN .bdf .nas .dat)");
 }
 
 std::string read_bytes(const std::filesystem::path& path) {
@@ -97,6 +98,7 @@ Mesh read_mesh(const std::filesystem::path& path, const MeshReadOptions& options
     case MeshFormat::obj: mesh = mesh_formats::parse_obj(data, file); break;
     case MeshFormat::ply: mesh = mesh_formats::parse_ply(data, file); break;
     case MeshFormat::stl: mesh = mesh_formats::parse_stl(data, file); break;
+    case MeshFormat::bdf: mesh = mesh_formats::parse_bdf(data, file); break;
   }
   report = MeshReadReport{};
   double tolerance = options.weld_tolerance;
@@ -126,12 +128,15 @@ Mesh read_mesh(const std::filesystem::path& path, const MeshReadOptions& options
 
 void write_mesh(const std::filesystem::path& path, const Mesh& mesh, const MeshWriteOptions& options) {
   const MeshFormat format = format_of(path);
+  if (format == MeshFormat::bdf)
+    throw InvalidInput(path.string() + ": NASTRAN bulk data is written by `thermodec export --format nastran`");
   check_writable(mesh);
   write_file_atomically(path, [&](std::ostream& out) {
     switch (format) {
       case MeshFormat::obj: mesh_formats::write_obj(out, mesh); break;
       case MeshFormat::ply: mesh_formats::write_ply(out, mesh, options.binary); break;
       case MeshFormat::stl: mesh_formats::write_stl(out, mesh, options.binary); break;
+      case MeshFormat::bdf: break;  // refused above
     }
   }, options.protected_inputs);
 }

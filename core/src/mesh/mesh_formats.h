@@ -21,6 +21,7 @@ namespace thermodec::mesh_formats {
 Mesh parse_obj(std::string_view data, const std::string& file);
 Mesh parse_ply(std::string_view data, const std::string& file);
 Mesh parse_stl(std::string_view data, const std::string& file);
+Mesh parse_bdf(std::string_view data, const std::string& file);  // NASTRAN bulk data (format_bdf.cpp)
 
 void write_obj(std::ostream& out, const Mesh& mesh);
 void write_ply(std::ostream& out, const Mesh& mesh, bool binary);

@@ -21,6 +21,7 @@
 #include "thermodec/mesh/io.h"
 #include "thermodec/nodes/automatic_nodes.h"
 #include "thermodec/nodes/load_case.h"
+#include "thermodec/mesh/format_bdf.h"
 
 namespace thermodec {
 namespace {
@@ -35,7 +36,7 @@ std::string lower_extension(const fs::path& p) {
 
 bool is_mesh_path(const fs::path& p) {
   const std::string ext = lower_extension(p);
-  return ext == ".obj" || ext == ".ply" || ext == ".stl";
+  return ext == ".obj" || ext == ".ply" || ext == ".stl" || is_nastran_path(p);
 }
 
 // Error context: the model file and the dotted key path ("nodes.body_px.capacitance").
@@ -256,6 +257,12 @@ ThermalModel model_from_bare_mesh(const fs::path& path, const MeshReadOptions& o
   // default coating, so the model is valid and the names are kept for a later model file.
   for (const auto& name : model.mesh.material_names)
     if (index_of(model.materials, name) < 0) model.materials.push_back({name, kDefaultAbsorptivity, kDefaultEmissivity});
+  // NASTRAN decks carry coatings as RADM cards (alpha, eps of the PSHELL's material).
+  if (is_nastran_path(path))
+    for (const BdfRadiationProperties& r : read_bdf_radiation_properties(path)) {
+      const int m = index_of(model.materials, r.material);
+      if (m >= 0) model.materials[m].absorptivity = r.absorptivity, model.materials[m].emissivity = r.emissivity;
+    }
   for (const auto& name : model.mesh.node_names) {
     Node node;
     node.name = name;

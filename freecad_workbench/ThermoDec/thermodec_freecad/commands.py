@@ -14,7 +14,7 @@ from .gui_actions import active_analysis, analysis_line, error, refs_code, run, 
 SETUP = ["ThermoDec_ImportStep", "ThermoDec_Analysis", "ThermoDec_NodeFromSelection", "ThermoDec_MaterialToSelection",
          "ThermoDec_AutoNodesPerFace", "ThermoDec_AutoNodesPerSolid", "ThermoDec_Conductance",
          "ThermoDec_Environment"]
-RUN = ["ThermoDec_Tessellate", "ThermoDec_Export", "ThermoDec_Simulate", "ThermoDec_Decimate",
+RUN = ["ThermoDec_Tessellate", "ThermoDec_Export", "ThermoDec_ExportTool", "ThermoDec_Simulate", "ThermoDec_Decimate",
        "ThermoDec_Reduce", "ThermoDec_ImportResults"]
 
 
@@ -206,6 +206,32 @@ class Reduce(_CoreCommand):
             status("ThermoDec: reduction done")
 
 
+class ExportTool(_CoreCommand):
+    icon, menu, tip, function = "Export.svg", "Export for other tools", \
+        "Write NASTRAN bulk data, an ESATAN-TMS or SINDA/FLUINT network, a ParaView series or CSV tables", \
+        "export_model"
+
+    def Activated(self):
+        from PySide import QtGui
+        from . import results
+        window = FreeCADGui.getMainWindow()
+        fmt, ok = QtGui.QInputDialog.getItem(window, "Export for other tools", "Format", list(results.EXCHANGE_FORMATS),
+                                             0, False)
+        if not ok:
+            return
+        if fmt == "vtk":
+            out = QtGui.QFileDialog.getExistingDirectory(window, "Folder of the ParaView series")
+        else:
+            filters = {"nastran": "NASTRAN bulk data (*.bdf)", "esatan": "ESATAN-TMS (*.d)",
+                       "sinda": "SINDA/FLUINT (*.inp)", "csv": "CSV tables prefix (*.csv)"}
+            out, _ = QtGui.QFileDialog.getSaveFileName(window, "Export as " + fmt, "", filters[fmt])
+        if out:
+            status("ThermoDec: exporting %s ..." % fmt)
+            if run("Export for other tools", [analysis_line(), "import thermodec_freecad.results as tdresults",
+                                              "tdresults.export_for_tool(analysis, %r, %r)" % (fmt, out)]):
+                status("ThermoDec: %s written to %s" % (fmt, out))
+
+
 class ImportResults(_Command):
     icon, menu, tip = "ImportResults.svg", "Import results", \
         "Load a (reduced) mesh coloured by node, or by temperature with a results JSON"
@@ -229,6 +255,7 @@ def register():
                       ("ThermoDec_Conductance", ConductanceCommand),
                       ("ThermoDec_Environment", EnvironmentCommand),
                       ("ThermoDec_Tessellate", Tessellate), ("ThermoDec_Export", Export),
+                      ("ThermoDec_ExportTool", ExportTool),
                       ("ThermoDec_Simulate", Simulate), ("ThermoDec_Decimate", Decimate),
                       ("ThermoDec_Reduce", Reduce),
                       ("ThermoDec_ImportResults", ImportResults)):

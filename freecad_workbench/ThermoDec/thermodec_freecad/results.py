@@ -120,6 +120,23 @@ def simulate(analysis, json_path=None):
     return result_path, summary
 
 
+EXCHANGE_FORMATS = ("nastran", "esatan", "sinda", "vtk", "csv")
+
+
+def export_for_tool(analysis, fmt, out):
+    """Writes the analysis for another tool (docs/exchange.md): 'nastran' (.bdf), 'esatan' (.d),
+    'sinda' (.inp), 'vtk' (out = folder, ParaView series) or 'csv' (out = prefix). The network
+    formats run the reference simulation first. Returns the files written."""
+    td = core.module()
+    core.require("export_model")
+    json_path, _ = export.write_model(analysis, export.default_paths(analysis)[0])
+    _progress("exporting %s as %s" % (json_path, fmt))
+    model = td.load_model(json_path)
+    files = [str(f) for f in td.export_model(model, fmt, out, "model", _progress)]
+    _progress("written: %s" % ", ".join(files))
+    return files
+
+
 def node_mean_temperatures(result_path):
     """{node: mean temperature [K]} of a result.json written by simulate()."""
     with open(result_path, encoding="utf-8") as f:

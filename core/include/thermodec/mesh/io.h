@@ -1,7 +1,9 @@
 #pragma once
 //! Mesh readers and writers: OBJ (`g`/`o` groups -> nodes, `usemtl` -> materials), PLY ascii
 //! and binary (face properties `node`, `material`, `back_material`; float `quality` read as node
-//! id for MeshLab interop) and STL ascii and binary. Format chosen by file extension
+//! id for MeshLab interop), STL ascii and binary, and NASTRAN bulk data (.bdf .nas .dat, read
+//! only: GRID, CTRIA3, CQUAD4; property id -> node, PSHELL material -> material; see
+//! mesh/format_bdf.h). Format chosen by file extension
 //! (case-insensitive). Details of each format: docs/model-format.md, section "Mesh files".
 #include <cstdint>
 #include <filesystem>

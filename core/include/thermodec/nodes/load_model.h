@@ -1,6 +1,6 @@
 #pragma once
 //! Reading and writing the thermal model file (JSON, docs/model-format.md). A bare mesh path
-//! (.obj .ply .stl) is a valid model too: documented defaults apply, and a mesh without
+//! (.obj .ply .stl, NASTRAN .bdf .nas .dat with its RADM coatings) is a valid model too: documented defaults apply, and a mesh without
 //! groups gets an automatic nodal breakdown.
 #include <filesystem>
 

@@ -1,0 +1,63 @@
+#include "thermodec/exchange/write_csv_tables.h"
+
+#include <ostream>
+
+#include "number_text.h"
+#include "thermodec/common/atomic_write.h"
+
+namespace thermodec {
+namespace {
+
+using exchange_text::real;
+
+std::string csv_field(const std::string& s) {  // RFC 4180 quoting where needed
+  if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+}  // namespace
+
+std::vector<std::filesystem::path> write_csv_tables(const std::filesystem::path& prefix, const ExportedNetwork& e,
+                                                    const std::vector<std::filesystem::path>& protected_inputs) {
+  const ThermalNetwork& net = e.network;
+  const int n = net.num_nodes(), S = static_cast<int>(e.times_s.size());
+  const std::filesystem::path temperatures = prefix.string() + "_temperatures.csv";
+  const std::filesystem::path couplings = prefix.string() + "_couplings.csv";
+  const std::filesystem::path loads = prefix.string() + "_loads.csv";
+  write_file_atomically(temperatures, [&](std::ostream& out) {
+    out << "time_s";
+    for (const auto& name : net.node_names) out << "," << csv_field(name);
+    out << "\n";
+    for (int k = 0; k < S; ++k) {
+      out << real(e.times_s[k]);
+      for (int i = 0; i < n; ++i) out << "," << real(e.temperature_K(i, k));
+      out << "\n";
+    }
+  }, protected_inputs);
+  write_file_atomically(couplings, [&](std::ostream& out) {
+    out << "from,to,type,value,unit\n";
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j)
+        if (net.conductance_W_per_K(i, j) != 0.0)
+          out << csv_field(net.node_names[i]) << "," << csv_field(net.node_names[j]) << ",GL," << real(net.conductance_W_per_K(i, j)) << ",W/K\n";
+    for (int i = 0; i < n; ++i) {
+      for (int j = i + 1; j < n; ++j)
+        if (net.radiative_couplings_m2(i, j) != 0.0)
+          out << csv_field(net.node_names[i]) << "," << csv_field(net.node_names[j]) << ",GR," << real(net.radiative_couplings_m2(i, j)) << ",m^2\n";
+      if (net.to_space_couplings_m2[i] != 0.0)
+        out << csv_field(net.node_names[i]) << ",space,GR," << real(net.to_space_couplings_m2[i]) << ",m^2\n";
+    }
+  }, protected_inputs);
+  write_file_atomically(loads, [&](std::ostream& out) {
+    out << "time_s,node,solar_W,albedo_W,earth_ir_W,internal_W\n";
+    for (int k = 0; k < S; ++k)
+      for (int i = 0; i < n; ++i)
+        out << real(e.times_s[k]) << "," << csv_field(net.node_names[i]) << "," << real(e.solar_W(i, k)) << ","
+            << real(e.albedo_W(i, k)) << "," << real(e.earth_ir_W(i, k)) << "," << real(net.power_W[i]) << "\n";
+  }, protected_inputs);
+  return {temperatures, couplings, loads};
+}
+
+}  // namespace thermodec

@@ -1,0 +1,95 @@
+// ESATAN-TMS network writer. Block and entity syntax follow the ESATAN-TMS language (public
+// Engineering/Reference manual): nodes `Dn = 'label', attribute = value, ...;`, conductors
+// `GL(n1, n2) = value;` / `GR(n1, n2) = value;`, control constants, arrays of doublets.
+#include "thermodec/exchange/write_esatan_network.h"
+
+#include <ostream>
+
+#include "number_text.h"
+#include "thermodec/common/atomic_write.h"
+
+namespace thermodec {
+namespace {
+
+std::string real(double x) { return exchange_text::fortran_real(x); }
+constexpr int kSpaceNode = 99999;
+
+std::string quoted(std::string s) {  // ESATAN labels are single-quoted; a quote is doubled
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("''") : std::string(1, c);
+  return q + "'";
+}
+
+// One cyclic doublet table (time [s], load [W]) over [0, P]: the first point repeated at P,
+// so the interpolation wraps around the orbit.
+void write_table(std::ostream& out, const std::string& name, const ExportedNetwork& e, const Eigen::MatrixXd& load, int node) {
+  const int S = static_cast<int>(e.times_s.size());
+  out << name << "(" << 2 * (S + 1) << ") =\n";
+  for (int k = 0; k <= S; ++k) {
+    const double t = k < S ? e.times_s[k] : e.period_s;
+    out << "    " << real(t) << ", " << real(load(node, k % S)) << (k < S ? ",\n" : ";\n");
+  }
+}
+
+}  // namespace
+
+void write_esatan_network(const std::filesystem::path& path, const ExportedNetwork& e,
+                          const std::vector<std::filesystem::path>& protected_inputs) {
+  const ThermalNetwork& net = e.network;
+  const int n = net.num_nodes(), S = static_cast<int>(e.times_s.size());
+  const bool tables = e.transient && S > 1;
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << "# thermodec export: ESATAN-TMS thermal network\n"
+           "# source: " << e.title << "\n"
+           "# units: SI (m^2, K, W, J/K, W/K, s); TABS = 0 so T is absolute [K]\n"
+           "# GR(i, j) [m^2] = sum A eps B (emissivities included); ESATAN multiplies by STEFAN\n"
+           "# node n = thermodec node n - 1; " << kSpaceNode << " = deep space (boundary, " << real(net.sink_temperature_K) << " K)\n"
+           "# loads: QS = direct + reflected solar, QA = albedo, QE = Earth IR [W], "
+        << (tables ? "cyclic tables over one orbit" : "orbit-averaged (steady)") << "\n"
+        << "$MODEL THERMODEC\n$LOCALS\n$NODES\n";
+    const Eigen::MatrixXd& T = e.temperature_K;
+    for (int i = 0; i < n; ++i) {
+      const char type = net.is_fixed(i) ? 'B' : net.capacitance_J_per_K[i] > 0.0 ? 'D' : 'A';
+      out << type << i + 1 << " = " << quoted(net.node_names[i]) << ", T = " << real(net.is_fixed(i) ? net.fixed_temperature_K[i] : T(i, 0))
+          << ", C = " << real(net.capacitance_J_per_K[i]) << ", A = " << real(e.area_m2[i]) << ", ALP = " << real(e.absorptivity[i])
+          << ", EPS = " << real(e.emissivity[i]) << ", QI = " << real(net.power_W[i]);
+      if (!tables)
+        out << ", QS = " << real(e.solar_W(i, 0)) << ", QA = " << real(e.albedo_W(i, 0)) << ", QE = " << real(e.earth_ir_W(i, 0));
+      out << ";\n";
+    }
+    out << "B" << kSpaceNode << " = 'deep space', T = " << real(net.sink_temperature_K) << ";\n$CONDUCTORS\n";
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j)
+        if (net.conductance_W_per_K(i, j) != 0.0) out << "GL(" << i + 1 << ", " << j + 1 << ") = " << real(net.conductance_W_per_K(i, j)) << ";\n";
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j)
+        if (net.radiative_couplings_m2(i, j) != 0.0) out << "GR(" << i + 1 << ", " << j + 1 << ") = " << real(net.radiative_couplings_m2(i, j)) << ";\n";
+    for (int i = 0; i < n; ++i)
+      if (net.to_space_couplings_m2[i] != 0.0) out << "GR(" << i + 1 << ", " << kSpaceNode << ") = " << real(net.to_space_couplings_m2[i]) << ";\n";
+    out << "$CONSTANTS\n$REAL\nPERIOD = " << real(e.period_s) << ";\n$CONTROL\nTABS = 0.0;\nSTEFAN = 5.670374419E-8;\n"
+           "RELXCA = 1.0E-6;\nRELXCB = 1.0E-6;\nNLOOP = 1000;\n";
+    if (tables) {
+      const double dt = e.period_s / S;
+      out << "TIMEO = 0.0;\nTIMEND = " << real(e.period_s * std::max(1, e.orbits)) << ";\nDTIMEI = " << real(dt)
+          << ";\nOUTINT = " << real(dt) << ";\n$ARRAYS\n$REAL\n";
+      for (int i = 0; i < n; ++i) {
+        write_table(out, "QSOL" + std::to_string(i + 1), e, e.solar_W, i);
+        write_table(out, "QALB" + std::to_string(i + 1), e, e.albedo_W, i);
+        write_table(out, "QEIR" + std::to_string(i + 1), e, e.earth_ir_W, i);
+      }
+      out << "$EVENTS\n$VARIABLES1\n# loads at the orbit time: cyclic linear interpolation of the doublet tables\n";
+      for (int i = 0; i < n; ++i) {
+        const std::string k = std::to_string(i + 1);
+        out << "QS" << k << " = INTCY1(TIMEM, QSOL" << k << ", PERIOD);\n"
+            << "QA" << k << " = INTCY1(TIMEM, QALB" << k << ", PERIOD);\n"
+            << "QE" << k << " = INTCY1(TIMEM, QEIR" << k << ", PERIOD);\n";
+      }
+      out << "$EXECUTION\nSOLVFM;\nSLCRNC;\n";
+    } else {
+      out << "$EXECUTION\nSOLVFM;\n";
+    }
+    out << "$OUTPUTS\nPRNDTB(' ', 'L, T, QS, QA, QE, QI', CURRENT);\n$ENDMODEL THERMODEC\n";
+  }, protected_inputs);
+}
+
+}  // namespace thermodec

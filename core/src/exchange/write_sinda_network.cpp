@@ -1,0 +1,91 @@
+// SINDA/FLUINT input writer in the block layout Thermal Desktop generates: HEADER blocks with
+// `register`-free, comma-separated data lines indented by 6 columns; comments "C" in column 1.
+#include "thermodec/exchange/write_sinda_network.h"
+
+#include <ostream>
+
+#include "number_text.h"
+#include "thermodec/common/atomic_write.h"
+
+namespace thermodec {
+namespace {
+
+std::string real(double x) { return exchange_text::fortran_real(x); }
+constexpr int kSpaceNode = 99999;
+constexpr int kFirstArray = 1000;  // array id of node n's external load: kFirstArray + n
+
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  return s;
+}
+
+}  // namespace
+
+void write_sinda_network(const std::filesystem::path& path, const ExportedNetwork& e,
+                         const std::vector<std::filesystem::path>& protected_inputs) {
+  const ThermalNetwork& net = e.network;
+  const int n = net.num_nodes(), S = static_cast<int>(e.times_s.size());
+  const bool tables = e.transient && S > 1;
+  const Eigen::MatrixXd external = e.external_W();
+  write_file_atomically(path, [&](std::ostream& out) {
+    out << "C thermodec export: SINDA/FLUINT thermal network\n"
+           "C source: " << one_line(e.title) << "\n"
+           "C units: SI (K, W, J/K, W/K, m^2, s); ABSZRO = 0 so T is absolute [K]\n"
+           "C radiation conductors (negative id): G = GR [m^2] = sum A eps B; SINDA applies SIGMA\n"
+           "C node n = thermodec node n - 1; " << kSpaceNode << " = deep space (boundary)\n"
+           "C Q: internal power + absorbed solar, albedo and Earth IR [W], "
+        << (tables ? "cyclic tables over one orbit" : "orbit-averaged (steady)") << "\n"
+        << "HEADER OPTIONS DATA\nTITLE thermodec export\n      OUTPUT = thermodec.out\n"
+        << "HEADER CONTROL DATA, GLOBAL\n      UID    = SI\n      ABSZRO = 0.0\n      SIGMA  = 5.670374419E-8\n"
+           "      NLOOPS = 1000\n      EBALSA = 1.0E-6\n";
+    if (tables)
+      out << "      TIMEO  = 0.0\n      TIMEND = " << real(e.period_s * std::max(1, e.orbits)) << "\n      DTIMEI = "
+          << real(e.period_s / S) << "\n      OUTPTM = " << real(e.period_s / S) << "\n";
+    out << "HEADER NODE DATA, MAIN\n";
+    for (int i = 0; i < n; ++i) {
+      // Boundary nodes: negative id; arithmetic: capacitance -1.0 (SINDA's convention).
+      const bool fixed = net.is_fixed(i);
+      const double c = fixed ? 0.0 : net.capacitance_J_per_K[i] > 0.0 ? net.capacitance_J_per_K[i] : -1.0;
+      out << "      " << (fixed ? "-" : "") << i + 1 << ", " << real(fixed ? net.fixed_temperature_K[i] : e.temperature_K(i, 0))
+          << ", " << real(c) << "   $ " << one_line(net.node_names[i]) << "\n";
+    }
+    out << "      -" << kSpaceNode << ", " << real(net.sink_temperature_K) << ", 0.0   $ deep space\n"
+        << "HEADER CONDUCTOR DATA, MAIN\n";
+    int id = 1;
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j)
+        if (net.conductance_W_per_K(i, j) != 0.0)
+          out << "      " << id++ << ", " << i + 1 << ", " << j + 1 << ", " << real(net.conductance_W_per_K(i, j)) << "\n";
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j)
+        if (net.radiative_couplings_m2(i, j) != 0.0)
+          out << "      -" << id++ << ", " << i + 1 << ", " << j + 1 << ", " << real(net.radiative_couplings_m2(i, j)) << "\n";
+    for (int i = 0; i < n; ++i)
+      if (net.to_space_couplings_m2[i] != 0.0)
+        out << "      -" << id++ << ", " << i + 1 << ", " << kSpaceNode << ", " << real(net.to_space_couplings_m2[i]) << "\n";
+    if (tables) {
+      out << "HEADER ARRAY DATA, MAIN\nC doublets (time [s], absorbed external load [W]); the first point repeated at the period\n";
+      for (int i = 0; i < n; ++i) {
+        out << "      " << kFirstArray + i + 1 << " =";
+        for (int k = 0; k <= S; ++k)
+          out << (k ? "\n            , " : " ") << real(k < S ? e.times_s[k] : e.period_s) << ", " << real(external(i, k % S));
+        out << "\n";
+      }
+    }
+    out << "HEADER VARIABLES 1, MAIN\n";
+    for (int i = 0; i < n; ++i) {
+      if (net.is_fixed(i)) continue;
+      out << "      Q" << i + 1 << " = " << real(net.power_W[i]);
+      if (tables)
+        out << " + D11CYL(TIMEN, A" << kFirstArray + i + 1 << ", " << real(e.period_s) << ")\n";
+      else
+        out << " + " << real(external(i, 0)) << "\n";
+    }
+    out << "HEADER OPERATIONS\nBUILD ALL\n      CALL STEADY\n";
+    if (tables) out << "      CALL TRANSIENT\n";
+    out << "END OF DATA\n";
+  }, protected_inputs);
+}
+
+}  // namespace thermodec

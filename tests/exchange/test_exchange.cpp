@@ -1,0 +1,337 @@
+// Exchange formats: NASTRAN bulk data in and out, ESATAN-TMS and SINDA/FLUINT networks read
+// back and solved again, VTK and CSV files, and the CLI's `export` contract.
+#include <unistd.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+
+#include "network_readers.h"
+#include "thermodec/common/errors.h"
+#include "thermodec/exchange/exported_network.h"
+#include "thermodec/exchange/write_csv_tables.h"
+#include "thermodec/exchange/write_esatan_network.h"
+#include "thermodec/exchange/write_nastran_bulk.h"
+#include "thermodec/exchange/write_sinda_network.h"
+#include "thermodec/exchange/write_vtk_series.h"
+#include "thermodec/mesh/face_geometry.h"
+#include "thermodec/nodes/load_model.h"
+#include "thermodec/thermal/simulate_model.h"
+
+namespace fs = std::filesystem;
+using namespace thermodec;
+
+namespace {
+
+const fs::path kSource = THERMODEC_SOURCE_DIR;
+const fs::path kSample = kSource / "sample_models/satellite/model.json";
+
+fs::path temp_dir(const std::string& name) {
+  auto d = fs::temp_directory_path() / ("thermodec_test_exchange_" + std::to_string(::getpid()) + "_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+void write(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+}
+
+// The sample satellite at a small ray count (the exchange is exact whatever the sampling), one
+// node made arithmetic (C = 0) so that every node kind of the formats is exercised.
+struct Simulated {
+  ThermalModel model;
+  NodeCouplings couplings;
+  SimulationResult result;
+};
+
+Simulated simulate_small(const fs::path& path, bool arithmetic_boom) {
+  Simulated s;
+  s.model = load_model(path);
+  s.model.radiation.rays_per_face = 300;
+  s.model.radiation.min_rays_per_node = 0;
+  for (auto& n : s.model.nodes)
+    if (arithmetic_boom && n.name == "boom") n.capacitance_J_per_K = 0.0;
+  ModelSimulationSettings settings;
+  settings.loads.sun_rays_per_face = 64;
+  settings.loads.earth_rays_per_face = 64;
+  s.result = simulate_model(s.model, settings, &s.couplings);
+  return s;
+}
+
+const Simulated& sample_transient() {
+  static const Simulated s = simulate_small(kSample, true);
+  return s;
+}
+
+// Solves a network read back from a file the way `simulate` solves the model.
+Eigen::MatrixXd solve(const exchange_test::ReadNetwork& r, int orbits) {
+  if (!r.transient) return steady_state(r.network, r.external_W.col(0)).temperature_K;
+  TransientSettings ts;
+  ts.max_orbits = orbits;
+  return periodic_transient(r.network, r.external_W, r.period_s, ts).temperature_K;
+}
+
+double max_abs_difference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  EXPECT_EQ(a.rows(), b.rows());
+  EXPECT_EQ(a.cols(), b.cols());
+  if (a.rows() != b.rows() || a.cols() != b.cols()) return 1e300;
+  return (a - b).cwiseAbs().maxCoeff();
+}
+
+struct CliRun {
+  int exit_code;
+  std::string out, err;
+};
+
+CliRun run_cli(const std::string& args, const fs::path& dir) {
+  const std::string cmd = std::string("'") + THERMODEC_CLI + "' " + args + " >'" + (dir / "stdout").string() + "' 2>'" +
+                          (dir / "stderr").string() + "'";
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, exchange_test::slurp((dir / "stdout").string()),
+          exchange_test::slurp((dir / "stderr").string())};
+}
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+// `thermodec info` lines that describe the geometry and the nodes (faces, areas), not the paths.
+std::string info_geometry(const std::string& out) {
+  std::istringstream in(out);
+  std::string kept, line;
+  bool nodes = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("faces", 0) == 0 || line.rfind("vertices", 0) == 0 || line.rfind("area", 0) == 0) kept += line + "\n";
+    if (line.rfind("nodes", 0) == 0) nodes = true;
+    if (nodes) kept += line + "\n";
+  }
+  return kept;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InvalidInput& e) {
+    return e.what();
+  }
+  return "(no InvalidInput thrown)";
+}
+
+}  // namespace
+
+// The 0.01 K bound of the issue: a file that lost a node, a conductor or a load step moves
+// some node by far more (a 1 W load on the 900 J/K yoke alone moves it by > 0.1 K).
+constexpr double kSameTemperatureK = 0.01;
+
+TEST(ExchangeEsatan, transient_network_read_back_and_solved_matches_simulate_within_0_01_K) {
+  const Simulated& s = sample_transient();
+  ASSERT_TRUE(s.result.transient);
+  const auto d = temp_dir("esatan_transient");
+  write_esatan_network(d / "sat.d", exported_network(s.model, s.couplings, s.result, "sample"));
+  const auto r = exchange_test::read_esatan((d / "sat.d").string());
+  EXPECT_TRUE(r.transient);
+  EXPECT_EQ(r.network.num_nodes(), static_cast<int>(s.model.nodes.size()));
+  EXPECT_EQ(r.network.capacitance_J_per_K.minCoeff(), 0.0);  // the arithmetic node came through
+  EXPECT_LT(max_abs_difference(solve(r, s.model.analysis.orbits), s.result.temperature_K), kSameTemperatureK);
+  // The check has teeth: the same file without the wing's coupling to space is far off.
+  std::string text = exchange_test::slurp((d / "sat.d").string());
+  const std::size_t at = text.find("GR(8, 99999)");
+  ASSERT_NE(at, std::string::npos);
+  text.erase(at, text.find('\n', at) - at + 1);
+  write(d / "lost.d", text);
+  const auto lost = exchange_test::read_esatan((d / "lost.d").string());
+  EXPECT_GT(max_abs_difference(solve(lost, s.model.analysis.orbits), s.result.temperature_K), 1.0);
+}
+
+TEST(ExchangeSinda, transient_network_read_back_and_solved_matches_simulate_within_0_01_K) {
+  const Simulated& s = sample_transient();
+  const auto d = temp_dir("sinda_transient");
+  write_sinda_network(d / "sat.inp", exported_network(s.model, s.couplings, s.result, "sample"));
+  const auto r = exchange_test::read_sinda((d / "sat.inp").string());
+  EXPECT_TRUE(r.transient);
+  EXPECT_EQ(r.network.num_nodes(), static_cast<int>(s.model.nodes.size()));
+  EXPECT_LT(max_abs_difference(solve(r, s.model.analysis.orbits), s.result.temperature_K), kSameTemperatureK);
+}
+
+TEST(ExchangeNetworks, steady_model_with_a_boundary_node_read_back_matches_simulate_within_0_01_K) {
+  const Simulated s = simulate_small(kSource / "tests/data/example_model.json", false);
+  ASSERT_FALSE(s.result.transient);
+  const auto d = temp_dir("steady");
+  const ExportedNetwork e = exported_network(s.model, s.couplings, s.result, "example");
+  write_esatan_network(d / "m.d", e);
+  write_sinda_network(d / "m.inp", e);
+  for (const auto& r : {exchange_test::read_esatan((d / "m.d").string()), exchange_test::read_sinda((d / "m.inp").string())}) {
+    EXPECT_FALSE(r.transient);
+    int fixed = 0;
+    for (int i = 0; i < r.network.num_nodes(); ++i) fixed += r.network.is_fixed(i);
+    EXPECT_EQ(fixed, 1);  // the radiator, a boundary node
+    EXPECT_LT(max_abs_difference(solve(r, 1), s.result.temperature_K), kSameTemperatureK);
+  }
+}
+
+TEST(ExchangeNastran, exported_sample_reads_back_with_the_same_faces_nodes_areas_and_coatings) {
+  const ThermalModel m = load_model(kSample);
+  const auto d = temp_dir("nastran_sample");
+  write_nastran_bulk(d / "sat.bdf", m);
+  const ThermalModel b = load_model(d / "sat.bdf");
+  ASSERT_EQ(b.mesh.num_faces(), m.mesh.num_faces());
+  ASSERT_EQ(b.mesh.num_vertices(), m.mesh.num_vertices());
+  ASSERT_EQ(b.nodes.size(), m.nodes.size());
+  // GRID* keeps 15-16 significant digits: areas agree to ~1e-14 relative.
+  const Eigen::VectorXd area_m = face_areas(m.mesh.V, m.mesh.F), area_b = face_areas(b.mesh.V, b.mesh.F);
+  for (int f = 0; f < m.mesh.num_faces(); ++f) {
+    ASSERT_NEAR(area_b[f], area_m[f], 1e-12 * area_m[f]) << "face " << f;
+    ASSERT_EQ(b.nodes[b.mesh.face_node[f]].name, m.nodes[m.mesh.face_node[f]].name) << "face " << f;
+    const Material& fm = m.materials[m.mesh.face_material[f]];
+    const Material& fb = b.materials[b.mesh.face_material[f]];
+    ASSERT_EQ(fb.name, fm.name);
+    ASSERT_EQ(fb.absorptivity, fm.absorptivity);
+    ASSERT_EQ(fb.emissivity, fm.emissivity);
+    ASSERT_EQ(b.mesh.is_two_sided(f), m.mesh.is_two_sided(f)) << "face " << f;
+  }
+}
+
+TEST(ExchangeNastran, small_field_free_field_and_quads_are_read_as_triangles_per_property) {
+  const auto d = temp_dir("nastran_dialects");
+  write(d / "q.bdf",
+        "SOL 101\nCEND\nBEGIN BULK\n"
+        "$ a unit square as one CQUAD4 (small field) and a triangle in free field\n"
+        "GRID    1               0.      0.      0.\n"
+        "GRID    2               1.      0.      0.\n"
+        "GRID    3               1.      1.      0.\n"
+        "GRID,4,,0.,1.,0.\n"
+        "GRID    5               2.      0.      0.\n"
+        "CQUAD4  10      7       1       2       3       4\n"
+        "CTRIA3,11,8,2,5,3\n"
+        "PSHELL  7       3       .001\n"
+        "RADM    3       .25     .9\n"
+        "CBAR    20      1       1       2       0.      0.      1.\n"
+        "CONM2   30      1               1.5-3\n"
+        "ENDDATA\n");
+  const ThermalModel m = load_model(d / "q.bdf");
+  ASSERT_EQ(m.mesh.num_faces(), 3);
+  EXPECT_EQ(m.nodes.size(), 2u);
+  EXPECT_EQ(m.nodes[0].name, "PID7");
+  EXPECT_EQ(m.nodes[1].name, "PID8");
+  EXPECT_NEAR(face_areas(m.mesh.V, m.mesh.F).sum(), 1.5, 1e-15);
+  const Material& coat = m.materials[m.mesh.face_material[0]];
+  EXPECT_EQ(coat.name, "MAT3");
+  EXPECT_EQ(coat.absorptivity, 0.25);
+  EXPECT_EQ(coat.emissivity, 0.9);
+}
+
+TEST(ExchangeNastran, element_naming_a_missing_grid_is_refused_with_file_line_and_card) {
+  const auto d = temp_dir("nastran_missing_grid");
+  write(d / "m.bdf", "BEGIN BULK\nGRID    1               0.      0.      0.\nGRID    2               1.      0.      0.\n"
+                     "CTRIA3  5       1       1       2       99\nENDDATA\n");
+  const std::string e = error_of([&] { load_model(d / "m.bdf"); });
+  EXPECT_NE(e.find("m.bdf:4:"), std::string::npos) << e;
+  EXPECT_NE(e.find("CTRIA3 5"), std::string::npos) << e;
+  EXPECT_NE(e.find("GRID 99"), std::string::npos) << e;
+}
+
+TEST(ExchangeNastran, non_numeric_field_is_refused_with_file_line_card_and_field) {
+  const auto d = temp_dir("nastran_bad_number");
+  write(d / "m.bdf", "BEGIN BULK\nGRID    1               0.      0.      0.\nGRID    2               1.      abc     0.\nENDDATA\n");
+  const std::string e = error_of([&] { load_model(d / "m.bdf"); });
+  EXPECT_NE(e.find("m.bdf:3:"), std::string::npos) << e;
+  EXPECT_NE(e.find("GRID 2"), std::string::npos) << e;
+  EXPECT_NE(e.find("X2"), std::string::npos) << e;
+  EXPECT_NE(e.find("'abc'"), std::string::npos) << e;
+}
+
+TEST(ExchangeNastran, grid_in_a_local_coordinate_system_is_refused) {
+  const auto d = temp_dir("nastran_cp");
+  write(d / "m.bdf", "BEGIN BULK\nGRID    1       4       0.      0.      0.\nENDDATA\n");
+  const std::string e = error_of([&] { load_model(d / "m.bdf"); });
+  EXPECT_NE(e.find("m.bdf:2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("coordinate system"), std::string::npos) << e;
+}
+
+TEST(ExchangeVtk, series_has_one_step_per_time_and_every_face_in_each) {
+  const Simulated& s = sample_transient();
+  const auto d = temp_dir("vtk");
+  const fs::path pvd = write_vtk_series(d, "sat", s.model, exported_network(s.model, s.couplings, s.result, "sample"));
+  const std::string collection = exchange_test::slurp(pvd.string());
+  const int steps = static_cast<int>(s.result.times_s.size());
+  int datasets = 0;
+  for (std::size_t p = 0; (p = collection.find("<DataSet", p)) != std::string::npos; ++p) ++datasets;
+  EXPECT_EQ(datasets, steps);
+  const std::string first = exchange_test::slurp((d / "sat_0000.vtu").string());
+  EXPECT_NE(first.find("NumberOfCells=\"" + std::to_string(s.model.mesh.num_faces()) + "\""), std::string::npos);
+  EXPECT_NE(first.find("Name=\"temperature_K\""), std::string::npos);
+  EXPECT_NE(first.find("Name=\"absorbed_flux_W_per_m2\""), std::string::npos);
+}
+
+TEST(ExchangeCsv, coupling_table_lists_every_nonzero_pair_once_with_its_unit) {
+  const Simulated& s = sample_transient();
+  const auto d = temp_dir("csv");
+  const ExportedNetwork e = exported_network(s.model, s.couplings, s.result, "sample");
+  const auto files = write_csv_tables(d / "sat", e);
+  ASSERT_EQ(files.size(), 3u);
+  std::istringstream in(exchange_test::slurp(files[1].string()));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "from,to,type,value,unit");
+  int gl = 0, gr = 0;
+  while (std::getline(in, line)) (line.find(",GL,") != std::string::npos ? gl : gr)++;
+  int expect_gl = 0, expect_gr = 0;
+  const int n = e.num_nodes();
+  for (int i = 0; i < n; ++i) {
+    expect_gr += e.network.to_space_couplings_m2[i] != 0.0;
+    for (int j = i + 1; j < n; ++j) {
+      expect_gl += e.network.conductance_W_per_K(i, j) != 0.0;
+      expect_gr += e.network.radiative_couplings_m2(i, j) != 0.0;
+    }
+  }
+  EXPECT_EQ(gl, expect_gl);
+  EXPECT_EQ(gr, expect_gr);
+}
+
+TEST(ExchangeCli, nastran_export_of_the_reduced_sample_reads_back_in_info_with_the_same_faces_nodes_and_areas) {
+  const auto d = temp_dir("cli_reduced");
+  const CliRun dec = run_cli("decimate " + q(kSample) + " --ratio 0.5 -o " + q(d / "reduced.json"), d);
+  ASSERT_EQ(dec.exit_code, 0) << dec.err;
+  const CliRun ex = run_cli("export " + q(d / "reduced.json") + " --format nastran -o " + q(d / "reduced.bdf"), d);
+  ASSERT_EQ(ex.exit_code, 0) << ex.err;
+  const CliRun a = run_cli("info " + q(d / "reduced.json"), d);
+  const CliRun b = run_cli("info " + q(d / "reduced.bdf"), d);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_NE(info_geometry(a.out).find("nodes"), std::string::npos) << a.out;
+  EXPECT_EQ(info_geometry(b.out), info_geometry(a.out));
+}
+
+TEST(ExchangeCli, unknown_format_is_a_usage_error_naming_the_choices) {
+  const auto d = temp_dir("cli_format");
+  const CliRun r = run_cli("export " + q(kSample) + " --format step -o " + q(d / "x.step"), d);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("step"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nastran"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "x.step"));
+}
+
+TEST(ExchangeCli, output_onto_the_input_is_refused_before_any_work) {
+  const auto d = temp_dir("cli_overwrite");
+  fs::copy_file(kSource / "tests/data/example_model.json", d / "m.json");
+  fs::copy_file(kSource / "tests/data/satellite.obj", d / "satellite.obj");
+  const std::string before = exchange_test::slurp((d / "satellite.obj").string());
+  const CliRun r = run_cli("export " + q(d / "m.json") + " --format esatan -o " + q(d / "satellite.obj"), d);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("overwrite the input"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("simulate"), std::string::npos) << "refused only after simulating: " << r.err;
+  EXPECT_EQ(exchange_test::slurp((d / "satellite.obj").string()), before);
+}
+
+TEST(ExchangeCli, simulate_vtk_writes_a_series_beside_the_result) {
+  const auto d = temp_dir("cli_simulate_vtk");
+  const CliRun r = run_cli("simulate " + q(kSource / "tests/data/example_model.json") + " --noise-target 0 -q --vtk " +
+                               q(d / "vtk"),
+                           d);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(d / "vtk" / "example_model.pvd"));
+  EXPECT_TRUE(fs::exists(d / "vtk" / "example_model_0000.vtu"));  // steady: one step
+  EXPECT_FALSE(fs::exists(d / "vtk" / "example_model_0001.vtu"));
+}
