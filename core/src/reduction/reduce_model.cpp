@@ -10,6 +10,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/decimation/global_ratio.h"
 #include "thermodec/reduction/prediction.h"
+#include "thermodec/reduction/statistical_verification.h"
 #include "thermodec/thermal/simulate_model.h"
 
 namespace thermodec {
@@ -34,6 +35,137 @@ void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& setti
     settings.informed.max_leave_one_out = 8;  // two back-off steps fit in the 20 trials
   }
 }
+
+namespace {
+
+// The strategy search over one set of references (one per load case), at a given tolerance.
+struct Searcher {
+  const ReduceSettings& settings;
+  const std::vector<std::unique_ptr<ReductionReference>>& refs;
+  const Eigen::VectorXi& faces;
+  int n;
+  std::function<TrialResult(const Eigen::VectorXd&)> trial, verify;
+  std::function<void(const std::string&)> log, say;
+  std::function<int()> trials_evaluated;
+
+  // Informed: each node alone on increasing ratios (once; the curves serve every attempt).
+  void sweep(ReductionRun& run) const {
+    SensitivityOptions so = settings.sensitivity;
+    const double tol = settings.tolerance_K;
+    so.cap_K = settings.sensitivity_cap_factor * tol;
+    // A node beyond the tolerance at the first ratio is tried at smaller ones (halvings).
+    so.refine_first_above_K = std::min(so.refine_first_above_K, tol);
+    const auto ts = Clock::now();
+    so.progress = [&](int done, int total) {
+      // Time left, extrapolated from the nodes swept so far (rough: sweeps differ in length).
+      const double spent = since(ts), left = done > 0 ? spent / done * (total - done) : 0.0;
+      say("  sensitivity: " + std::to_string(done) + "/" + std::to_string(total) + " nodes swept (" +
+          std::to_string(trials_evaluated()) + " trials, " +
+          (done < total ? fmt("about %.0f s left)", left) : fmt("%.0f s)", spent)));
+    };
+    say("sensitivity analysis: each node alone, increasing ratios, cap " + fmt("%.3g K", so.cap_K));
+    run.curves = sensitivity_analysis(n, trial, so);
+    run.seconds_sensitivity = since(ts);
+  }
+
+  ReductionOutcome at(const ReductionRun& run, double search_tol) const {
+    if (settings.strategy == ReductionStrategy::uniform) {
+      const ReductionReference& ref = *refs.front();
+      const Eigen::VectorXd reachable = ref.max_ratio_per_node();
+      auto ratios_for_global = [&](double g) {
+        return node_ratios_for_global_ratio(faces, g, settings.reference.decimation.min_faces_per_node, reachable);
+      };
+      UniformOptions uo = settings.uniform;
+      uo.tolerance_K = search_tol;
+      uo.log = log;
+      say("uniform reduction: one global ratio, raised until " + fmt("%.4g K is exceeded", search_tol));
+      return uniform_reduction(ratios_for_global, trial, verify, uo);
+    }
+    InformedOptions io = settings.informed;
+    io.tolerance_K = search_tol;
+    io.log = log;
+    say("prediction and reduction aiming at " + fmt("%.4g K", search_tol));
+    return informed_reduction(run.curves, n, trial, verify, io);
+  }
+
+  // Predicted vs real (paper Fig. 11): for several targets, the curves' prediction and the
+  // simulated difference of all nodes reduced together.
+  void predictions(ReductionRun& run, double tol) const {
+    run.prediction.resize(settings.prediction_targets.size());
+    tbb::parallel_for(size_t(0), settings.prediction_targets.size(), [&](size_t i) {
+      PredictionPoint& p = run.prediction[i];
+      p.target_K = settings.prediction_targets[i] * tol;
+      Eigen::VectorXd r = Eigen::VectorXd::Zero(n);
+      for (const auto& c : run.curves) {
+        r[c.node] = feasible_ratio(c, p.target_K);
+        p.predicted_K = std::max(p.predicted_K, predicted_difference_K(c, r[c.node]));
+      }
+      const TrialResult t = trial(r);
+      p.real_K = t.max_abs_dT_K;
+      p.faces_after = t.faces_after;
+    });
+  }
+};
+
+// Statistical verification of the candidate `ratios` in every load case (fresh seeds).
+VerificationStatistics verify_ratios(const std::vector<std::unique_ptr<ReductionReference>>& refs,
+                                     const Eigen::VectorXd& ratios, const ReduceSettings& settings,
+                                     std::uint64_t search_seed) {
+  std::vector<Candidate> cands;
+  for (const auto& r : refs) cands.push_back(r->candidate(ratios, true));
+  std::vector<VerificationCase> cases;
+  for (std::size_t c = 0; c < refs.size(); ++c) cases.push_back({&refs[c]->model(), &cands[c].model});
+  return verify_statistically(cases, settings.reference.simulation, settings.verification_replicates, search_seed);
+}
+
+// The search aims below the tolerance by a margin from the measured noise, so that the
+// statistical verification (upper bound at 97.5 %) rarely rejects: the per-cell standard
+// deviation of a seed pair's difference is taken as noise floor / 3 (the noise floor is the
+// max over ~10^3-10^4 node-times of one pair's |dT|, ~3-4 standard deviations), and the bound
+// adds t(0.975, R - 1) of its standard error over R pairs. A rejected candidate widens the margin
+// by the bound's excess over the tolerance; after the last attempt the unreduced model is kept.
+void verified_search(ReductionRun& run, const Searcher& search,
+                     const std::vector<std::unique_ptr<ReductionReference>>& refs, const ReduceSettings& settings,
+                     std::uint64_t search_seed, const std::function<void(const std::string&)>& say) {
+  const double tol = settings.tolerance_K;
+  const int R = settings.verification_replicates;
+  double margin = student_t_975(R - 1) * run.noise_floor_K / 3.0 / std::sqrt(double(R));
+  bool accepted = false;
+  for (int attempt = 0; attempt < settings.verification_attempts && !accepted && margin < tol; ++attempt) {
+    run.search_tolerance_K = tol - margin;
+    try {
+      run.outcome = search.at(run, run.search_tolerance_K);
+    } catch (const SolverError& e) {  // the noise exceeds the narrowed target
+      say(std::string("search at ") + fmt("%.4g K failed: ", run.search_tolerance_K) + e.what());
+      break;
+    }
+    const auto tv = Clock::now();
+    say(fmt("verification: %d replicate pairs with fresh seeds", R));
+    run.verification = verify_ratios(refs, run.outcome.ratio_per_node, settings, search_seed);
+    run.seconds_verification += since(tv);
+    say(fmt("verification: max |dT| = %.4f +- %.4f K (upper bound %.4f K at 97.5 %%)", run.verification.max_abs_dT_K,
+            run.verification.standard_error_K, run.verification.upper_bound_K));
+    accepted = run.verification.accepts(tol);
+    if (!accepted) margin += std::max(run.verification.upper_bound_K - tol, 0.0) + run.verification.standard_error_K;
+  }
+  if (accepted) return;
+  say("verification: no reduced candidate is bounded within the tolerance; keeping the unreduced model");
+  ReductionOutcome keep;
+  keep.ratio_per_node = Eigen::VectorXd::Zero(refs.front()->faces_per_node().size());
+  keep.verified = search.verify(keep.ratio_per_node);
+  keep.predicted_ratio_per_node = run.outcome.predicted_ratio_per_node;
+  keep.history = run.outcome.history;
+  run.outcome = keep;
+  const auto tv = Clock::now();
+  run.verification = verify_ratios(refs, keep.ratio_per_node, settings, search_seed);
+  run.seconds_verification += since(tv);
+  if (!run.verification.accepts(tol))
+    throw SolverError(fmt("even the unreduced model's upper bound (%.4g K at 97.5 %%) exceeds the tolerance %.4g K: "
+                          "the simulation noise exceeds the tolerance",
+                          run.verification.upper_bound_K, tol));
+}
+
+}  // namespace
 
 ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& settings) {
   const double tol = settings.tolerance_K;
@@ -163,55 +295,11 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   auto log = [&](const std::string& s) { say("  " + s); };
 
   const auto t_search = Clock::now();
-  if (settings.strategy == ReductionStrategy::uniform) {
-    const Eigen::VectorXd reachable = ref.max_ratio_per_node();
-    auto ratios_for_global = [&](double g) {
-      return node_ratios_for_global_ratio(faces, g, settings.reference.decimation.min_faces_per_node, reachable);
-    };
-    UniformOptions uo = settings.uniform;
-    uo.tolerance_K = tol;
-    uo.log = log;
-    say("uniform reduction: one global ratio, raised until the tolerance is exceeded");
-    run.outcome = uniform_reduction(ratios_for_global, trial, verify, uo);
-  } else {
-    SensitivityOptions so = settings.sensitivity;
-    so.cap_K = settings.sensitivity_cap_factor * tol;
-    // A node beyond the tolerance at the first ratio is tried at smaller ones (halvings).
-    so.refine_first_above_K = std::min(so.refine_first_above_K, tol);
-    const auto ts = Clock::now();
-    so.progress = [&](int done, int total) {
-      // Time left, extrapolated from the nodes swept so far (rough: sweeps differ in length).
-      const double spent = since(ts), left = done > 0 ? spent / done * (total - done) : 0.0;
-      say("  sensitivity: " + std::to_string(done) + "/" + std::to_string(total) + " nodes swept (" +
-          std::to_string(trials_evaluated()) + " trials, " +
-          (done < total ? fmt("about %.0f s left)", left) : fmt("%.0f s)", spent)));
-    };
-    say("sensitivity analysis: each node alone, increasing ratios, cap " + fmt("%.3g K", so.cap_K));
-    run.curves = sensitivity_analysis(n, trial, so);
-    run.seconds_sensitivity = since(ts);
-    InformedOptions io = settings.informed;
-    io.tolerance_K = tol;
-    io.log = log;
-    say("prediction and verified reduction");
-    run.outcome = informed_reduction(run.curves, n, trial, verify, io);
-
-    // Predicted vs real (paper Fig. 11): for several targets, the curves' prediction and the
-    // simulated difference of all nodes reduced together.
-    run.prediction.resize(settings.prediction_targets.size());
-    tbb::parallel_for(size_t(0), settings.prediction_targets.size(), [&](size_t i) {
-      PredictionPoint& p = run.prediction[i];
-      p.target_K = settings.prediction_targets[i] * tol;
-      Eigen::VectorXd r = Eigen::VectorXd::Zero(n);
-      for (const auto& c : run.curves) {
-        r[c.node] = feasible_ratio(c, p.target_K);
-        p.predicted_K = std::max(p.predicted_K, predicted_difference_K(c, r[c.node]));
-      }
-      const TrialResult t = trial(r);
-      p.real_K = t.max_abs_dT_K;
-      p.faces_after = t.faces_after;
-    });
-  }
-  run.seconds_search = since(t_search);
+  const Searcher search{settings, refs, faces, n, trial, verify, log, say, trials_evaluated};
+  if (settings.strategy == ReductionStrategy::informed) search.sweep(run);
+  verified_search(run, search, refs, settings, model.radiation.seed, say);
+  if (settings.strategy == ReductionStrategy::informed) search.predictions(run, tol);
+  run.seconds_search = since(t_search) - run.seconds_verification;
 
   // The returned model is the verified candidate, rebuilt in full (nothing reused), and its
   // difference in every case (already verified: taken from memory).
