@@ -165,29 +165,12 @@ void verified_search(ReductionRun& run, const Searcher& search,
                           run.verification.upper_bound_K, tol));
 }
 
-}  // namespace
-
-ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& settings) {
+// Noise-targeted sampling: decides the boosts of every load case into `boosted`; false if off.
+bool boost_sampling(const ThermalModel& model_in, const ReduceSettings& settings,
+                    const std::function<void(const std::string&)>& say, ThermalModel& boosted) {
   const double tol = settings.tolerance_K;
-  if (!std::isfinite(tol) || tol <= 0)
-    throw InvalidInput("tolerance must be a finite temperature difference > 0 K (got " + std::to_string(tol) + ")");
-  if (settings.noise_runs < 2) throw InvalidInput("noise_runs must be >= 2");
-  if (!(settings.noise_target_fraction >= 0.0)) throw InvalidInput("noise_target_fraction must be >= 0");
-  if (!(settings.area_error_fraction >= 0.0 && settings.area_error_fraction <= 1.0))
-    throw InvalidInput("area_error_fraction must be in [0, 1]");
-  auto say = [&](const std::string& s) { if (settings.progress) settings.progress(s); };
-  // Case names tell the per-case results apart (every front end passes cases through here).
-  for (std::size_t i = 0; i < settings.extra_cases.size(); ++i) {
-    const std::string& nm = settings.extra_cases[i].name;
-    bool twice = nm == own_case(model_in).name;
-    for (std::size_t j = 0; j < i; ++j) twice |= settings.extra_cases[j].name == nm;
-    if (twice) throw InvalidInput("load case name '" + nm + "' is used twice (the model's own case is 'model')");
-  }
-  const auto t0 = Clock::now();
-
   // Noise-targeted sampling: the few nodes whose temperature the couplings' noise moves most
   // get more samples, decided once here and kept by every trial and by the reduced model.
-  ThermalModel boosted;
   const bool boost = settings.noise_target_fraction > 0.0 && !has_sampling_boosts(model_in);
   if (boost) {
     say(fmt("sampling: estimating each node's Monte Carlo noise (target %.3g K)", settings.noise_target_fraction * tol));
@@ -209,6 +192,77 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
       say("case " + c.name + ": " + bc.describe(model_in.nodes));
     }
   }
+  return boost;
+}
+
+// The returned model rebuilt in full, its difference per case and per node.
+void rebuild_and_report(ReductionRun& run, const std::vector<std::unique_ptr<ReductionReference>>& refs,
+                        const std::vector<LoadCase>& cases, const ThermalModel& model) {
+  const double tol = run.tolerance_K;
+  const ReductionReference& ref = *refs.front();
+  const int n = static_cast<int>(model.nodes.size());
+  // The returned model is the verified candidate, rebuilt in full (nothing reused), and its
+  // difference in every case (already verified: taken from memory).
+  run.reduced = ref.candidate(run.outcome.ratio_per_node, true);
+  run.faces_after = run.reduced.model.mesh.num_faces();
+  Eigen::VectorXd node_max = run.reduced.trial.node_max_abs_dT_K;
+  for (std::size_t c = 0; c < refs.size(); ++c) {
+    TemperatureDifference d = run.reduced.difference;
+    if (c > 0) {
+      const Candidate other = refs[c]->candidate(run.outcome.ratio_per_node, true);
+      d = other.difference;
+      node_max = node_max.cwiseMax(other.trial.node_max_abs_dT_K);
+    }
+    run.cases[c].max_temperature_difference_K = d.max_abs_K;
+    run.cases[c].max_difference_node = d.node;
+    run.cases[c].max_difference_time_s = d.time_s;
+    if (c == 0 || d.max_abs_K > run.max_temperature_difference_K) {
+      run.max_temperature_difference_K = d.max_abs_K;
+      run.max_difference_node = d.node;
+      run.max_difference_case = cases[c].name;
+      run.max_difference_time_s = d.time_s;
+    }
+  }
+  if (!(run.max_temperature_difference_K <= tol))  // cannot happen: the strategies verified it
+    throw SolverError("internal: the verified model exceeds the tolerance on rebuild");
+  for (int k = 0; k < n; ++k) {
+    NodeReduction nr;
+    nr.name = model.nodes[k].name;
+    const auto& st = run.reduced.decimation.nodes[k];
+    nr.faces_before = st.faces_before;
+    nr.faces_after = st.faces_after;
+    nr.requested_ratio = run.outcome.ratio_per_node[k];
+    nr.ratio = 1.0 - static_cast<double>(st.faces_after) / std::max(1, st.faces_before);
+    nr.predicted_ratio = run.outcome.predicted_ratio_per_node.size() ? run.outcome.predicted_ratio_per_node[k] : 0.0;
+    nr.max_abs_dT_K = node_max[k];
+    nr.area_before_m2 = st.area_before_m2;
+    nr.area_after_m2 = st.area_after_m2;
+    run.nodes.push_back(nr);
+  }
+}
+
+}  // namespace
+
+ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& settings) {
+  const double tol = settings.tolerance_K;
+  if (!std::isfinite(tol) || tol <= 0)
+    throw InvalidInput("tolerance must be a finite temperature difference > 0 K (got " + std::to_string(tol) + ")");
+  if (settings.noise_runs < 2) throw InvalidInput("noise_runs must be >= 2");
+  if (!(settings.noise_target_fraction >= 0.0)) throw InvalidInput("noise_target_fraction must be >= 0");
+  if (!(settings.area_error_fraction >= 0.0 && settings.area_error_fraction <= 1.0))
+    throw InvalidInput("area_error_fraction must be in [0, 1]");
+  auto say = [&](const std::string& s) { if (settings.progress) settings.progress(s); };
+  // Case names tell the per-case results apart (every front end passes cases through here).
+  for (std::size_t i = 0; i < settings.extra_cases.size(); ++i) {
+    const std::string& nm = settings.extra_cases[i].name;
+    bool twice = nm == own_case(model_in).name;
+    for (std::size_t j = 0; j < i; ++j) twice |= settings.extra_cases[j].name == nm;
+    if (twice) throw InvalidInput("load case name '" + nm + "' is used twice (the model's own case is 'model')");
+  }
+  const auto t0 = Clock::now();
+
+  ThermalModel boosted;
+  const bool boost = boost_sampling(model_in, settings, say, boosted);
   const ThermalModel& model = boost ? boosted : model_in;
   ReductionRun run;
   run.strategy = settings.strategy == ReductionStrategy::informed ? "informed" : "uniform";
@@ -301,44 +355,7 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   if (settings.strategy == ReductionStrategy::informed) search.predictions(run, tol);
   run.seconds_search = since(t_search) - run.seconds_verification;
 
-  // The returned model is the verified candidate, rebuilt in full (nothing reused), and its
-  // difference in every case (already verified: taken from memory).
-  run.reduced = ref.candidate(run.outcome.ratio_per_node, true);
-  run.faces_after = run.reduced.model.mesh.num_faces();
-  Eigen::VectorXd node_max = run.reduced.trial.node_max_abs_dT_K;
-  for (std::size_t c = 0; c < refs.size(); ++c) {
-    TemperatureDifference d = run.reduced.difference;
-    if (c > 0) {
-      const Candidate other = refs[c]->candidate(run.outcome.ratio_per_node, true);
-      d = other.difference;
-      node_max = node_max.cwiseMax(other.trial.node_max_abs_dT_K);
-    }
-    run.cases[c].max_temperature_difference_K = d.max_abs_K;
-    run.cases[c].max_difference_node = d.node;
-    run.cases[c].max_difference_time_s = d.time_s;
-    if (c == 0 || d.max_abs_K > run.max_temperature_difference_K) {
-      run.max_temperature_difference_K = d.max_abs_K;
-      run.max_difference_node = d.node;
-      run.max_difference_case = cases[c].name;
-      run.max_difference_time_s = d.time_s;
-    }
-  }
-  if (!(run.max_temperature_difference_K <= tol))  // cannot happen: the strategies verified it
-    throw SolverError("internal: the verified model exceeds the tolerance on rebuild");
-  for (int k = 0; k < n; ++k) {
-    NodeReduction nr;
-    nr.name = model.nodes[k].name;
-    const auto& st = run.reduced.decimation.nodes[k];
-    nr.faces_before = st.faces_before;
-    nr.faces_after = st.faces_after;
-    nr.requested_ratio = run.outcome.ratio_per_node[k];
-    nr.ratio = 1.0 - static_cast<double>(st.faces_after) / std::max(1, st.faces_before);
-    nr.predicted_ratio = run.outcome.predicted_ratio_per_node.size() ? run.outcome.predicted_ratio_per_node[k] : 0.0;
-    nr.max_abs_dT_K = node_max[k];
-    nr.area_before_m2 = st.area_before_m2;
-    nr.area_after_m2 = st.area_after_m2;
-    run.nodes.push_back(nr);
-  }
+  rebuild_and_report(run, refs, cases, model);
   run.trials = trials_evaluated();
   run.seconds_total = since(t0);
   return run;
