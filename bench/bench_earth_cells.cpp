@@ -1,5 +1,5 @@
 // How much of each side's Earth cone could the spacecraft block at all? A measurement for a
-// variance reduction not built yet (docs/thermal.md, session 8): split the cone into K x K
+// variance reduction thermodec does not apply (see docs/thermal.md): split the cone into K x K
 // equal-solid-angle direction cells ((1 - cos a) and azimuth about the Earth's centre); a cell
 // that no other face's bounding sphere can meet from the side's bounding sphere is open for
 // every ray, so its Earth view and albedo need no tracing and add no binomial noise. If only a
@@ -16,7 +16,7 @@
 
 #include "thermodec/environment/orbit.h"
 #include "thermodec/nodes/load_model.h"
-#include "thermodec/radiation/surface_sides.h"
+#include "thermodec/rays/surface_sides.h"
 
 using namespace thermodec;
 using V3 = Eigen::Vector3d;

@@ -11,7 +11,7 @@
 #endif
 #ifdef THERMODEC_FILTER_EXTRACT_EXTERNAL
 #include "thermodec/radiation/external_geometry.h"
-#include "thermodec/radiation/ray_scene.h"
+#include "thermodec/rays/ray_scene.h"
 #endif
 #ifdef THERMODEC_FILTER_DECIMATE_RATIO
 #include "thermodec/decimation/decimate_nodes.h"

@@ -1,4 +1,4 @@
-#include "thermodec/radiation/ray_scene.h"
+#include "thermodec/rays/ray_scene.h"
 
 #include <gtest/gtest.h>
 

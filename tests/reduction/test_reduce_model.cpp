@@ -14,7 +14,7 @@
 #include "thermodec/decimation/decimate_nodes.h"
 #include "thermodec/nodes/load_case.h"
 #include "thermodec/nodes/load_model.h"
-#include "thermodec/radiation/surface_sides.h"
+#include "thermodec/rays/surface_sides.h"
 #include "thermodec/reduction/reduce_model.h"
 #include "thermodec/report/reduction_report.h"
 #include "thermodec/thermal/simulate_model.h"

@@ -6,11 +6,11 @@
 #include <atomic>
 #include <string>
 
-#include "ray_scene_impl.h"
-#include "sampling.h"
-#include "tracing.h"
+#include "thermodec/rays/embree_scene.h"
+#include "thermodec/rays/sampling.h"
+#include "thermodec/rays/tracing.h"
 #include "thermodec/common/errors.h"
-#include "thermodec/radiation/surface_sides.h"
+#include "thermodec/rays/surface_sides.h"
 
 namespace thermodec {
 

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <string>
 
-#include "tracing.h"
+#include "thermodec/rays/tracing.h"
 #include "thermodec/common/errors.h"
 #include "view_factor_rows.h"
 

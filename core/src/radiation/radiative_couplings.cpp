@@ -8,7 +8,7 @@
 #include <string>
 
 #include "thermodec/common/errors.h"
-#include "thermodec/radiation/ray_scene.h"
+#include "thermodec/rays/ray_scene.h"
 
 namespace thermodec {
 namespace {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "thermodec/radiation/face_view_factors.h"
-#include "tracing.h"
+#include "thermodec/rays/tracing.h"
 
 namespace thermodec::detail {
 

@@ -12,7 +12,7 @@
 #include "thermodec/environment/external_loads.h"
 #include "thermodec/radiation/face_view_factors.h"
 #include "thermodec/radiation/radiation_reference.h"
-#include "thermodec/radiation/ray_scene.h"
+#include "thermodec/rays/ray_scene.h"
 
 namespace thermodec {
 

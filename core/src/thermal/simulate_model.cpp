@@ -8,8 +8,8 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/radiation/face_view_factors.h"
 #include "thermodec/radiation/radiative_couplings.h"
-#include "thermodec/radiation/ray_scene.h"
-#include "thermodec/radiation/surface_sides.h"
+#include "thermodec/rays/ray_scene.h"
+#include "thermodec/rays/surface_sides.h"
 #include "thermodec/thermal/network.h"
 #include "thermodec/thermal/temperature_noise.h"
 

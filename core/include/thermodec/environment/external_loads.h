@@ -17,7 +17,7 @@
 //!    node finally absorbs. They depend on geometry only, so they are solved once per model.
 //! Earth-IR reflections between faces are neglected (documented in docs/thermal.md).
 //!
-//! Sampling: the radiative engine's Owen-scrambled Sobol points, scrambled per side from a
+//! Sampling: the ray stage's Owen-scrambled Sobol points (rays/sampling.h), scrambled per side from a
 //! hash of the seed and the side's stable identity (SurfaceSides::key): unchanged faces keep
 //! their sample points and rays in a modified model (correlated sampling), and results are
 //! independent of thread count. Pilots (see the settings) spend the rays where a shadow or a
@@ -36,8 +36,8 @@
 #include "thermodec/nodes/thermal_model.h"
 #include "thermodec/radiation/face_view_factors.h"
 #include "thermodec/radiation/gebhart_factors.h"
-#include "thermodec/radiation/ray_scene.h"
-#include "thermodec/radiation/surface_sides.h"
+#include "thermodec/rays/ray_scene.h"
+#include "thermodec/rays/surface_sides.h"
 
 namespace thermodec {
 

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "thermodec/mesh/mesh.h"
-#include "thermodec/radiation/ray_scene.h"
+#include "thermodec/rays/ray_scene.h"
 
 namespace thermodec {
 

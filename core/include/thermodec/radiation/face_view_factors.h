@@ -5,8 +5,8 @@
 #include <cstdint>
 
 #include "thermodec/nodes/thermal_model.h"
-#include "thermodec/radiation/ray_scene.h"
-#include "thermodec/radiation/surface_sides.h"
+#include "thermodec/rays/ray_scene.h"
+#include "thermodec/rays/surface_sides.h"
 
 namespace thermodec {
 

@@ -21,7 +21,7 @@
 #include "thermodec/radiation/face_view_factors.h"
 #include "thermodec/radiation/gebhart_factors.h"
 #include "thermodec/radiation/radiative_couplings.h"
-#include "thermodec/radiation/ray_scene.h"
+#include "thermodec/rays/ray_scene.h"
 
 namespace thermodec {
 

@@ -1,4 +1,4 @@
-#include "thermodec/radiation/surface_sides.h"
+#include "thermodec/rays/surface_sides.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,9 +7,9 @@
 #include <vector>
 #include <unordered_map>
 
-#include "sampling.h"
+#include "thermodec/rays/sampling.h"
 #include "thermodec/common/errors.h"
-#include "thermodec/radiation/ray_scene.h"
+#include "thermodec/rays/ray_scene.h"
 
 namespace thermodec {
 

@@ -1,4 +1,4 @@
-#include "coincident_faces.h"
+#include "thermodec/rays/coincident_faces.h"
 
 #include <algorithm>
 #include <array>

@@ -1,11 +1,12 @@
 #pragma once
-// Private to core/src/radiation: the Embree handles behind RayScene, for hot loops that build
-// RTCRayHit records directly instead of going through RayQuery.
+//! The Embree handles behind RayScene, for the core's hot loops (rays/tracing.h, the view
+//! factors, the orbit loads) that build RTCRayHit records directly instead of going through
+//! RayQuery. Includes Embree's header: for the core library's sources, not for front ends.
 #include <embree3/rtcore.h>
 
 #include <vector>
 
-#include "thermodec/radiation/ray_scene.h"
+#include "thermodec/rays/ray_scene.h"
 
 namespace thermodec {
 

@@ -1,13 +1,13 @@
 #pragma once
-// Private to core/src/radiation: faces that overlap another face in one plane (CAD meshes:
-// panels of two parts exported on top of each other). A ray meets both at the same distance
-// and Embree reports whichever its BVH reaches first, so which one it hits depends on the
-// rest of the scene: a reduction trial (reference scene) and a full recompute (candidate
-// scene) would disagree on rays nothing changed. tracing::trace_emitter resolves such hits by
-// a rule that depends only on the faces involved (tracing::resolve_coincident).
+//! Faces that overlap another face in one plane (CAD meshes: panels of two parts exported on
+//! top of each other). A ray meets both at the same distance and Embree reports whichever its
+//! BVH reaches first, so which one it hits depends on the rest of the scene: a reduction trial
+//! (reference scene) and a full recompute (candidate scene) would disagree on rays nothing
+//! changed. tracing::trace_emitter resolves such hits by a rule that depends only on the faces
+//! involved (tracing::resolve_coincident).
 #include <vector>
 
-#include "ray_scene_impl.h"
+#include "thermodec/rays/embree_scene.h"
 
 namespace thermodec::detail {
 

@@ -65,7 +65,7 @@ class RayScene {
   const Mesh& mesh() const;
 
   struct Impl;
-  //! Internal access for the radiation stage's hot loops (core/src/radiation only).
+  //! The Embree handles (rays/embree_scene.h), for the core's per-ray loops (rays/tracing.h).
   const Impl& impl() const { return *impl_; }
 
  private:

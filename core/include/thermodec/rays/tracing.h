@@ -1,7 +1,9 @@
 #pragma once
-// Private to core/src/radiation: the hot loop shared by the full and the incremental view
-// factor computations. Rays are generated, traced through Embree's stream API and classified
-// (which surface side was hit) without touching RayQuery.
+//! The ray hot loops shared by the full and the incremental view factors (radiation/) and
+//! the orbit loads (environment/): rays are generated, traced through Embree's stream API and
+//! classified (which surface side was hit) without touching RayQuery; segment and box tests
+//! decide which recorded rays a changed region can reach. Inline on purpose (per-ray code).
+//! Includes Embree's header: for the core library's sources, not for front ends.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
@@ -11,10 +13,10 @@
 #include <mutex>
 #include <vector>
 
-#include "coincident_faces.h"
-#include "ray_scene_impl.h"
-#include "sampling.h"
-#include "thermodec/radiation/surface_sides.h"
+#include "thermodec/rays/coincident_faces.h"
+#include "thermodec/rays/embree_scene.h"
+#include "thermodec/rays/sampling.h"
+#include "thermodec/rays/surface_sides.h"
 
 namespace thermodec::tracing {
 

@@ -1,4 +1,4 @@
-#include "thermodec/radiation/ray_scene.h"
+#include "thermodec/rays/ray_scene.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <mutex>
 #include <string>
 
-#include "ray_scene_impl.h"
+#include "thermodec/rays/embree_scene.h"
 #include "thermodec/common/errors.h"
 
 namespace thermodec {

@@ -1,5 +1,6 @@
 #pragma once
-// Private to core/src/radiation: low-discrepancy sampling of rays leaving a triangle.
+//! Low-discrepancy sampling of rays leaving a triangle, shared by the view factors (radiation/)
+//! and the orbit loads (environment/). Inline: it runs once per ray in the hot loops.
 //
 // Points are the first R points of the 4-D Sobol sequence (Joe & Kuo 2008 direction numbers,
 // dimensions 1-4), Owen-scrambled per dimension with the hash-based nested uniform scramble

@@ -1,0 +1,144 @@
+#pragma once
+// Private to core/src/decimation: the vcglib mesh the collapses run on and the state they
+// share for one decimate_nodes() call (Context), with the small accumulators of one candidate
+// collapse (Deltas, Lindstrom-Turk Constraints).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include <vcg/complex/complex.h>
+#include <vcg/complex/algorithms/local_optimization.h>
+#include <vcg/complex/algorithms/local_optimization/tri_edge_collapse.h>
+
+#include "thermodec/decimation/decimate_nodes.h"
+
+namespace thermodec::collapse {
+
+struct VVertex;
+struct VFace;
+struct VUsedTypes : vcg::UsedTypes<vcg::Use<VVertex>::AsVertexType, vcg::Use<VFace>::AsFaceType> {};
+struct VVertex : vcg::Vertex<VUsedTypes, vcg::vertex::Coord3d, vcg::vertex::VFAdj, vcg::vertex::Mark,
+                             vcg::vertex::BitFlags> {};
+struct VFace : vcg::Face<VUsedTypes, vcg::face::VertexRef, vcg::face::VFAdj, vcg::face::BitFlags> {};
+struct VMesh : vcg::tri::TriMesh<std::vector<VVertex>, std::vector<VFace>> {};
+
+using VPair = vcg::tri::BasicVertexPair<VVertex>;
+using Vec3 = Eigen::Vector3d;
+
+enum VertexClass : uint8_t { kFree = 0, kContour = 1, kFrozen = 2 };
+
+inline Vec3 to_eigen(const vcg::Point3d& p) { return Vec3(p[0], p[1], p[2]); }
+
+// Everything the collapses share for one decimation call (vcg passes it as the parameter
+// object, so no static state: concurrent calls are safe).
+struct Context : vcg::BaseParameterClass {
+  VMesh* m = nullptr;
+  DecimationOptions opt;
+  double cos_normal = 0.5;
+  double cost_scale = 1.0;      // 1 / (bbox diagonal)^6: makes priorities scale-free floats
+  double degenerate_area2 = 0;  // squared doubled-area below which a new face is degenerate
+  int mark = 0;
+  // Collapse counter and, per vertex, the counter value when its star last changed: an entry
+  // evaluated after both its ends' stamps is still exact and need not be re-evaluated.
+  int clock = 0;
+  std::vector<int> stamp;
+
+  std::vector<int> face_region, region_node, region_faces, face_component;
+  std::vector<uint8_t> vclass;
+  std::vector<int> node_faces, node_target;
+  std::vector<int> node_free_removed;  // faces lost to exact contour collapses past the budget
+  std::vector<double> node_area, node_area0;
+  std::vector<double> comp_volume, comp_volume0;
+  std::vector<char> comp_closed;
+  std::vector<int> absorbed_by;  // removed face -> face that took over its area (provenance)
+  std::vector<VFace*> star;      // scratch for evaluate()
+  std::vector<VVertex*> scratch_v[3];
+  std::vector<std::pair<VVertex*, VVertex*>> scratch_e[2];
+  void* heap = nullptr;          // vcg's heap, for re-queuing re-evaluated collapses
+  // vcg's stopping face count (sum of the targets); free removals lower it by what they took,
+  // since they do not bring any node closer to its target.
+  int* target_simplices = nullptr;
+
+  int vi(const VVertex* v) const { return static_cast<int>(v - &m->vert[0]); }
+  int fi(const VFace* f) const { return static_cast<int>(f - &m->face[0]); }
+};
+
+// Per-node / per-region / per-component bookkeeping of one candidate collapse. A collapse
+// touches at most two regions (the removed vertex is free or on one contour), so four slots
+// suffice; overflowing marks the candidate invalid rather than allocating per heap entry.
+struct Delta {
+  int key;
+  double value;
+};
+struct Deltas {
+  std::array<Delta, 4> d;
+  int n = 0;
+  bool overflow = false;
+  void clear() { n = 0, overflow = false; }
+  void add(int key, double value) {
+    for (int i = 0; i < n; ++i)
+      if (d[i].key == key) {
+        d[i].value += value;
+        return;
+      }
+    if (n == 4) {
+      overflow = true;
+      return;
+    }
+    d[n++] = {key, value};
+  }
+  const Delta* begin() const { return d.data(); }
+  const Delta* end() const { return d.data() + n; }
+  bool empty() const { return n == 0; }
+};
+
+// Lindstrom-Turk constraint accumulator: up to three orthonormal rows r_i with r_i . x = b_i.
+struct Constraints {
+  Eigen::Matrix3d r;
+  Vec3 b;
+  int n = 0;
+  // LT's "alpha compatibility": a new constraint is kept only if it is not (nearly) a linear
+  // combination of the ones already there (angle > 1 degree to their span).
+  void add(Vec3 a, double rhs) {
+    if (n == 3) return;
+    const double norm0 = a.norm();
+    if (!(norm0 > 0)) return;
+    for (int i = 0; i < n; ++i) {
+      const double c = a.dot(r.row(i));
+      a -= c * r.row(i).transpose();
+      rhs -= c * b[i];
+    }
+    const double norm = a.norm();
+    constexpr double kSin1Deg = 0.0174524;
+    if (norm <= kSin1Deg * norm0) return;
+    r.row(n) = a / norm;
+    b[n] = rhs / norm;
+    ++n;
+  }
+  // Minimising x^T H x - 2 g^T x: its gradient rows H_i x = g_i become constraints in turn.
+  void add_objective(const Eigen::Matrix3d& h, const Vec3& g) {
+    for (int i = 0; i < 3 && n < 3; ++i) add(h.row(i).transpose(), g[i]);
+  }
+  Vec3 solve() const { return r.transpose() * b; }  // n == 3: r is orthonormal
+};
+
+//! Thermal node of face f, or `num_nodes` for the faces without one (one more group).
+struct NodeGroups {
+  const Mesh& mesh;
+  int num_nodes;
+  int operator()(int f) const { return mesh.face_node[f] >= 0 ? mesh.face_node[f] : num_nodes; }
+};
+
+//! Attribute of face f, or -1 if the (optional) per-face attribute is absent.
+inline int attr(const Eigen::VectorXi& a, int f) { return a.size() > f ? a[f] : -1; }
+
+//! The node/interface constraints of `mesh` in `c`: face regions (node, material, back
+//! material) and their nodes and face counts, vertex classes (free, on one contour, frozen),
+//! and the parts joined by manifold edges with their enclosed volumes [m^3] (closed parts
+//! only count). Returns the number of parts.
+int classify_mesh(const Mesh& mesh, const NodeGroups& group_of, Context& c);
+
+}  // namespace thermodec::collapse

@@ -1,0 +1,104 @@
+#pragma once
+// Private to core/src/decimation: one candidate edge collapse for vcglib's local optimisation,
+// whose hooks (node_collapse.cpp) call its cost (collapse_cost.cpp), its vertex placement
+// (vertex_placement.cpp) and its constraints (collapse_constraints.cpp).
+#include "collapse_types.h"
+
+namespace thermodec::collapse {
+
+class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse> {
+  using Base = vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse>;
+
+ public:
+  using HeapType = Base::HeapType;
+  using HeapElem = Base::HeapElem;
+
+  NodeCollapse(const VPair& p, int mark, vcg::BaseParameterClass* pp) {
+    localMark = mark;
+    pos = p;
+    _priority = ComputePriority(pp);
+  }
+
+  bool valid() const { return valid_; }
+
+  ScalarType ComputePriority(vcg::BaseParameterClass* pp) override;
+
+  bool IsUpToDate() const override {
+    const VVertex* v0 = pos.cV(0);
+    const VVertex* v1 = pos.cV(1);
+    return !v0->IsD() && !v1->IsD() && localMark >= v0->cIMark() && localMark >= v1->cIMark();
+  }
+
+  // Budgets, regions, area and closed-volume bounds, link condition (collapse_constraints.cpp).
+  bool IsFeasible(vcg::BaseParameterClass* pp) override;
+
+  void Execute(VMesh& m, vcg::BaseParameterClass* pp) override;
+
+  void UpdateHeap(HeapType& heap, vcg::BaseParameterClass* pp) override;
+
+  static void push(HeapType& heap, VVertex* a, VVertex* b, Context& c);
+
+  static void Init(VMesh& m, HeapType& heap, vcg::BaseParameterClass* pp);
+  static void Finalize(VMesh&, HeapType&, vcg::BaseParameterClass*) {}
+  static float HeapSimplexRatio(vcg::BaseParameterClass*) { return 8.0f; }
+
+ private:
+  bool is_exact_for(int node) const {
+    for (const auto& d : exact_per_node_)
+      if (d.key == node) return d.value > 0;
+    return false;
+  }
+
+  // Does the edge (a, b) separate two regions, or bound the surface (1 face or > 2 faces)?
+  static bool is_contour_edge(const Context& c, VVertex* a, VVertex* b);
+
+  // The other contour neighbour of contour vertex v (not `not_this`), or nullptr.
+  static VVertex* other_contour_neighbour(const Context& c, VVertex* v, VVertex* not_this);
+
+  // Corners `q` of star face f once this collapse puts its vertex at x, the index `moved_at` of
+  // a corner that moved; returns how many moved (2: f is on the collapsed edge and disappears).
+  int corners_after(const VFace* f, const Vec3& x, std::array<Vec3, 3>& q, int& moved_at) const;
+
+  // Where the merged vertex goes (x_): the Lindstrom-Turk point when both ends are free
+  // (`optimal`), else the kept end, after the contour tests (deviation, straightness, LT
+  // boundary cost). False if the collapse is not allowed (vertex_placement.cpp).
+  bool place(Context& c, VVertex* gone, VVertex* kept, bool optimal, const Vec3& pg, const Vec3& pk,
+             double& boundary_cost, bool& straight);
+
+  // Area-neutral placement of a collapse inside one region (both ends free): moves the
+  // Lindstrom-Turk point x_ along the gradient of the star's area until the node's area is
+  // back at its input value, or at least the star's own area is unchanged.
+  //
+  // Why: a node that keeps its heat input radiates it from its area, so a relative area change
+  // dA/A moves it by dT = -T dA/(4A) (0.1 % is ~0.07 K at 280 K) whatever its view factors do.
+  // On curved parts (CAD cylinders, the dish) every volume-preserving collapse grows the area
+  // a little, and the per-node bound then stops the decimation early. Volume matters little
+  // thermally (the bound on closed volumes still holds: IsFeasible). The area's gradient is
+  // normal to the surface on a curved star and vanishes on a flat one, where the area is
+  // preserved anyway; a correction that would move x_ by more than a tenth of the star's edge
+  // length is not made (a flat star cannot pay back another collapse's drift without a tent).
+  void place_area_neutral(const Context& c);
+
+  // True if collapsing into x keeps the star's closed part within max_relative_volume_change.
+  // The LT point x_ keeps the volume; an area-neutral point spends the volume budget, and a
+  // collapse refused for volume is lost, so the LT point is kept instead. (Measured on Juno and
+  // NPP_16: falling back reaches further than refusing, and than cutting the move short where
+  // the volume budget ends.)
+  bool keeps_closed_volume(const Context& c, const Vec3& x) const;
+
+  // Evaluates removing `gone` into `kept` (kept moves too when `optimal`): placement, validity,
+  // cost and the bookkeeping deltas used by IsFeasible/Execute.
+  void evaluate(Context& c, VVertex* gone, VVertex* kept, bool optimal);
+
+  // Link condition Lk(a) n Lk(b) == Lk(ab), written with sorted vectors (no maps) and valid
+  // when the kept vertex is non-manifold (frozen): the removed vertex is always manifold.
+  bool link_condition(Context& c) const;
+
+  bool valid_ = false;
+  int evaluated_at_ = 0;
+  Vec3 x_ = Vec3::Zero();
+  Deltas removed_per_node_, removed_per_region_, area_delta_, volume_delta_;
+  Deltas exact_per_node_;  // node -> 1 if this collapse leaves its geometry unchanged
+};
+
+}  // namespace thermodec::collapse

@@ -1,0 +1,82 @@
+#pragma once
+// Private to core/src/environment: the state one external_loads() run shares between its
+// passes (direct sun: direct_sun.h; Earth IR and albedo: earth_loads.h): the model's sides and
+// time steps, the sample counts, the reference run being reused and the records being kept.
+#include <Eigen/Core>
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "change_reach.h"
+#include "load_sides.h"
+#include "occluders.h"
+#include "ray_records.h"
+#include "thermodec/environment/external_loads.h"
+#include "thermodec/environment/orbit.h"
+#include "thermodec/rays/tracing.h"
+
+namespace thermodec::load_rays {
+
+struct LoadRun {
+  const ThermalModel& model;
+  const RayScene& scene;
+  const SurfaceSides& sides;
+  const ExternalLoadSettings& settings;
+  const std::function<void(const std::string&)>& progress;
+  LoadSamples* samples;  // out, optional
+  LoadReuse* reuse;      // optional
+  const LoadSamples* ref;  // reuse->reference, or nullptr
+
+  int num_nodes, ns;
+  std::vector<Side> geo;
+  Eigen::VectorXd alpha, eps;  // per side: absorptivity, emissivity
+
+  bool orbit;
+  int steps;
+  Loads loads;  // the result being built
+  double flux;  // solar flux [W/m^2]
+  std::vector<OrbitState> states;  // per step
+
+  // Sample counts per side (small nodes get more): a side whose count differs from its
+  // reference twin's (its node gained or lost faces) draws other samples and is not reused.
+  Eigen::VectorXi sun_rays, earth_rays;
+  std::vector<int> ref_of;  // per side: its twin (same key) in the reference, -1 if none
+  std::shared_ptr<const tracing::SobolTable> table;  // one Sobol table for every pass
+  Occluders occ;
+  std::optional<ChangeReach> reach;  // with a reference: which sides the change can reach
+  ChangeBox change_box;
+  bool per_ray_reuse = false;
+  std::vector<int> ref_side;  // per side: its twin's records, if it may read them, else -1
+  std::atomic<long> reused_sun_rays{0}, traced_sun_rays{0}, reused_earth_rays{0}, traced_earth_rays{0};
+  Recorder recorder;
+  bool record = false;  // keeping per-ray records (reference runs only)
+  std::vector<SideRays> recorded;
+
+  // Solar-band incident power per side and step [W] (direct and albedo), absorbed shares.
+  Eigen::MatrixXd incident_direct, incident_albedo;
+
+  //! Validates the settings' environment, samples the time steps and maps the sides to the
+  //! reference's. \throw InvalidInput as external_loads().
+  LoadRun(const ThermalModel& model, const RayScene& scene, const SurfaceSides& sides,
+          const ExternalLoadSettings& settings, const std::function<void(const std::string&)>& progress,
+          LoadSamples* samples, LoadReuse* reuse);
+
+  const tracing::SobolTable& sobol() const { return *table; }
+  //! Side s has a reference twin with the same sample counts.
+  bool same_counts(int s) const;
+  //! The reuse and recording context of one ray pass reading `ref_records` (may be null).
+  PassContext make_pass(const RayRecords* ref_records, std::atomic<long>* reused_rays, std::atomic<long>* traced_rays);
+};
+
+//! Direct sun with self-shadowing: fills run.incident_direct, run.loads.in_shadow and the
+//! shadow samples' share of run.loads.sampling_standard_error_W (variances).
+void direct_sun_loads(LoadRun& run);
+
+//! Earth IR and albedo (orbit only): fills run.loads.earth_ir_W, run.incident_albedo and the
+//! Earth rays' share of run.loads.sampling_standard_error_W (variances).
+void earth_loads(LoadRun& run);
+
+}  // namespace thermodec::load_rays
