@@ -140,7 +140,7 @@ void verified_search(ReductionRun& run, const Searcher& search,
       break;
     }
     const auto tv = Clock::now();
-    say(fmt("verification: %d replicate pairs with fresh seeds", R));
+    say(fmt("verification: %.0f replicate pairs with fresh seeds", R));
     run.verification = verify_ratios(refs, run.outcome.ratio_per_node, settings, search_seed);
     run.seconds_verification += since(tv);
     say(fmt("verification: max |dT| = %.4f +- %.4f K (upper bound %.4f K at 97.5 %%)", run.verification.max_abs_dT_K,
