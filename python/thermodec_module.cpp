@@ -197,6 +197,7 @@ void bind_model(py::module_& m) {
       .def(py::init<>())
       .def_readwrite("type", &Analysis::type)
       .def_readwrite("steps_per_orbit", &Analysis::steps_per_orbit)
+      .def_readwrite("time_tolerance_K", &Analysis::time_tolerance_K)
       .def_readwrite("orbits", &Analysis::orbits);
   py::class_<LoadCase>(m, "LoadCase", "Another environment + analysis for the same model (nodes/load_case.h).")
       .def(py::init<>())
@@ -250,6 +251,7 @@ void bind_results(py::module_& m) {
       .def_readonly("transient", &SimulationResult::transient)
       .def_readonly("orbits", &SimulationResult::orbits)
       .def_readonly("periodicity_residual_K", &SimulationResult::periodicity_residual_K)
+      .def_readonly("time_error_K", &SimulationResult::time_error_K)
       .def_readonly("energy", &SimulationResult::energy)
       .def("to_json", [](const SimulationResult& r) {
         // The result file's own format (thermal/result_json.h), as Python objects.

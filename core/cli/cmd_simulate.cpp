@@ -39,6 +39,9 @@ struct SimulateOptions {
   // many times the sample's, gets the multiple this leaves (its simulation stays within
   // ~15 s of extra tracing instead of 32x its own run time).
   double noise_max_samples = 2e8;
+  long long seed = -1;          // -1 = the model's radiation.seed
+  int load_positions = 0;       // 0 = the model's analysis.steps_per_orbit
+  double time_tolerance_K = 0;  // 0 = the model's analysis.time_tolerance_K
 };
 
 void run_simulate(const SimulateOptions& o) {
@@ -51,6 +54,9 @@ void run_simulate(const SimulateOptions& o) {
   if (o.sun_rays_set) settings.loads.sun_rays_per_face = o.loads.sun_rays_per_face;
   if (model.mesh_cleanup && !o.quiet) std::cout << "bare mesh cleanup:\n" << model.mesh_cleanup->summary();
   if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
+  if (o.seed >= 0) model.radiation.seed = static_cast<std::uint64_t>(o.seed);
+  if (o.load_positions > 0) model.analysis.steps_per_orbit = o.load_positions;
+  if (o.time_tolerance_K > 0) model.analysis.time_tolerance_K = o.time_tolerance_K;
   const std::vector<std::filesystem::path> inputs{o.model, model.mesh_path};
   // Refuse before the work, not after it.
   if (!o.json_out.empty()) check_output_file(o.json_out, "--json", {".json"}, inputs);
@@ -124,7 +130,9 @@ void run_simulate(const SimulateOptions& o) {
                    {"seed", model.radiation.seed},
                    {"sun_rays_per_face", settings.loads.sun_rays_per_face},
                    {"earth_rays_per_face", o.loads.earth_rays_per_face},
-                   {"solar_reflections", o.loads.solar_reflections}};
+                   {"solar_reflections", o.loads.solar_reflections},
+                   {"load_positions_per_orbit", model.analysis.steps_per_orbit},
+                   {"time_tolerance_K", model.analysis.time_tolerance_K}};
   for (auto& [k, v] : extra.items()) j[k] = v;
   if (!o.json_out.empty()) write_text_atomically(o.json_out, j.dump(1) + "\n", inputs);
   if (!o.plot_out.empty()) plot_png("temperatures", j, o.plot_out);
@@ -183,6 +191,17 @@ void add_simulate(CLI::App& app) {
   sub->add_option("--earth-rays", opts->loads.earth_rays_per_face, "Earth view rays per face side")
       ->check(CLI::PositiveNumber)->capture_default_str();
   sub->add_flag("!--no-reflections", opts->loads.solar_reflections, "skip solar-band reflections between faces");
+  sub->add_option("--seed", opts->seed,
+                  "Monte Carlo seed of rays and sun/Earth samples (default: the model's radiation.seed); "
+                  "another seed gives an independent draw of the same model")
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--load-positions", opts->load_positions,
+                  "orbit positions where loads are ray traced (default: the model's analysis.steps_per_orbit)")
+      ->check(CLI::Range(4, 1000000));
+  sub->add_option("--time-tolerance", opts->time_tolerance_K,
+                  "target of the estimated time-discretization error of an orbit transient [K] (default: the "
+                  "model's analysis.time_tolerance_K, 0.01)")
+      ->check(CLI::PositiveNumber);
   sub->add_flag("-q,--quiet", opts->quiet, "no progress or table");
   sub->callback([opts] { run_guarded([opts] { run_simulate(*opts); }); });
 }

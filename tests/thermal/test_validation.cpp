@@ -66,9 +66,13 @@ TEST(Validation, periodic_orbit_transient_balances_energy_within_0_1_percent) {
   ASSERT_TRUE(r.transient);
   EXPECT_LE(r.periodicity_residual_K, 1e-3);
   EXPECT_LT(r.energy.relative_imbalance(), 1e-3);
-  // Over a periodic orbit nothing is stored; absorbed energy is what the loads say.
+  // Over a periodic orbit nothing is stored; absorbed energy is what the loads say. The solver
+  // integrates the loads interpolated between the 48 positions with the sun switched at the
+  // exact eclipse entry and exit, so it differs from the positions' rectangle sum by at most
+  // the direct-sun power over one position interval at each of the two switches.
   EXPECT_LT(std::abs(r.energy.stored_J), 1e-3 * r.energy.absorbed_J);
   const double period = orbit_period_s(500.0);
   const double absorbed = (r.loads.total_W().sum() / 48 + 30.0) * period;
-  EXPECT_NEAR(r.energy.absorbed_J, absorbed, 1e-9 * absorbed);
+  const double sun_W = (r.loads.solar_W + r.loads.reflected_solar_W).colwise().sum().maxCoeff();
+  EXPECT_NEAR(r.energy.absorbed_J, absorbed, 2.0 * sun_W * period / 48);
 }

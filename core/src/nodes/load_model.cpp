@@ -374,9 +374,10 @@ void parse_analysis(const json& j, const Keys& k, Analysis& a) {
     k.only_keys(j, key, {"type"}, " for type steady");
   } else if (type == "transient_orbit") {
     a.type = AnalysisType::transient_orbit;
-    k.only_keys(j, key, {"type", "steps_per_orbit", "orbits"}, " for type transient_orbit");
+    k.only_keys(j, key, {"type", "steps_per_orbit", "orbits", "time_tolerance_K"}, " for type transient_orbit");
     if (j.contains("steps_per_orbit")) a.steps_per_orbit = static_cast<int>(k.integer(j, key, "steps_per_orbit", 4, 1000000));
     if (j.contains("orbits")) a.orbits = static_cast<int>(k.integer(j, key, "orbits", 1, 10000));
+    if (j.contains("time_tolerance_K")) a.time_tolerance_K = k.number_in(j, key, "time_tolerance_K", 0.0, 100.0, true, "K");
   } else {
     k.fail(key + ".type", "unknown analysis type '" + type + "' (known: steady, transient_orbit)");
   }
@@ -668,8 +669,10 @@ void save_model(const ThermalModel& model, const fs::path& json_path, const fs::
                         {"albedo", e.albedo},       {"earth_ir_flux", e.earth_ir_flux_W_per_m2}};
   if (model.analysis.type == AnalysisType::steady)
     j["analysis"] = {{"type", "steady"}};
-  else
+  else {
     j["analysis"] = {{"type", "transient_orbit"}, {"steps_per_orbit", model.analysis.steps_per_orbit}, {"orbits", model.analysis.orbits}};
+    if (model.analysis.time_tolerance_K != Analysis{}.time_tolerance_K) j["analysis"]["time_tolerance_K"] = model.analysis.time_tolerance_K;
+  }
   j["radiation"] = {{"rays_per_face", model.radiation.rays_per_face},
                     {"min_rays_per_node", model.radiation.min_rays_per_node},
                     {"seed", model.radiation.seed}};

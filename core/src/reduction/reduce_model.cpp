@@ -10,6 +10,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/decimation/global_ratio.h"
 #include "thermodec/reduction/prediction.h"
+#include "thermodec/reduction/statistical_verification.h"
 #include "thermodec/thermal/simulate_model.h"
 
 namespace thermodec {
@@ -35,27 +36,143 @@ void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& setti
   }
 }
 
-ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& settings) {
-  const double tol = settings.tolerance_K;
-  if (!std::isfinite(tol) || tol <= 0)
-    throw InvalidInput("tolerance must be a finite temperature difference > 0 K (got " + std::to_string(tol) + ")");
-  if (settings.noise_runs < 2) throw InvalidInput("noise_runs must be >= 2");
-  if (!(settings.noise_target_fraction >= 0.0)) throw InvalidInput("noise_target_fraction must be >= 0");
-  if (!(settings.area_error_fraction >= 0.0 && settings.area_error_fraction <= 1.0))
-    throw InvalidInput("area_error_fraction must be in [0, 1]");
-  auto say = [&](const std::string& s) { if (settings.progress) settings.progress(s); };
-  // Case names tell the per-case results apart (every front end passes cases through here).
-  for (std::size_t i = 0; i < settings.extra_cases.size(); ++i) {
-    const std::string& nm = settings.extra_cases[i].name;
-    bool twice = nm == own_case(model_in).name;
-    for (std::size_t j = 0; j < i; ++j) twice |= settings.extra_cases[j].name == nm;
-    if (twice) throw InvalidInput("load case name '" + nm + "' is used twice (the model's own case is 'model')");
-  }
-  const auto t0 = Clock::now();
+namespace {
 
+// The strategy search over one set of references (one per load case), at a given tolerance.
+struct Searcher {
+  const ReduceSettings& settings;
+  const std::vector<std::unique_ptr<ReductionReference>>& refs;
+  const Eigen::VectorXi& faces;
+  int n;
+  std::function<TrialResult(const Eigen::VectorXd&)> trial, verify;
+  std::function<void(const std::string&)> log, say;
+  std::function<int()> trials_evaluated;
+  std::vector<std::string> node_names;  // for progress lines and history actions
+
+  // Informed: each node alone on increasing ratios (once; the curves serve every attempt).
+  void sweep(ReductionRun& run) const {
+    SensitivityOptions so = settings.sensitivity;
+    const double tol = settings.tolerance_K;
+    so.cap_K = settings.sensitivity_cap_factor * tol;
+    // A node beyond the tolerance at the first ratio is tried at smaller ones (halvings).
+    so.refine_first_above_K = std::min(so.refine_first_above_K, tol);
+    const auto ts = Clock::now();
+    so.progress = [&](int done, int total) {
+      // Time left, extrapolated from the nodes swept so far (rough: sweeps differ in length).
+      const double spent = since(ts), left = done > 0 ? spent / done * (total - done) : 0.0;
+      say("  sensitivity: " + std::to_string(done) + "/" + std::to_string(total) + " nodes swept (" +
+          std::to_string(trials_evaluated()) + " trials, " +
+          (done < total ? fmt("about %.0f s left)", left) : fmt("%.0f s)", spent)));
+    };
+    say("sensitivity analysis: each node alone, increasing ratios, cap " + fmt("%.3g K", so.cap_K));
+    run.curves = sensitivity_analysis(n, trial, so);
+    run.seconds_sensitivity = since(ts);
+  }
+
+  ReductionOutcome at(const ReductionRun& run, double search_tol) const {
+    if (settings.strategy == ReductionStrategy::uniform) {
+      const ReductionReference& ref = *refs.front();
+      const Eigen::VectorXd reachable = ref.max_ratio_per_node();
+      auto ratios_for_global = [&](double g) {
+        return node_ratios_for_global_ratio(faces, g, settings.reference.decimation.min_faces_per_node, reachable);
+      };
+      UniformOptions uo = settings.uniform;
+      uo.tolerance_K = search_tol;
+      uo.log = log;
+      say("uniform reduction: one global ratio, raised until " + fmt("%.4g K is exceeded", search_tol));
+      return uniform_reduction(ratios_for_global, trial, verify, uo);
+    }
+    InformedOptions io = settings.informed;
+    io.tolerance_K = search_tol;
+    io.log = log;
+    io.node_names = node_names;
+    say("prediction and reduction aiming at " + fmt("%.4g K", search_tol));
+    return informed_reduction(run.curves, n, trial, verify, io);
+  }
+
+  // Predicted vs real (paper Fig. 11): for several targets, the curves' prediction and the
+  // simulated difference of all nodes reduced together.
+  void predictions(ReductionRun& run, double tol) const {
+    run.prediction.resize(settings.prediction_targets.size());
+    tbb::parallel_for(size_t(0), settings.prediction_targets.size(), [&](size_t i) {
+      PredictionPoint& p = run.prediction[i];
+      p.target_K = settings.prediction_targets[i] * tol;
+      Eigen::VectorXd r = Eigen::VectorXd::Zero(n);
+      for (const auto& c : run.curves) {
+        r[c.node] = feasible_ratio(c, p.target_K);
+        p.predicted_K = std::max(p.predicted_K, predicted_difference_K(c, r[c.node]));
+      }
+      const TrialResult t = trial(r);
+      p.real_K = t.max_abs_dT_K;
+      p.faces_after = t.faces_after;
+    });
+  }
+};
+
+// Statistical verification of the candidate `ratios` in every load case (fresh seeds).
+VerificationStatistics verify_ratios(const std::vector<std::unique_ptr<ReductionReference>>& refs,
+                                     const Eigen::VectorXd& ratios, const ReduceSettings& settings,
+                                     std::uint64_t search_seed) {
+  std::vector<Candidate> cands;
+  for (const auto& r : refs) cands.push_back(r->candidate(ratios, true));
+  std::vector<VerificationCase> cases;
+  for (std::size_t c = 0; c < refs.size(); ++c) cases.push_back({&refs[c]->model(), &cands[c].model});
+  return verify_statistically(cases, settings.reference.simulation, settings.verification_replicates, search_seed);
+}
+
+// The search aims below the tolerance by a margin from the measured noise, so that the
+// statistical verification (upper bound at 97.5 %) rarely rejects: the per-cell standard
+// deviation of a seed pair's difference is taken as noise floor / 3 (the noise floor is the
+// max over ~10^3-10^4 node-times of one pair's |dT|, ~3-4 standard deviations), and the bound
+// adds t(0.975, R - 1) of its standard error over R pairs. A rejected candidate widens the margin
+// by the bound's excess over the tolerance; after the last attempt the unreduced model is kept.
+void verified_search(ReductionRun& run, const Searcher& search,
+                     const std::vector<std::unique_ptr<ReductionReference>>& refs, const ReduceSettings& settings,
+                     std::uint64_t search_seed, const std::function<void(const std::string&)>& say) {
+  const double tol = settings.tolerance_K;
+  const int R = settings.verification_replicates;
+  double margin = student_t_975(R - 1) * run.noise_floor_K / 3.0 / std::sqrt(double(R));
+  bool accepted = false;
+  for (int attempt = 0; attempt < settings.verification_attempts && !accepted && margin < tol; ++attempt) {
+    run.search_tolerance_K = tol - margin;
+    try {
+      run.outcome = search.at(run, run.search_tolerance_K);
+    } catch (const SolverError& e) {  // the noise exceeds the narrowed target
+      say(std::string("search at ") + fmt("%.4g K failed: ", run.search_tolerance_K) + e.what());
+      break;
+    }
+    const auto tv = Clock::now();
+    say(fmt("verification: %.0f replicate pairs with fresh seeds", R));
+    run.verification = verify_ratios(refs, run.outcome.ratio_per_node, settings, search_seed);
+    run.seconds_verification += since(tv);
+    say(fmt("verification: max |dT| = %.4f +- %.4f K (upper bound %.4f K at 97.5 %%)", run.verification.max_abs_dT_K,
+            run.verification.standard_error_K, run.verification.upper_bound_K));
+    accepted = run.verification.accepts(tol);
+    if (!accepted) margin += std::max(run.verification.upper_bound_K - tol, 0.0) + run.verification.standard_error_K;
+  }
+  if (accepted) return;
+  say("verification: no reduced candidate is bounded within the tolerance; keeping the unreduced model");
+  ReductionOutcome keep;
+  keep.ratio_per_node = Eigen::VectorXd::Zero(refs.front()->faces_per_node().size());
+  keep.verified = search.verify(keep.ratio_per_node);
+  keep.predicted_ratio_per_node = run.outcome.predicted_ratio_per_node;
+  keep.history = run.outcome.history;
+  run.outcome = keep;
+  const auto tv = Clock::now();
+  run.verification = verify_ratios(refs, keep.ratio_per_node, settings, search_seed);
+  run.seconds_verification += since(tv);
+  if (!run.verification.accepts(tol))
+    throw SolverError(fmt("even the unreduced model's upper bound (%.4g K at 97.5 %%) exceeds the tolerance %.4g K: "
+                          "the simulation noise exceeds the tolerance",
+                          run.verification.upper_bound_K, tol));
+}
+
+// Noise-targeted sampling: decides the boosts of every load case into `boosted`; false if off.
+bool boost_sampling(const ThermalModel& model_in, const ReduceSettings& settings,
+                    const std::function<void(const std::string&)>& say, ThermalModel& boosted) {
+  const double tol = settings.tolerance_K;
   // Noise-targeted sampling: the few nodes whose temperature the couplings' noise moves most
   // get more samples, decided once here and kept by every trial and by the reduced model.
-  ThermalModel boosted;
   const bool boost = settings.noise_target_fraction > 0.0 && !has_sampling_boosts(model_in);
   if (boost) {
     say(fmt("sampling: estimating each node's Monte Carlo noise (target %.3g K)", settings.noise_target_fraction * tol));
@@ -77,6 +194,77 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
       say("case " + c.name + ": " + bc.describe(model_in.nodes));
     }
   }
+  return boost;
+}
+
+// The returned model rebuilt in full, its difference per case and per node.
+void rebuild_and_report(ReductionRun& run, const std::vector<std::unique_ptr<ReductionReference>>& refs,
+                        const std::vector<LoadCase>& cases, const ThermalModel& model) {
+  const double tol = run.tolerance_K;
+  const ReductionReference& ref = *refs.front();
+  const int n = static_cast<int>(model.nodes.size());
+  // The returned model is the verified candidate, rebuilt in full (nothing reused), and its
+  // difference in every case (already verified: taken from memory).
+  run.reduced = ref.candidate(run.outcome.ratio_per_node, true);
+  run.faces_after = run.reduced.model.mesh.num_faces();
+  Eigen::VectorXd node_max = run.reduced.trial.node_max_abs_dT_K;
+  for (std::size_t c = 0; c < refs.size(); ++c) {
+    TemperatureDifference d = run.reduced.difference;
+    if (c > 0) {
+      const Candidate other = refs[c]->candidate(run.outcome.ratio_per_node, true);
+      d = other.difference;
+      node_max = node_max.cwiseMax(other.trial.node_max_abs_dT_K);
+    }
+    run.cases[c].max_temperature_difference_K = d.max_abs_K;
+    run.cases[c].max_difference_node = d.node;
+    run.cases[c].max_difference_time_s = d.time_s;
+    if (c == 0 || d.max_abs_K > run.max_temperature_difference_K) {
+      run.max_temperature_difference_K = d.max_abs_K;
+      run.max_difference_node = d.node;
+      run.max_difference_case = cases[c].name;
+      run.max_difference_time_s = d.time_s;
+    }
+  }
+  if (!(run.max_temperature_difference_K <= tol))  // cannot happen: the strategies verified it
+    throw SolverError("internal: the verified model exceeds the tolerance on rebuild");
+  for (int k = 0; k < n; ++k) {
+    NodeReduction nr;
+    nr.name = model.nodes[k].name;
+    const auto& st = run.reduced.decimation.nodes[k];
+    nr.faces_before = st.faces_before;
+    nr.faces_after = st.faces_after;
+    nr.requested_ratio = run.outcome.ratio_per_node[k];
+    nr.ratio = 1.0 - static_cast<double>(st.faces_after) / std::max(1, st.faces_before);
+    nr.predicted_ratio = run.outcome.predicted_ratio_per_node.size() ? run.outcome.predicted_ratio_per_node[k] : 0.0;
+    nr.max_abs_dT_K = node_max[k];
+    nr.area_before_m2 = st.area_before_m2;
+    nr.area_after_m2 = st.area_after_m2;
+    run.nodes.push_back(nr);
+  }
+}
+
+}  // namespace
+
+ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& settings) {
+  const double tol = settings.tolerance_K;
+  if (!std::isfinite(tol) || tol <= 0)
+    throw InvalidInput("tolerance must be a finite temperature difference > 0 K (got " + std::to_string(tol) + ")");
+  if (settings.noise_runs < 2) throw InvalidInput("noise_runs must be >= 2");
+  if (!(settings.noise_target_fraction >= 0.0)) throw InvalidInput("noise_target_fraction must be >= 0");
+  if (!(settings.area_error_fraction >= 0.0 && settings.area_error_fraction <= 1.0))
+    throw InvalidInput("area_error_fraction must be in [0, 1]");
+  auto say = [&](const std::string& s) { if (settings.progress) settings.progress(s); };
+  // Case names tell the per-case results apart (every front end passes cases through here).
+  for (std::size_t i = 0; i < settings.extra_cases.size(); ++i) {
+    const std::string& nm = settings.extra_cases[i].name;
+    bool twice = nm == own_case(model_in).name;
+    for (std::size_t j = 0; j < i; ++j) twice |= settings.extra_cases[j].name == nm;
+    if (twice) throw InvalidInput("load case name '" + nm + "' is used twice (the model's own case is 'model')");
+  }
+  const auto t0 = Clock::now();
+
+  ThermalModel boosted;
+  const bool boost = boost_sampling(model_in, settings, say, boosted);
   const ThermalModel& model = boost ? boosted : model_in;
   ReductionRun run;
   run.strategy = settings.strategy == ReductionStrategy::informed ? "informed" : "uniform";
@@ -163,95 +351,15 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   auto log = [&](const std::string& s) { say("  " + s); };
 
   const auto t_search = Clock::now();
-  if (settings.strategy == ReductionStrategy::uniform) {
-    const Eigen::VectorXd reachable = ref.max_ratio_per_node();
-    auto ratios_for_global = [&](double g) {
-      return node_ratios_for_global_ratio(faces, g, settings.reference.decimation.min_faces_per_node, reachable);
-    };
-    UniformOptions uo = settings.uniform;
-    uo.tolerance_K = tol;
-    uo.log = log;
-    say("uniform reduction: one global ratio, raised until the tolerance is exceeded");
-    run.outcome = uniform_reduction(ratios_for_global, trial, verify, uo);
-  } else {
-    SensitivityOptions so = settings.sensitivity;
-    so.cap_K = settings.sensitivity_cap_factor * tol;
-    // A node beyond the tolerance at the first ratio is tried at smaller ones (halvings).
-    so.refine_first_above_K = std::min(so.refine_first_above_K, tol);
-    const auto ts = Clock::now();
-    so.progress = [&](int done, int total) {
-      // Time left, extrapolated from the nodes swept so far (rough: sweeps differ in length).
-      const double spent = since(ts), left = done > 0 ? spent / done * (total - done) : 0.0;
-      say("  sensitivity: " + std::to_string(done) + "/" + std::to_string(total) + " nodes swept (" +
-          std::to_string(trials_evaluated()) + " trials, " +
-          (done < total ? fmt("about %.0f s left)", left) : fmt("%.0f s)", spent)));
-    };
-    say("sensitivity analysis: each node alone, increasing ratios, cap " + fmt("%.3g K", so.cap_K));
-    run.curves = sensitivity_analysis(n, trial, so);
-    run.seconds_sensitivity = since(ts);
-    InformedOptions io = settings.informed;
-    io.tolerance_K = tol;
-    io.log = log;
-    for (const Node& nd : model.nodes) io.node_names.push_back(nd.name);
-    say("prediction and verified reduction");
-    run.outcome = informed_reduction(run.curves, n, trial, verify, io);
+  std::vector<std::string> names;
+  for (const Node& nd : model.nodes) names.push_back(nd.name);
+  const Searcher search{settings, refs, faces, n, trial, verify, log, say, trials_evaluated, names};
+  if (settings.strategy == ReductionStrategy::informed) search.sweep(run);
+  verified_search(run, search, refs, settings, model.radiation.seed, say);
+  if (settings.strategy == ReductionStrategy::informed) search.predictions(run, tol);
+  run.seconds_search = since(t_search) - run.seconds_verification;
 
-    // Predicted vs real (paper Fig. 11): for several targets, the curves' prediction and the
-    // simulated difference of all nodes reduced together.
-    run.prediction.resize(settings.prediction_targets.size());
-    tbb::parallel_for(size_t(0), settings.prediction_targets.size(), [&](size_t i) {
-      PredictionPoint& p = run.prediction[i];
-      p.target_K = settings.prediction_targets[i] * tol;
-      Eigen::VectorXd r = Eigen::VectorXd::Zero(n);
-      for (const auto& c : run.curves) {
-        r[c.node] = feasible_ratio(c, p.target_K);
-        p.predicted_K = std::max(p.predicted_K, predicted_difference_K(c, r[c.node]));
-      }
-      const TrialResult t = trial(r);
-      p.real_K = t.max_abs_dT_K;
-      p.faces_after = t.faces_after;
-    });
-  }
-  run.seconds_search = since(t_search);
-
-  // The returned model is the verified candidate, rebuilt in full (nothing reused), and its
-  // difference in every case (already verified: taken from memory).
-  run.reduced = ref.candidate(run.outcome.ratio_per_node, true);
-  run.faces_after = run.reduced.model.mesh.num_faces();
-  Eigen::VectorXd node_max = run.reduced.trial.node_max_abs_dT_K;
-  for (std::size_t c = 0; c < refs.size(); ++c) {
-    TemperatureDifference d = run.reduced.difference;
-    if (c > 0) {
-      const Candidate other = refs[c]->candidate(run.outcome.ratio_per_node, true);
-      d = other.difference;
-      node_max = node_max.cwiseMax(other.trial.node_max_abs_dT_K);
-    }
-    run.cases[c].max_temperature_difference_K = d.max_abs_K;
-    run.cases[c].max_difference_node = d.node;
-    run.cases[c].max_difference_time_s = d.time_s;
-    if (c == 0 || d.max_abs_K > run.max_temperature_difference_K) {
-      run.max_temperature_difference_K = d.max_abs_K;
-      run.max_difference_node = d.node;
-      run.max_difference_case = cases[c].name;
-      run.max_difference_time_s = d.time_s;
-    }
-  }
-  if (!(run.max_temperature_difference_K <= tol))  // cannot happen: the strategies verified it
-    throw SolverError("internal: the verified model exceeds the tolerance on rebuild");
-  for (int k = 0; k < n; ++k) {
-    NodeReduction nr;
-    nr.name = model.nodes[k].name;
-    const auto& st = run.reduced.decimation.nodes[k];
-    nr.faces_before = st.faces_before;
-    nr.faces_after = st.faces_after;
-    nr.requested_ratio = run.outcome.ratio_per_node[k];
-    nr.ratio = 1.0 - static_cast<double>(st.faces_after) / std::max(1, st.faces_before);
-    nr.predicted_ratio = run.outcome.predicted_ratio_per_node.size() ? run.outcome.predicted_ratio_per_node[k] : 0.0;
-    nr.max_abs_dT_K = node_max[k];
-    nr.area_before_m2 = st.area_before_m2;
-    nr.area_after_m2 = st.area_after_m2;
-    run.nodes.push_back(nr);
-  }
+  rebuild_and_report(run, refs, cases, model);
   run.trials = trials_evaluated();
   run.seconds_total = since(t0);
   return run;

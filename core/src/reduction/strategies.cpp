@@ -72,6 +72,81 @@ ReductionOutcome uniform_reduction(
   return out;
 }
 
+namespace {
+
+using RecordFn = std::function<void(const Eigen::VectorXd&, const TrialResult&, const std::string&)>;
+
+// Name of node k for progress lines and history actions.
+std::string node_name(const InformedOptions& o, int k) {
+  return k >= 0 && k < static_cast<int>(o.node_names.size()) ? o.node_names[k] : "node " + std::to_string(k);
+}
+
+// Push: spend remaining slack one step at a time, cheapest predicted increase per face
+// first. A step that fails is halved once towards the last good ratio (bisection), since
+// the curves are sampled coarsely.
+void push_remaining_slack(const std::vector<const SensitivityCurve*>& curve_of, int num_nodes,
+                           const TrialFunction& trial, const TrialFunction& verify, const InformedOptions& o,
+                           int& evaluations, const RecordFn& record, Eigen::VectorXd& best,
+                           TrialResult& best_verified) {
+  auto log = [&](const std::string& s) { if (o.log) o.log(s); };
+  const double tol = o.tolerance_K;
+  Eigen::VectorXd current = best;
+  std::vector<bool> saturated(num_nodes, false);
+  Eigen::VectorXd failed_at = Eigen::VectorXd::Constant(num_nodes, -1.0);
+  bool pushed = false;
+  auto step_for = [&](int k) {
+    const auto& c = *curve_of[k];
+    if (failed_at[k] < 0) return next_ratio(c, current[k]);
+    return 0.5 * (current[k] + failed_at[k]);
+  };
+  while (evaluations < o.max_evaluations) {
+    int pick = -1;
+    double pick_score = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < num_nodes; ++k) {
+      if (saturated[k] || !curve_of[k]) continue;
+      const auto& c = *curve_of[k];
+      const double nxt = step_for(k);
+      if (!(nxt > current[k] + 1e-3)) { saturated[k] = true; continue; }
+      const double inc = predicted_difference_K(c, nxt) - predicted_difference_K(c, current[k]);
+      double saved = 1.0;
+      for (size_t i = 1; i < c.ratios.size(); ++i)
+        if (std::abs(c.ratios[i] - next_ratio(c, current[k])) < 1e-12)
+          saved = std::max(1, c.faces_after[i - 1] - c.faces_after[i]);
+      const double score = std::max(inc, 0.0) / saved;
+      if (score < pick_score) { pick_score = score; pick = k; }
+    }
+    if (pick < 0) break;
+    Eigen::VectorXd cand = current;
+    cand[pick] = step_for(pick);
+    const TrialResult r = trial(cand);
+    ++evaluations;
+    // A push over the tolerance is kept in the history, marked as rejected.
+    record(cand, r, "push " + node_name(o, pick) + " to " + fmt_ratio(cand[pick]) +
+                        (within(r, tol) ? "" : " (rejected: over the tolerance)"));
+    if (within(r, tol)) {
+      current = cand;
+      pushed = true;
+      if (failed_at[pick] >= 0) saturated[pick] = true;  // bisected once: good enough
+    } else if (failed_at[pick] < 0) {
+      failed_at[pick] = cand[pick];
+    } else {
+      saturated[pick] = true;
+    }
+  }
+  if (pushed) {
+    const TrialResult v = verify(current);
+    record(current, v, "verify");
+    if (within(v, tol)) {
+      best = current;
+      best_verified = v;
+    } else {
+      log("pushed candidate failed full verification; keeping the last verified one");
+    }
+  }
+}
+
+}  // namespace
+
 ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves, int num_nodes,
                                     const TrialFunction& trial, const TrialFunction& verify,
                                     const InformedOptions& o) {
@@ -79,9 +154,6 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
   if (num_nodes < 1) throw InvalidInput("informed reduction needs at least one node");
   auto log = [&](const std::string& s) { if (o.log) o.log(s); };
   const double tol = o.tolerance_K;
-  auto name = [&](int k) {
-    return k >= 0 && k < static_cast<int>(o.node_names.size()) ? o.node_names[k] : "node " + std::to_string(k);
-  };
 
   std::vector<const SensitivityCurve*> curve_of(num_nodes, nullptr);
   for (const auto& c : curves)
@@ -145,7 +217,7 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
         ++done;
         if (reduced.size() > 4)
           log("back-off: leave-one-out " + std::to_string(done) + "/" + std::to_string(reduced.size()) +
-              " (" + name(reduced[i]) + " backed off: max|dT| " + std::to_string(loo[i].max_abs_dT_K) + " K)");
+              " (" + node_name(o, reduced[i]) + " backed off: max|dT| " + std::to_string(loo[i].max_abs_dT_K) + " K)");
       };
       if (o.parallel) tbb::parallel_for(size_t(0), reduced.size(), run);
       else for (size_t i = 0; i < reduced.size(); ++i) run(i);
@@ -156,7 +228,7 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       const double excess_before = res.max_abs_dT_K - tol;
       ratios = cand[pick];
       res = loo[pick];
-      record(ratios, res, "back off " + name(reduced[pick]) + " (contribution " +
+      record(ratios, res, "back off " + node_name(o, reduced[pick]) + " (contribution " +
                               std::to_string(out.history.back().result.max_abs_dT_K - res.max_abs_dT_K) + " K)");
       if (!within(res, tol) && o.stall_fraction > 0.0 &&
           excess_before - (res.max_abs_dT_K - tol) < o.stall_fraction * excess_before) {
@@ -220,64 +292,8 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
                       std::to_string(res.max_abs_dT_K) + " K > tolerance " + std::to_string(tol) +
                       " K: the simulation noise exceeds the tolerance");
 
-  // Push: spend remaining slack one step at a time, cheapest predicted increase per face
-  // first. A step that fails is halved once towards the last good ratio (bisection), since
-  // the curves are sampled coarsely.
-  if (o.push) {
-    Eigen::VectorXd current = best;
-    std::vector<bool> saturated(num_nodes, false);
-    Eigen::VectorXd failed_at = Eigen::VectorXd::Constant(num_nodes, -1.0);
-    bool pushed = false;
-    auto step_for = [&](int k) {
-      const auto& c = *curve_of[k];
-      if (failed_at[k] < 0) return next_ratio(c, current[k]);
-      return 0.5 * (current[k] + failed_at[k]);
-    };
-    while (evaluations < o.max_evaluations) {
-      int pick = -1;
-      double pick_score = std::numeric_limits<double>::infinity();
-      for (int k = 0; k < num_nodes; ++k) {
-        if (saturated[k] || !curve_of[k]) continue;
-        const auto& c = *curve_of[k];
-        const double nxt = step_for(k);
-        if (!(nxt > current[k] + 1e-3)) { saturated[k] = true; continue; }
-        const double inc = predicted_difference_K(c, nxt) - predicted_difference_K(c, current[k]);
-        double saved = 1.0;
-        for (size_t i = 1; i < c.ratios.size(); ++i)
-          if (std::abs(c.ratios[i] - next_ratio(c, current[k])) < 1e-12)
-            saved = std::max(1, c.faces_after[i - 1] - c.faces_after[i]);
-        const double score = std::max(inc, 0.0) / saved;
-        if (score < pick_score) { pick_score = score; pick = k; }
-      }
-      if (pick < 0) break;
-      Eigen::VectorXd cand = current;
-      cand[pick] = step_for(pick);
-      const TrialResult r = trial(cand);
-      ++evaluations;
-      // A push over the tolerance is kept in the history, marked as rejected.
-      record(cand, r, "push " + name(pick) + " to " + fmt_ratio(cand[pick]) +
-                          (within(r, tol) ? "" : " (rejected: over the tolerance)"));
-      if (within(r, tol)) {
-        current = cand;
-        pushed = true;
-        if (failed_at[pick] >= 0) saturated[pick] = true;  // bisected once: good enough
-      } else if (failed_at[pick] < 0) {
-        failed_at[pick] = cand[pick];
-      } else {
-        saturated[pick] = true;
-      }
-    }
-    if (pushed) {
-      const TrialResult v = verify(current);
-      record(current, v, "verify");
-      if (within(v, tol)) {
-        best = current;
-        best_verified = v;
-      } else {
-        log("pushed candidate failed full verification; keeping the last verified one");
-      }
-    }
-  }
+  if (o.push)
+    push_remaining_slack(curve_of, num_nodes, trial, verify, o, evaluations, record, best, best_verified);
   out.ratio_per_node = best;
   out.verified = best_verified;
   return out;

@@ -42,10 +42,14 @@ nlohmann::json result_to_json(const SimulationResult& r) {
   }
   j["temperatures_K"] = temps;
   j["loads_W"] = loads;
+  // The estimated time-discretization error beside the per-node figures (max over nodes/times).
+  if (r.transient) summary["time_error_K"] = r.time_error_K;
   j["summary"] = summary;
   j["in_shadow"] = std::vector<bool>(r.loads.in_shadow.begin(), r.loads.in_shadow.end());
   if (r.transient)
     j["solver"] = {{"orbits", r.orbits},
+                   {"time_error_K", r.time_error_K},
+                   {"solver_steps_per_orbit", r.solver_steps_per_orbit},
                    {"periodicity_residual_K", r.periodicity_residual_K},
                    {"energy_last_orbit_J",
                     {{"absorbed", r.energy.absorbed_J},

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/thermal/orbit_transient.h"
 
 namespace thermodec {
 
@@ -26,7 +27,15 @@ SimulationResult simulate(const ThermalModel& model, const NodeCouplings& coupli
   if (model.analysis.type == AnalysisType::transient_orbit && orbit) {
     TransientSettings ts = settings.transient;
     if (ts.max_orbits < 1) ts.max_orbits = model.analysis.orbits;
-    const PeriodicTransient tr = periodic_transient(net, total, loads.period_s, ts);
+    OrbitTimeSettings time = settings.time;
+    if (!(time.time_tolerance_K > 0.0)) time.time_tolerance_K = model.analysis.time_tolerance_K;
+    const Eigen::VectorXd switches = model.environment.type == EnvironmentType::orbit
+                                         ? eclipse_switch_times_s(model.environment, loads.period_s)
+                                         : Eigen::VectorXd();
+    const OrbitTransient ot = orbit_transient(net, loads, switches, time, ts);
+    const PeriodicTransient& tr = ot.transient;
+    r.time_error_K = ot.time_error_K;
+    r.solver_steps_per_orbit = ot.solver_steps_per_orbit;
     r.transient = true;
     r.times_s = tr.times_s;
     r.temperature_K = tr.temperature_K;

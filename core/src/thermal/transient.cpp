@@ -31,13 +31,12 @@ struct OrbitRun {
   OrbitEnergy energy;
 };
 
-OrbitRun run_orbit(const detail::HeatBalance& hb, const Eigen::MatrixXd& loads, double dt,
+OrbitRun run_orbit(const detail::HeatBalance& hb, const Eigen::MatrixXd& loads, const Eigen::VectorXd& dts,
                    const Eigen::VectorXd& theta, const Eigen::VectorXd& x0, const NewtonSettings& newton,
                    const std::vector<std::string>& names) {
   const int m = static_cast<int>(x0.size());
   const int S = static_cast<int>(loads.cols());
   Eigen::VectorXd c_dt(m);
-  for (int a = 0; a < m; ++a) c_dt[a] = hb.net.capacitance_J_per_K[hb.free_nodes[a]] / dt;
   const Eigen::VectorXd one_minus_theta = Eigen::VectorXd::Ones(m) - theta;
 
   OrbitRun run;
@@ -54,6 +53,8 @@ OrbitRun run_orbit(const detail::HeatBalance& hb, const Eigen::MatrixXd& loads, 
   Eigen::VectorXd space_prev = hb.to_space_W(T_prev), fixed_prev = hb.to_fixed_W(T_prev);
 
   for (int k = 0; k < S; ++k) {
+    const double dt = dts[k];
+    for (int a = 0; a < m; ++a) c_dt[a] = hb.net.capacitance_J_per_K[hb.free_nodes[a]] / dt;
     const Eigen::VectorXd E = loads.col((k + 1) % S);
     const Eigen::VectorXd xk = run.x.col(k);
     Eigen::VectorXd x = xk;
@@ -103,6 +104,16 @@ OrbitRun run_orbit(const detail::HeatBalance& hb, const Eigen::MatrixXd& loads, 
 
 PeriodicTransient periodic_transient(const ThermalNetwork& network, const Eigen::MatrixXd& loads,
                                      double period_s, const TransientSettings& s) {
+  if (loads.cols() < 2) throw InvalidInput("transient: need at least 2 time steps per orbit");
+  if (!(period_s > 0.0)) throw InvalidInput("transient: orbit period must be > 0 s");
+  const int S = static_cast<int>(loads.cols());
+  return periodic_transient_on_grid(network, loads, Eigen::VectorXd::LinSpaced(S, 0.0, period_s / S * (S - 1)),
+                                    period_s, s);
+}
+
+PeriodicTransient periodic_transient_on_grid(const ThermalNetwork& network, const Eigen::MatrixXd& loads,
+                                             const Eigen::VectorXd& times_s, double period_s,
+                                             const TransientSettings& s) {
   validate_network(network);
   detail::validate_loads(network, loads, "transient");
   if (loads.cols() < 2) throw InvalidInput("transient: need at least 2 time steps per orbit");
@@ -110,19 +121,25 @@ PeriodicTransient periodic_transient(const ThermalNetwork& network, const Eigen:
   if (!(s.theta >= 0.5 && s.theta <= 1.0)) throw InvalidInput("transient: theta must be in [0.5, 1]");
   if (!(s.periodicity_tolerance_K > 0.0)) throw InvalidInput("transient: periodicity tolerance must be > 0 K");
   if (s.max_orbits < 1) throw InvalidInput("transient: max_orbits must be >= 1");
+  if (times_s.size() != loads.cols() || times_s[0] != 0.0)
+    throw InvalidInput("transient: need one time per load column, the first at 0 s");
+  for (int k = 0; k < times_s.size(); ++k)
+    if (!(times_s[k] < (k + 1 < times_s.size() ? times_s[k + 1] : period_s)))
+      throw InvalidInput("transient: times must increase and stay below the orbit period");
   detail::require_paths_to_sinks(network, "transient");
 
   const detail::HeatBalance hb(network);
   const int m = static_cast<int>(hb.free_nodes.size());
   const int S = static_cast<int>(loads.cols());
-  const double dt = period_s / S;
+  Eigen::VectorXd dts(S);
+  for (int k = 0; k < S; ++k) dts[k] = (k + 1 < S ? times_s[k + 1] : period_s) - times_s[k];
   const auto names = detail::free_names(hb);
   Eigen::VectorXd theta(m);
   for (int a = 0; a < m; ++a)
     theta[a] = network.capacitance_J_per_K[hb.free_nodes[a]] > 0.0 ? s.theta : 1.0;
 
   // Start from the steady state of the mean loads: exact for constant loads.
-  const Eigen::VectorXd mean_loads = loads.rowwise().mean();
+  const Eigen::VectorXd mean_loads = loads * dts / period_s;
   Eigen::VectorXd x0;
   {
     Eigen::VectorXd guess = detail::linearised_guess(hb, mean_loads);
@@ -138,9 +155,9 @@ PeriodicTransient periodic_transient(const ThermalNetwork& network, const Eigen:
   }
 
   PeriodicTransient out;
-  out.times_s = Eigen::VectorXd::LinSpaced(S, 0.0, dt * (S - 1));
+  out.times_s = times_s;
   for (int orbit = 1; orbit <= s.max_orbits; ++orbit) {
-    const OrbitRun run = run_orbit(hb, loads, dt, theta, x0, s.newton, names);
+    const OrbitRun run = run_orbit(hb, loads, dts, theta, x0, s.newton, names);
     const Eigen::VectorXd gap = run.x.col(S) - x0;
     const double residual = m ? gap.cwiseAbs().maxCoeff() : 0.0;
     if (s.on_orbit) s.on_orbit(orbit, residual);

@@ -74,8 +74,9 @@ enum class AnalysisType { steady, transient_orbit };
 
 struct Analysis {
   AnalysisType type = AnalysisType::steady;
-  int steps_per_orbit = 72;  //!< transient_orbit only
+  int steps_per_orbit = 72;  //!< transient_orbit only: orbit positions where loads are ray traced
   int orbits = 3;            //!< transient_orbit: max orbits simulated to reach periodicity
+  double time_tolerance_K = 0.01;  //!< transient_orbit: estimated time-discretization error target
 };
 
 //! Monte Carlo settings of the radiative engine.

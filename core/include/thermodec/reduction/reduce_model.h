@@ -10,6 +10,7 @@
 #include "thermodec/nodes/load_case.h"
 #include "thermodec/reduction/reduction_reference.h"
 #include "thermodec/reduction/sensitivity.h"
+#include "thermodec/reduction/statistical_verification.h"
 #include "thermodec/reduction/strategies.h"
 
 namespace thermodec {
@@ -27,6 +28,12 @@ struct ReduceSettings {
   UniformOptions uniform;          //!< tolerance taken from tolerance_K
   InformedOptions informed;        //!< tolerance taken from tolerance_K
   int noise_runs = 2;              //!< independent-seed runs measuring the noise floor (>= 2)
+  //! Replicate pairs (original, candidate) of the final statistical verification (>= 2), with
+  //! seeds the search never used (reduction/statistical_verification.h).
+  int verification_replicates = 4;
+  //! Searches at most (the first aims below the tolerance by the noise margin; a rejected
+  //! candidate widens the margin by the bound's excess); then the unreduced model.
+  int verification_attempts = 3;
   //! Noise-targeted sampling before anything else (thermal/simulate_model.h,
   //! decide_sampling_boosts): nodes whose estimated temperature noise exceeds this fraction of
   //! the tolerance get more samples. 0 = off; models that already carry boosts keep them.
@@ -105,6 +112,10 @@ struct ReductionRun {
   //! Node::sampling_boost of every node (1 = not boosted), as the reduced model keeps them.
   std::vector<Node::SamplingBoost> sampling_boost;
   double seconds_total = 0.0, seconds_noise = 0.0, seconds_sensitivity = 0.0, seconds_search = 0.0;
+  //! The returned model's statistical verification (accepted: upper_bound_K <= tolerance_K).
+  VerificationStatistics verification;
+  double search_tolerance_K = 0.0;  //!< the tolerance the accepted search aimed at (tol - margin)
+  double seconds_verification = 0.0;
 };
 
 //! Bounded run time for bare meshes (ThermalModel::mesh_cleanup set; no-op otherwise): the

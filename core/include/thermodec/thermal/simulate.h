@@ -15,6 +15,7 @@
 #include "thermodec/nodes/thermal_model.h"
 #include "thermodec/radiation/radiative_couplings.h"
 #include "thermodec/thermal/network.h"
+#include "thermodec/thermal/orbit_transient.h"
 #include "thermodec/thermal/steady_state.h"
 #include "thermodec/thermal/transient.h"
 
@@ -23,7 +24,9 @@ namespace thermodec {
 struct SimulationSettings {
   TransientSettings transient;  //!< max_orbits < 1 here means: use model.analysis.orbits
   NewtonSettings newton;        //!< steady-state Newton settings
-  SimulationSettings() { transient.max_orbits = 0; }
+  //! Time integration of an orbit; time_tolerance_K <= 0 here means: model.analysis.time_tolerance_K
+  OrbitTimeSettings time;
+  SimulationSettings() { transient.max_orbits = 0; time.time_tolerance_K = 0.0; }
 };
 
 //! Result of one simulation; N nodes (model order), S times.
@@ -36,11 +39,13 @@ struct SimulationResult {
   bool transient = false;
   int orbits = 0;                       //!< transient: orbits simulated
   double periodicity_residual_K = 0.0;  //!< transient: max |T(P) - T(0)|
-  OrbitEnergy energy;                   //!< transient: energy balance of the last orbit
+  OrbitEnergy energy;                   //!< transient: energy balance of the last orbit (finest grid)
+  double time_error_K = 0.0;            //!< transient: estimated time-discretization error (max over nodes, times)
+  int solver_steps_per_orbit = 0;       //!< transient: steps of the finest solver grid
 };
 
 //! Steady analysis (or a fixed sun): steady state of the time-averaged loads, one time 0.
-//! transient_orbit with an orbit: periodic transient over loads.times_s.
+//! transient_orbit with an orbit: periodic transient (orbit_transient) at loads.times_s.
 //! \throw InvalidInput if sizes disagree; SolverError from the solvers.
 SimulationResult simulate(const ThermalModel& model, const NodeCouplings& couplings,
                           const Loads& loads, const SimulationSettings& settings = {});

@@ -51,4 +51,13 @@ PeriodicTransient periodic_transient(const ThermalNetwork& network,
                                      const Eigen::MatrixXd& external_loads_W, double period_s,
                                      const TransientSettings& settings = {});
 
+//! The same on a non-uniform grid: column k of `external_loads_W` (N x K) applies at
+//! times_s[k] (times_s[0] = 0, increasing, all < period_s); step k ends at times_s[k + 1]
+//! (the last at period_s). Used by orbit_transient() (thermal/orbit_transient.h) to place
+//! eclipse entry and exit on step boundaries. \throw as periodic_transient().
+PeriodicTransient periodic_transient_on_grid(const ThermalNetwork& network,
+                                             const Eigen::MatrixXd& external_loads_W,
+                                             const Eigen::VectorXd& times_s, double period_s,
+                                             const TransientSettings& settings = {});
+
 }  // namespace thermodec
