@@ -187,8 +187,13 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
           (done < total ? fmt("about %.0f s left)", left) : fmt("%.0f s)", spent)));
     };
     say("sensitivity analysis: each node alone, increasing ratios, cap " + fmt("%.3g K", so.cap_K));
-    run.curves = sensitivity_analysis(n, trial, so);
+    SweepOutcome sw = settings.sweep ? settings.sweep(n, trial, so, faces, trials_evaluated) : SweepOutcome{sensitivity_analysis(n, trial, so)};
     run.seconds_sensitivity = since(ts);
+    run.trials = sw.trials_elsewhere;  // (this process's trials added at the end)
+    run.peak_memory_bytes_other_ranks = sw.peak_memory_bytes_elsewhere;
+    run.sweep_only = sw.stop_after_sweep;
+    if (run.sweep_only) return run;
+    run.curves = std::move(sw.curves);
     InformedOptions io = settings.informed;
     io.tolerance_K = tol;
     io.log = log;
@@ -251,7 +256,7 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
     nr.area_after_m2 = st.area_after_m2;
     run.nodes.push_back(nr);
   }
-  run.trials = trials_evaluated();
+  run.trials += trials_evaluated();
   run.seconds_total = since(t0);
   return run;
 }
