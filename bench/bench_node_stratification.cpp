@@ -1,5 +1,5 @@
-// Prototype measurement for the open sampling question of docs/thermal.md ("a stratification
-// that keeps faces' samples stable under local remeshing"): how much Monte Carlo scatter of a
+// Measurement for an open sampling question ("a stratification
+// that keeps faces' samples stable under local remeshing"; figures in docs/benchmarks.md): how much Monte Carlo scatter of a
 // node's view factors is lost because every face side draws its own, independent scrambled
 // Sobol set?
 //
@@ -8,7 +8,7 @@
 // For each node's fronts (and backs, if two-sided) it estimates the node-level view factors
 // F(node -> every node, space) = sum_s A_s F_s / sum_s A_s with the same total ray count by
 //  A. per face side: N_s = N A_s / A_node rays from the side's own Owen-scrambled 4-D Sobol set
-//     (the engine's scheme, sampling.h);
+//     (the engine's scheme, rays/sampling.h);
 //  B. per node: ONE Owen-scrambled 4-D Sobol set over the node's sides projected on the
 //     coordinate plane their normals are closest to (one set per axis direction, +x ... -z) (dims 1-2: position in that plane's box,
 //     kept by the side whose projected triangle contains it; dims 3-4: cosine-weighted

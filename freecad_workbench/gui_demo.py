@@ -44,10 +44,10 @@ def screenshot(name):
 
 
 def main():
-    from thermodec_freecad import commands, export, objects, sample, taskpanels
+    from thermodec_freecad import export, gui_actions, objects, sample, taskpanels
     from FreeCAD import Vector
 
-    commands.SHOW_DIALOGS = False
+    gui_actions.SHOW_DIALOGS = False
     os.makedirs(OUT, exist_ok=True)
     main_window = Gui.getMainWindow()
     main_window.showMaximized()
@@ -58,7 +58,7 @@ def main():
 
     # Create analysis (command), nodes per face of the body (command on the selection).
     Gui.runCommand("ThermoDec_Analysis")
-    analysis = commands.active_analysis(doc)
+    analysis = gui_actions.active_analysis(doc)
     Gui.Selection.clearSelection()
     Gui.Selection.addSelection(shapes["Body"])
     Gui.runCommand("ThermoDec_AutoNodesPerFace")
@@ -67,7 +67,7 @@ def main():
     for name in ("WingPlusY", "WingMinusY", "Boom", "Dish"):
         Gui.Selection.clearSelection()
         Gui.Selection.addSelection(shapes[name])
-        panel = taskpanels.NodePanel(analysis, commands.selected_faces())
+        panel = taskpanels.NodePanel(analysis, gui_actions.selected_faces())
         Gui.Control.showDialog(panel)
         panel.name.setText(name.lower())
         panel.capacitance.setValue(2000.0)
@@ -123,7 +123,7 @@ def main():
         analysis.ToleranceK = 1.0
         Gui.runCommand("ThermoDec_Reduce")
     else:  # quick: decimation to a fixed ratio
-        assert commands.run("Decimate", ["analysis = App.ActiveDocument.%s" % analysis.Name,
+        assert gui_actions.run("Decimate", ["analysis = App.ActiveDocument.%s" % analysis.Name,
                                          "analysis.GlobalRatio = 0.9",
                                          "import thermodec_freecad.results as tdresults",
                                          "tdresults.decimate(analysis)"]), "decimate"

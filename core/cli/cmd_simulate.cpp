@@ -26,7 +26,7 @@ struct SimulateOptions {
   bool sun_rays_set = false;
   // A standard-error target per node: the largest |dT| over every pair of 8 seeds, every node
   // and every time step comes out at ~3-4x the per-node standard error (docs/thermal.md,
-  // session 10), so 0.0025 K keeps the 0.01 K seed-to-seed floor on the sample.
+  // "Noise-targeted sampling"), so 0.0025 K keeps the sample's seed-to-seed floor under 0.01 K.
   double noise_target_K = 0.0025;
   double noise_budget = 32.0;
   // ...and at most this many extra IR rays, and extra sun/Earth samples: the sample satellite

@@ -8,3 +8,9 @@ import sys as _sys
 _dir = _os.environ.get("THERMODEC_PYTHON_DIR")
 if _dir and _dir not in _sys.path:
     _sys.path.insert(0, _dir)
+
+# Register the workbench's tests with FreeCAD's Test framework (Test workbench, `freecadcmd -t 0`
+# runs every registered unit). TestThermoDec imports no GUI module, so it runs headless too.
+import FreeCAD as _FreeCAD
+
+_FreeCAD.__unit_test__ += ["TestThermoDec"]

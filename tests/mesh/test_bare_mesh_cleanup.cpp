@@ -185,7 +185,7 @@ TEST(SharedModelsBareMeshCleanup, nasa_meshes_are_cleaned_quickly_with_their_ope
     EXPECT_GT(r.report.open_components, 0) << name;
     EXPECT_EQ(count_two_sided(r) > 0, true) << name;
     EXPECT_LE(r.mesh.num_faces(), raw.num_faces() + r.report.t_junctions_split) << name;
-    if (std::string(name) == "NPP_16.stl") {  // the counts docs/reduction.md quotes
+    if (std::string(name) == "NPP_16.stl") {  // the counts docs/benchmarks.md quotes
       EXPECT_EQ(r.report.faces_out, 3989);
       EXPECT_EQ(r.report.closed_components, 19);
       EXPECT_EQ(r.report.open_components, 48);

@@ -1,5 +1,5 @@
-// Cleanup of bare CAD meshes. The measured reason for each step is in docs/reduction.md
-// ("NASA models"): on NPP_16, 67 of 86 parts are open sheets exported one-sided (solar array
+// Cleanup of bare CAD meshes. The measured reason for each step is in docs/benchmarks.md
+// ("Reduction: NASA meshes"): on NPP_16, 67 of 86 parts are open sheets exported one-sided (solar array
 // and panels as single quads) and touching parts leave faces facing each other at zero
 // distance; both make the Monte Carlo couplings non-reciprocal and the noise floor large.
 #include "thermodec/mesh/bare_mesh_cleanup.h"

@@ -115,7 +115,7 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
 
   // The decimator's area bound from the tolerance (ReduceSettings::area_error_fraction): at
   // 0.5 K and ~300 K, 0.07 % instead of the decimator's default 0.5 %, which alone moves a
-  // radiating node by ~0.4 K (measured on tdrs, docs/reduction.md).
+  // radiating node by ~0.4 K (measured on tdrs, docs/benchmarks.md).
   DecimationOptions dec = refs.front()->decimation_options();
   double t_max = 0.0;
   for (const auto& r : refs) t_max = std::max(t_max, r->result().temperature_K.maxCoeff());

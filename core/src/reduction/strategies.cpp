@@ -170,8 +170,8 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       // tolerance each node may spend on its own curve: node k goes to
       // min(its current ratio, feasible_ratio(curve_k, m tol)). Many nodes that each move the
       // model by up to the tolerance add up; a smaller per-node budget keeps the reduction of
-      // the insensitive nodes where a common factor on all ratios cuts everyone alike (tdrs,
-      // session 7: 34 nodes at m = 1 measured 1.56 K, at m = 1/4 0.23 K with 18699 faces, while
+      // the insensitive nodes where a common factor on all ratios cuts everyone alike (tdrs
+      // at 0.5 K: 34 nodes at m = 1 measured 1.56 K, at m = 1/4 0.23 K with 18699 faces, while
       // a common factor of 0.11 on the backed-off ratios was needed for 0.43 K, 19445 faces).
       // A later pass (its verification failed) starts at m = 1/2, so the passes end at the
       // unreduced model at worst.

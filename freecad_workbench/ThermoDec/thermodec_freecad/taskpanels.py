@@ -1,10 +1,10 @@
 """Task panels (GUI only). Each panel edits plain values and writes them back on accept only,
-through commands.run (one undoable transaction, replayable script lines)."""
+through gui_actions.run (one undoable transaction, replayable script lines)."""
 
 import FreeCADGui
 from PySide import QtGui
 
-from . import coatings, commands, objects
+from . import coatings, gui_actions, objects
 
 
 def _form(title):
@@ -54,10 +54,10 @@ class NodePanel(_Panel):
         k = self.material.currentIndex()
         material = "App.ActiveDocument.%s" % self.materials[k - 1].Name if k > 0 else "None"
         fixed = repr(self.temperature.value()) if self.boundary.isChecked() else "None"
-        ok = commands.run("Thermal node", [
+        ok = gui_actions.run("Thermal node", [
             "analysis = App.ActiveDocument.%s" % self.analysis.Name,
             "node = tdo.makeNode(analysis, %s, name=%r, material=%s, capacitance=%r, power=%r, "
-            "fixed_temperature=%s)" % (commands.refs_code(self.refs), self.name.text() or "Node", material,
+            "fixed_temperature=%s)" % (gui_actions.refs_code(self.refs), self.name.text() or "Node", material,
                                        self.capacitance.value(), self.power.value(), fixed),
             "node.Label = %r" % (self.name.text() or "Node")])
         if ok:
@@ -105,8 +105,8 @@ class MaterialPanel(_Panel):
         for node in self.nodes:
             lines.append("App.ActiveDocument.%s.Material = mat" % node.Name)
         if self.refs and not self.nodes:
-            lines.append("tdo.assign_material(mat, %s)" % commands.refs_code(self.refs))
-        ok = commands.run("Thermal material", lines)
+            lines.append("tdo.assign_material(mat, %s)" % gui_actions.refs_code(self.refs))
+        ok = gui_actions.run("Thermal material", lines)
         if ok:
             FreeCADGui.Control.closeDialog()
         return ok
@@ -122,14 +122,14 @@ class TessellatePanel(_Panel):
                                    "triangles keep their node and material."))
 
     def accept(self):
-        commands.status("ThermoDec: tessellating ...")
-        ok = commands.run("Tessellate", [
+        gui_actions.status("ThermoDec: tessellating ...")
+        ok = gui_actions.run("Tessellate", [
             "analysis = App.ActiveDocument.%s" % self.analysis.Name,
             "analysis.MaxEdgeLength = '%r mm'" % self.length.value(),
             "import thermodec_freecad.tessellate as tdtess",
             "tdtess.tessellate(analysis)"])
         if ok:
             tm = self.analysis.ThermalMesh
-            commands.status("ThermoDec: %d triangles, longest edge %.1f mm" % (tm.Mesh.CountFacets, tm.LongestEdge))
+            gui_actions.status("ThermoDec: %d triangles, longest edge %.1f mm" % (tm.Mesh.CountFacets, tm.LongestEdge))
             FreeCADGui.Control.closeDialog()
         return ok

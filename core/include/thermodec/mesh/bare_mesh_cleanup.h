@@ -1,7 +1,7 @@
 #pragma once
 //! Cleanup of a bare CAD/printable mesh (STL without groups or sidedness) before it becomes a
 //! thermal model: what makes the Monte Carlo radiation of such meshes noisy and
-//! non-reciprocal, fixed once where the mesh is loaded (docs/reduction.md, "NASA models").
+//! non-reciprocal, fixed once where the mesh is loaded (docs/reduction.md, "Bare meshes").
 //!
 //! 1. repair_mesh (mesh/repair.h): weld, drop degenerate faces, conform T-junctions, orient
 //!    consistently, closed parts outward. Its index-duplicate removal is replaced by step 2.

@@ -53,7 +53,7 @@ struct ReduceSettings {
   //! area bound (reference.decimation.max_relative_area_change) is lowered, if needed, to
   //! 4 area_error_fraction tolerance / T_max (T_max: the hottest node of any case's reference)
   //! so that area drift alone costs at most this fraction of the tolerance. 0 = keep the bound.
-  //! 0.1 (docs/reduction.md, measured against 0.2 and none): 0.2 reduces the sample and NPP_16
+  //! 0.1 (docs/benchmarks.md, measured against 0.2 and none): 0.2 reduces the sample and NPP_16
   //! a little further (a tighter bound cuts the decimator's reach on CAD nodes), but on tdrs
   //! the drift of 34 reduced nodes adds up (combined prediction 1.20 K instead of 0.55 K).
   double area_error_fraction = 0.1;
@@ -139,7 +139,7 @@ struct ReductionRun {
 //! kBareMeshCoarseSweepFaces faces a coarse sensitivity sweep (ratios 0.5, 0.8, 0.93: at most
 //! 3 trials per node instead of 11), at most 20 trials after the prediction and 8 leave-one-out
 //! trials per back-off step. Measured
-//! effect in docs/reduction.md ("NASA models").
+//! effect in docs/benchmarks.md ("Reduction: NASA meshes").
 void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& settings);
 constexpr int kBareMeshCoarseSweepFaces = 2000;
 

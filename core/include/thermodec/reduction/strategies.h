@@ -55,7 +55,7 @@ struct InformedOptions {
   //! A leave-one-out step whose best back-off removes less than this share of the excess
   //! (max|dT| - tolerance) says no single node is to blame: many nodes' allowances add up.
   //! The back-off then goes straight to the scale-back of every node's share of the tolerance
-  //! instead of more steps (tdrs, session 8: three steps of 8 trials took the excess from 1.06 K
+  //! instead of more steps (tdrs at 0.5 K: three steps of 8 trials took the excess from 1.06 K
   //! to 0.56 K in 28 min, the scale-back after them reached 0.33 K in 6 trials). 0 = never.
   double stall_fraction = 0.3;
   bool push = true;           //!< use remaining slack to reduce nodes further

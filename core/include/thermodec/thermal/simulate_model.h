@@ -59,8 +59,8 @@ bool has_sampling_boosts(const ThermalModel& model);
 
 //! Ray budgets for a bare mesh (a model loaded from a mesh file, ThermalModel::mesh_cleanup
 //! set), sized by its face count F so that a simulation's cost stays bounded while the noise
-//! floor stays well below the default 0.5 K tolerance (measured in docs/reduction.md, "NASA
-//! models"):
+//! floor stays well below the default 0.5 K tolerance (measured in docs/benchmarks.md,
+//! "Reduction: NASA meshes"):
 //!  - IR view factors: rays_per_face = clamp(kBareMeshIrRays / F, 1000, 4000) (a total of
 //!    16 M rays: 4000 per face up to 4000 faces, fewer beyond);
 //!  - sun shadows: sun_rays_per_face = clamp(kBareMeshSunRays / F, 256, 1024) and a per-node
