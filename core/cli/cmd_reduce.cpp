@@ -5,12 +5,16 @@
 
 #include "commands.h"
 #include "thermodec/common/errors.h"
+#include "thermodec/common/peak_memory.h"
 #include "thermodec/nodes/load_case.h"
 #include "thermodec/common/output_paths.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/reduction/reduce_model.h"
 #include "thermodec/report/reduction_report.h"
 #include "thermodec/thermal/simulate_model.h"
+#ifdef THERMODEC_HAS_MPI
+#include "thermodec/reduction/mpi_sweep.h"
+#endif
 
 namespace thermodec::cli {
 namespace {
@@ -36,7 +40,23 @@ struct ReduceCliOptions {
 const std::vector<std::string> kReduceOutputs = {"model.json", "reduced.obj", "report.json", "sensitivity.png",
                                                  "predicted_vs_real.png", "temperatures.png", "mesh.png"};
 
+// Under an MPI launcher: every rank runs the reduction up to the end of the sensitivity sweep,
+// rank 0 alone goes on, speaks and writes (reduction/mpi_sweep.h).
+struct Ranks {
+  int rank = 0, size = 1;
+#ifdef THERMODEC_HAS_MPI
+  Ranks() {
+    const MpiWorld w = start_mpi();
+    rank = w.rank;
+    size = w.size;
+  }
+  ~Ranks() { finish_mpi(); }
+#endif
+};
+
 void run_reduce(const ReduceCliOptions& o) {
+  const Ranks ranks{};
+  const bool root = ranks.rank == 0;
   ModelLoadOptions load = model_load_options();
   load.clean_bare_mesh = !o.raw_mesh;
   ThermalModel model = load_model(o.model, load);
@@ -48,7 +68,7 @@ void run_reduce(const ReduceCliOptions& o) {
   s.informed.max_evaluations = o.max_evaluations;
   apply_bare_mesh_reduction_budget(model, s);
   if (o.max_evaluations_set) s.informed.max_evaluations = o.max_evaluations;
-  if (model.mesh_cleanup) std::cout << "bare mesh cleanup:\n" << model.mesh_cleanup->summary();
+  if (model.mesh_cleanup && root) std::cout << "bare mesh cleanup:\n" << model.mesh_cleanup->summary();
   if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
   s.tolerance_K = o.tolerance_K;
   s.strategy = o.strategy == "uniform" ? ReductionStrategy::uniform : ReductionStrategy::informed;
@@ -60,7 +80,10 @@ void run_reduce(const ReduceCliOptions& o) {
   }
   // Load cases read (and checked) before any simulation.
   for (const auto& f : o.case_files) s.extra_cases.push_back(load_case(f, model));
-  if (!o.quiet) {
+#ifdef THERMODEC_HAS_MPI
+  if (ranks.size > 1) s.sweep = mpi_sweep({ranks.rank, ranks.size});
+#endif
+  if (!o.quiet && root) {
     // Elapsed wall time on every line: on CAD meshes a reduction runs for an hour.
     const auto start = std::chrono::steady_clock::now();
     s.progress = [start](const std::string& m) {
@@ -70,15 +93,29 @@ void run_reduce(const ReduceCliOptions& o) {
       std::cerr << "reduce: " << stamp << m << "\n";
     };
   }
-  std::cerr << "reduce: " << o.model << ": " << model.mesh.num_faces() << " faces, " << model.nodes.size()
+  if (root) std::cerr << "reduce: " << o.model << ": " << model.mesh.num_faces() << " faces, " << model.nodes.size()
             << " nodes, " << model.radiation.rays_per_face << " IR rays and "
             << s.reference.simulation.loads.sun_rays_per_face << " sun samples per face side, tolerance " << o.tolerance_K << " K, strategy " << o.strategy
-            << (s.extra_cases.empty() ? std::string() : ", " + std::to_string(1 + s.extra_cases.size()) + " load cases") << "\n";
-  const ReductionRun run = reduce_model(model, s);
+            << (s.extra_cases.empty() ? std::string() : ", " + std::to_string(1 + s.extra_cases.size()) + " load cases")
+            << (ranks.size > 1 ? ", sensitivity sweep over " + std::to_string(ranks.size) + " MPI ranks" : std::string())
+            << "\n";
+  ReductionRun run = reduce_model(model, s);
+  if (run.sweep_only) return;  // an MPI rank other than 0: its curves went to rank 0
+  run.ranks = ranks.size;
+  run.peak_memory_bytes = peak_resident_memory_bytes();
   clear_own_outputs(o.out_dir, kReduceOutputs);
   const auto warnings = write_reduction_outputs(run, o.out_dir, inputs, !o.no_plots);
   for (const auto& w : warnings) std::cerr << "reduce: warning: plot not written: " << w << "\n";
   std::cout << reduction_summary(run);
+  char mem[160];
+  std::snprintf(mem, sizeof mem, "peak memory: %.0f MiB", run.peak_memory_bytes / 1048576.0);
+  std::cout << mem;
+  if (run.ranks > 1) {
+    std::snprintf(mem, sizeof mem, " (rank 0; largest of the other %d ranks %.0f MiB)", run.ranks - 1,
+                  run.peak_memory_bytes_other_ranks / 1048576.0);
+    std::cout << mem;
+  }
+  std::cout << "\n";
   std::cout << "results: " << o.out_dir << " (model.json, reduced.obj, report.json"
             << (o.no_plots ? "" : ", *.png") << ")\n";
 }

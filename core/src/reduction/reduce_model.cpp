@@ -65,8 +65,13 @@ struct Searcher {
           (done < total ? fmt("about %.0f s left)", left) : fmt("%.0f s)", spent)));
     };
     say("sensitivity analysis: each node alone, increasing ratios, cap " + fmt("%.3g K", so.cap_K));
-    run.curves = sensitivity_analysis(n, trial, so);
+    SweepOutcome sw = settings.sweep ? settings.sweep(n, trial, so, faces, trials_evaluated)
+                                     : SweepOutcome{sensitivity_analysis(n, trial, so)};
     run.seconds_sensitivity = since(ts);
+    run.trials = sw.trials_elsewhere;  // (this process's trials added at the end)
+    run.peak_memory_bytes_other_ranks = sw.peak_memory_bytes_elsewhere;
+    run.sweep_only = sw.stop_after_sweep;
+    run.curves = std::move(sw.curves);
   }
 
   ReductionOutcome at(const ReductionRun& run, double search_tol) const {
@@ -354,13 +359,16 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   std::vector<std::string> names;
   for (const Node& nd : model.nodes) names.push_back(nd.name);
   const Searcher search{settings, refs, faces, n, trial, verify, log, say, trials_evaluated, names};
-  if (settings.strategy == ReductionStrategy::informed) search.sweep(run);
+  if (settings.strategy == ReductionStrategy::informed) {
+    search.sweep(run);
+    if (run.sweep_only) return run;  // an MPI rank other than 0: its curves went to rank 0
+  }
   verified_search(run, search, refs, settings, model.radiation.seed, say);
   if (settings.strategy == ReductionStrategy::informed) search.predictions(run, tol);
   run.seconds_search = since(t_search) - run.seconds_verification;
 
   rebuild_and_report(run, refs, cases, model);
-  run.trials = trials_evaluated();
+  run.trials += trials_evaluated();  // (trials of other MPI ranks already counted)
   run.seconds_total = since(t0);
   return run;
 }

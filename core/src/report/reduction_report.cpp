@@ -113,6 +113,8 @@ json reduction_report_json(const ReductionRun& run) {
   }
   j["timings_s"] = {{"total", run.seconds_total}, {"noise_floor", run.seconds_noise},
                     {"sensitivity", run.seconds_sensitivity}, {"search", run.seconds_search}};
+  j["peak_memory_bytes"] = run.peak_memory_bytes;  // this process's peak resident set (0: not measured)
+  if (run.ranks > 1) j["mpi"] = {{"ranks", run.ranks}, {"peak_memory_bytes_other_ranks", run.peak_memory_bytes_other_ranks}};
   return j;
 }
 

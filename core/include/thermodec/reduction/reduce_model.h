@@ -17,6 +17,23 @@ namespace thermodec {
 
 enum class ReductionStrategy { informed, uniform };
 
+//! What a sensitivity sweep hands back to reduce_model().
+struct SweepOutcome {
+  std::vector<SensitivityCurve> curves;  //!< every node's curve, in node order (only where the strategy runs)
+  //! This process only swept its share for another one (an MPI rank other than 0):
+  //! reduce_model() returns right after the sweep with ReductionRun::sweep_only set.
+  bool stop_after_sweep = false;
+  int trials_elsewhere = 0;               //!< trials other processes evaluated for this sweep
+  //! Largest peak resident memory of the other processes at the end of the sweep [bytes] (0: none).
+  long long peak_memory_bytes_elsewhere = 0;
+};
+
+//! Performs the informed strategy's sweep: (nodes, trial, options, faces per node, trials this
+//! process evaluated so far) -> outcome. Must give the curves sensitivity_analysis(nodes,
+//! trial, options) gives.
+using SensitivitySweep = std::function<SweepOutcome(int, const TrialFunction&, const SensitivityOptions&,
+                                                    const Eigen::VectorXi&, const std::function<int()>&)>;
+
 struct ReduceSettings {
   double tolerance_K = 0.5;  //!< max |dT| over nodes and the orbit allowed vs the reference [K]
   ReductionStrategy strategy = ReductionStrategy::informed;
@@ -56,6 +73,9 @@ struct ReduceSettings {
   //! from each other and from "model" (the model's own case), else InvalidInput.
   std::vector<LoadCase> extra_cases;
   std::function<void(const std::string&)> progress;  //!< human-readable progress lines
+  //! The sensitivity sweep; empty: sensitivity_analysis in this process. mpi_sweep() spreads
+  //! it over MPI ranks (reduction/mpi_sweep.h, when built with MPI).
+  SensitivitySweep sweep;
 };
 
 struct NodeReduction {
@@ -116,6 +136,13 @@ struct ReductionRun {
   VerificationStatistics verification;
   double search_tolerance_K = 0.0;  //!< the tolerance the accepted search aimed at (tol - margin)
   double seconds_verification = 0.0;
+  //! Set by the front end: peak resident memory of this process (common/peak_memory.h) and
+  //! the largest of the other MPI ranks' (0: single process) [bytes].
+  long long peak_memory_bytes = 0, peak_memory_bytes_other_ranks = 0;
+  int ranks = 1;          //!< processes the sensitivity sweep was spread over
+  //! Only the sweep ran here, for another process (ReduceSettings::sweep said so): nothing
+  //! else is filled and nothing is to be written.
+  bool sweep_only = false;
 };
 
 //! Bounded run time for bare meshes (ThermalModel::mesh_cleanup set; no-op otherwise): the
