@@ -43,7 +43,7 @@ done
 xwininfo -root -tree | grep -q '"MeshLab [0-9]' || { echo "FAIL: no MeshLab window after 30 s" >&2; exit 1; }
 sleep 2
 if [ ${#steps[@]} -gt 0 ]; then
-  /usr/bin/python3 "$here/xkeys.py" "${steps[@]}"
+  XKEYS_LOG="$tmp/meshlab.log" /usr/bin/python3 "$here/xkeys.py" "${steps[@]}"
 fi
 sleep "${THERMODEC_SCREENSHOT_DELAY:-2}"
 # The main window only (there is no window manager to size it to the screen).

@@ -5,10 +5,14 @@ Xorg/Xvfb install) — a stand-in for xdotool, which the machine does not have.
   xkeys.py STEP...   STEP: "ctrl+f", "Return", "alt+Return", "text:some words", "sleep:1.5",
                      "move:X,Y" (pointer to screen pixel X,Y: without a window manager the
                      keyboard focus follows the pointer), "click:X,Y",
-                     "wheel:N" (N notches at the pointer: > 0 away from the user, < 0 towards)
+                     "wheel:N" (N notches at the pointer: > 0 away from the user, < 0 towards),
+                     "waitlog:SECONDS:REGEX" (until a line of the file named by $XKEYS_LOG
+                     matches REGEX, at most SECONDS: a filter's run time varies with the load)
 Key names are X keysym names (Return, Escape, Tab, Down, F1, ...).
 """
 import ctypes
+import os
+import re
 import sys
 import time
 
@@ -54,6 +58,20 @@ def press(display, combo):
         time.sleep(0.02)
 
 
+def wait_for_log(path, pattern, seconds):
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        try:
+            with open(path, errors="replace") as f:
+                if any(pattern.search(line) for line in f):
+                    return
+        except OSError:
+            pass
+        time.sleep(0.5)
+    print(f"xkeys: waitlog gave up after {seconds} s: no line of {path!r} matches {pattern.pattern!r}",
+          file=sys.stderr)
+
+
 def main():
     display = x11.XOpenDisplay(None)
     if not display:
@@ -78,6 +96,9 @@ def main():
                 xtst.XTestFakeButtonEvent(display, button, 0, 0)
                 x11.XFlush(display)
                 time.sleep(0.1)
+        elif step.startswith("waitlog:"):
+            seconds, pattern = step[8:].split(":", 1)
+            wait_for_log(os.environ.get("XKEYS_LOG", ""), re.compile(pattern), float(seconds))
         elif step.startswith("text:"):
             for ch in step[5:]:
                 press(display, CHARS.get(ch, ch))
