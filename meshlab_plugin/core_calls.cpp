@@ -1,4 +1,5 @@
 #include "core_calls.h"
+#include "document_model.h"
 
 #include <unistd.h>
 
@@ -66,8 +67,10 @@ std::vector<int> majority_per_node(const thermodec::Mesh& mesh, const Eigen::Vec
   return best;
 }
 
+}  // namespace
+
 // The thermal model of the document (see simulate_document): model_node[i] receives the model
-// node of document node i.
+// node of document node i. Shared with export_calls.cpp (document_model.h).
 thermodec::ThermalModel document_model(const thermodec::Mesh& mesh, const std::vector<int>& node_ids,
                                        bool ids_index_model_nodes, const std::string& model_file,
                                        int rays_per_face, std::vector<int>& model_node,
@@ -118,6 +121,8 @@ thermodec::ThermalModel document_model(const thermodec::Mesh& mesh, const std::v
   if (rays_per_face > 0) model.radiation.rays_per_face = rays_per_face;
   return model;
 }
+
+namespace {
 
 #ifdef THERMODEC_FILTER_REDUCE
 // Reduction and sensitivity change the mesh node by node: every model node must be exactly one

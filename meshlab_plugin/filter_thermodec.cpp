@@ -51,6 +51,9 @@ ThermodecFilterPlugin::ThermodecFilterPlugin() {
 #ifdef THERMODEC_FILTER_REDUCE
   typeList << FP_SENSITIVITY << FP_REDUCE;
 #endif
+#ifdef THERMODEC_FILTER_EXPORT
+  typeList << FP_EXPORT;
+#endif
   for (FilterIDType id : types()) actionList << new QAction(filterName(id), this);
 }
 
@@ -64,6 +67,7 @@ QString ThermodecFilterPlugin::filterName(FilterIDType filter) const {
     case FP_SIMULATE: return "Thermal: simulate";
     case FP_SENSITIVITY: return "Thermal: sensitivity analysis";
     case FP_REDUCE: return "Thermal: physics-informed decimation";
+    case FP_EXPORT: return "Thermal: export for other tools";
   }
   assert(false);
   return QString();
@@ -118,6 +122,7 @@ QString ThermodecFilterPlugin::filterInfo(FilterIDType filter) const {
              "summary goes to the log. Simulation settings as in <i>Thermal: simulate</i>." "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
              "nodes</i>); with several layers, every layer is one node (the one-file-per-node "
              "layout, e.g. an .mlp project).";
+    case FP_EXPORT: return export_info();
     case FP_SIMULATE:
       return "Radiative thermal simulation of the nodes (thermodec simulate: Monte Carlo "
              "radiative couplings, orbit or fixed-sun loads, steady or orbit-periodic "
@@ -141,6 +146,7 @@ MeshFilterInterface::FilterClass ThermodecFilterPlugin::getClass(QAction* action
     case FP_SIMULATE: return FilterClass(Quality | FaceColoring | Measure);
     case FP_SENSITIVITY: return Measure;
     case FP_REDUCE: return FilterClass(Remeshing | Layer);
+    case FP_EXPORT: return Measure;  // writes files only
   }
   assert(false);
   return Quality;
@@ -154,7 +160,8 @@ MeshFilterInterface::FILTER_ARITY ThermodecFilterPlugin::filterArity(QAction* ac
     case FP_DECIMATE_RATIO:
     case FP_SIMULATE:
     case FP_SENSITIVITY:
-    case FP_REDUCE: return VARIABLE;
+    case FP_REDUCE:
+    case FP_EXPORT: return VARIABLE;
   }
   assert(false);
   return SINGLE_MESH;
@@ -169,7 +176,8 @@ int ThermodecFilterPlugin::getRequirements(QAction* action) {
     case FP_DECIMATE_RATIO:
     case FP_SIMULATE:
     case FP_SENSITIVITY:
-    case FP_REDUCE: return MeshModel::MM_NONE;
+    case FP_REDUCE:
+    case FP_EXPORT: return MeshModel::MM_NONE;
   }
   assert(false);
   return MeshModel::MM_NONE;
@@ -182,7 +190,8 @@ int ThermodecFilterPlugin::getPreConditions(QAction* action) const {
     case FP_DECIMATE_RATIO:
     case FP_SIMULATE:
     case FP_SENSITIVITY:
-    case FP_REDUCE: return MeshModel::MM_FACENUMBER;
+    case FP_REDUCE:
+    case FP_EXPORT: return MeshModel::MM_FACENUMBER;
   }
   assert(false);
   return MeshModel::MM_NONE;
@@ -196,6 +205,7 @@ int ThermodecFilterPlugin::postCondition(QAction* action) const {
     case FP_SIMULATE: return MeshModel::MM_FACEQUALITY | MeshModel::MM_FACECOLOR;
     case FP_SENSITIVITY: return MeshModel::MM_NONE;  // files and log only
     case FP_REDUCE: return MeshModel::MM_NONE;       // results are new layers
+    case FP_EXPORT: return MeshModel::MM_NONE;       // files and log only
   }
   assert(false);
   return MeshModel::MM_NONE;
@@ -291,6 +301,7 @@ void ThermodecFilterPlugin::initParameterSet(QAction* action, MeshModel& /*m*/,
 #endif
       break;
     }
+    case FP_EXPORT: export_parameters(params); break;
     case FP_SENSITIVITY:
     case FP_REDUCE: {
 #ifdef THERMODEC_FILTER_REDUCE
@@ -350,6 +361,7 @@ bool ThermodecFilterPlugin::applyFilter(QAction* action, MeshDocument& md,
       case FP_SIMULATE: return simulate(md, params, cb);
       case FP_SENSITIVITY: return sensitivity(md, params, cb);
       case FP_REDUCE: return reduce(md, params, cb);
+      case FP_EXPORT: return export_for_tools(md, params, cb);
     }
     errorMessage = "unknown thermodec filter";
   } catch (const thermodec::Error& e) {

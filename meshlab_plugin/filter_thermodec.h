@@ -19,6 +19,7 @@ class ThermodecFilterPlugin : public QObject, public MeshFilterInterface {
     FP_SIMULATE,
     FP_SENSITIVITY,
     FP_REDUCE,
+    FP_EXPORT,  // filter_export.cpp
   };
 
   ThermodecFilterPlugin();
@@ -46,4 +47,8 @@ class ThermodecFilterPlugin : public QObject, public MeshFilterInterface {
   bool simulate(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
   bool sensitivity(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
   bool reduce(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
+  // "Thermal: export for other tools", in filter_export.cpp.
+  QString export_info() const;
+  void export_parameters(RichParameterList& params) const;
+  bool export_for_tools(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
 };

@@ -42,12 +42,19 @@ inline void size_network(thermodec::ThermalNetwork& net, int n) {
   net.to_space_couplings_m2 = Eigen::VectorXd::Zero(n);
 }
 
-// Doublet table (t0, v0, t1, v1, ...) with the closing point at the period dropped.
+// A Fortran real: E or D (double precision) exponent.
+inline double fortran_double(std::string s) {
+  for (char& c : s)
+    if (c == 'D' || c == 'd') c = 'E';
+  return std::stod(s);
+}
+
+// Every number in `text`, in order (e.g. a doublet table t0, v0, t1, v1, ...).
 inline std::vector<double> numbers_in(const std::string& text) {
-  static const std::regex number(R"([-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?)");
+  static const std::regex number(R"([-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?)");
   std::vector<double> v;
   for (auto it = std::sregex_iterator(text.begin(), text.end(), number); it != std::sregex_iterator(); ++it)
-    v.push_back(std::stod(it->str()));
+    v.push_back(fortran_double(it->str()));
   return v;
 }
 
@@ -83,7 +90,7 @@ inline ReadNetwork read_esatan(const std::string& path) {
     kinds[id] = {m[1].str()[0], m[3]};
     const std::string rest = m[4];
     for (auto it = std::sregex_iterator(rest.begin(), rest.end(), attribute); it != std::sregex_iterator(); ++it)
-      attrs[id][(*it)[1]] = std::stod((*it)[2]);
+      attrs[id][(*it)[1]] = fortran_double((*it)[2]);
   }
   int n = 0;
   for (const auto& [id, k] : kinds)
@@ -101,28 +108,28 @@ inline ReadNetwork read_esatan(const std::string& path) {
   const std::string& cs = b.at("CONDUCTORS");
   for (auto it = std::sregex_iterator(cs.begin(), cs.end(), conductor); it != std::sregex_iterator(); ++it) {
     const int i = std::stoi((*it)[2]) - 1, j = std::stoi((*it)[3]) - 1;
-    const double g = std::stod((*it)[4]);
+    const double g = fortran_double((*it)[4]);
     if ((*it)[1] == "GL") r.network.conductance_W_per_K(i, j) += g, r.network.conductance_W_per_K(j, i) += g;
     else if (j == 99998) r.network.to_space_couplings_m2[i] += g;
     else r.network.radiative_couplings_m2(i, j) += g, r.network.radiative_couplings_m2(j, i) += g;
   }
-  r.transient = b.count("VARIABLES1") > 0;
+  r.transient = b.count("VARIABLES1") > 0 && b.at("VARIABLES1").find("INTCY1") != std::string::npos;
   if (!r.transient) {
     r.times_s = Eigen::VectorXd::Zero(1);
     r.external_W = Eigen::MatrixXd::Zero(n, 1);
     for (int i = 0; i < n; ++i) r.external_W(i, 0) = attrs[i + 1]["QS"] + attrs[i + 1]["QA"] + attrs[i + 1]["QE"];
     return r;
   }
-  // $CONSTANTS: PERIOD; $ARRAYS: name(count) = doublets; $VARIABLES1: QSn = INTCY1(TIMEM, name, PERIOD).
+  // $CONSTANTS: PERIOD; $ARRAYS: name(count) = doublets; $VARIABLES1: QS(n) = INTCY1(TIMEM, name, PERIOD).
   std::smatch m;
   const std::string& constants = b.at("REAL");  // the first $REAL after $CONSTANTS holds PERIOD
-  if (std::regex_search(constants, m, std::regex(R"(PERIOD = ([^;]+);)"))) r.period_s = std::stod(m[1]);
+  if (std::regex_search(constants, m, std::regex(R"(PERIOD = ([^;]+);)"))) r.period_s = fortran_double(m[1]);
   std::map<std::string, std::vector<double>> arrays;
   const std::string all = slurp(path);
   static const std::regex array(R"(([A-Z]+\d+)\(\d+\) =([^;]*);)");
   for (auto it = std::sregex_iterator(all.begin(), all.end(), array); it != std::sregex_iterator(); ++it)
     arrays[(*it)[1]] = numbers_in((*it)[2]);
-  static const std::regex use(R"(Q[SAE](\d+) = INTCY1\(TIMEM, ([A-Z]+\d+), PERIOD\);)");
+  static const std::regex use(R"(Q[SAE]\((\d+)\) = INTCY1\(TIMEM, ([A-Z]+\d+), PERIOD\))");
   const std::string& vars = b.at("VARIABLES1");
   for (auto it = std::sregex_iterator(vars.begin(), vars.end(), use); it != std::sregex_iterator(); ++it) {
     const int i = std::stoi((*it)[1]) - 1;

@@ -1,6 +1,9 @@
-// ESATAN-TMS network writer. Block and entity syntax follow the ESATAN-TMS language (public
-// Engineering/Reference manual): nodes `Dn = 'label', attribute = value, ...;`, conductors
-// `GL(n1, n2) = value;` / `GR(n1, n2) = value;`, control constants, arrays of doublets.
+// ESATAN-TMS network writer. Syntax as in the .d files ESATAN-TMS itself generates: data blocks
+// ($NODES, $CONDUCTORS, $CONSTANTS, $ARRAYS) of `;`-terminated entries (`D1 = 'label', T = ...,
+// C = ..., A = ..., ALP = ..., EPS = ...;`, `GL(1, 2) = ...;`), reals with Fortran D exponents
+// (double precision also where they reach the generated Fortran), `#` comment lines; operation
+// blocks ($EXECUTION, $VARIABLES1, $OUTPUTS) as Fortran statements from column 7, a node's
+// entity referenced as QS(n), routines called with CALL, blocks in ESATAN-TMS's order.
 #include "thermodec/exchange/write_esatan_network.h"
 
 #include <ostream>
@@ -11,7 +14,13 @@
 namespace thermodec {
 namespace {
 
-std::string real(double x) { return exchange_text::fortran_real(x); }
+// ESATAN-TMS writes reals with a D exponent (`5.D-03`): double precision in the Fortran it generates.
+std::string real(double x) {
+  std::string s = exchange_text::fortran_real(x);
+  for (char& c : s)
+    if (c == 'E') c = 'D';
+  return s;
+}
 constexpr int kSpaceNode = 99999;
 
 std::string quoted(std::string s) {  // ESATAN labels are single-quoted; a quote is doubled
@@ -66,29 +75,37 @@ void write_esatan_network(const std::filesystem::path& path, const ExportedNetwo
         if (net.radiative_couplings_m2(i, j) != 0.0) out << "GR(" << i + 1 << ", " << j + 1 << ") = " << real(net.radiative_couplings_m2(i, j)) << ";\n";
     for (int i = 0; i < n; ++i)
       if (net.to_space_couplings_m2[i] != 0.0) out << "GR(" << i + 1 << ", " << kSpaceNode << ") = " << real(net.to_space_couplings_m2[i]) << ";\n";
-    out << "$CONSTANTS\n$REAL\nPERIOD = " << real(e.period_s) << ";\n$CONTROL\nTABS = 0.0;\nSTEFAN = 5.670374419E-8;\n"
-           "RELXCA = 1.0E-6;\nRELXCB = 1.0E-6;\nNLOOP = 1000;\n";
+    out << "$CONSTANTS\n$REAL\nPERIOD = " << real(e.period_s) << ";\n$CONTROL\nTABS = 0.0;\nSTEFAN = 5.670374419D-8;\n"
+           "RELXCA = 1.0D-6;\nRELXCB = 1.0D-6;\nNLOOP = 1000;\n";
     if (tables) {
       const double dt = e.period_s / S;
-      out << "TIMEO = 0.0;\nTIMEND = " << real(e.period_s * std::max(1, e.orbits)) << ";\nDTIMEI = " << real(dt)
-          << ";\nOUTINT = " << real(dt) << ";\n$ARRAYS\n$REAL\n";
+      out << "TIMEO = 0.0;\nTIMEND = " << real(e.period_s) << ";\nDTIMEI = " << real(dt) << ";\nOUTINT = " << real(dt)
+          << ";\n$ARRAYS\n$REAL\n";
       for (int i = 0; i < n; ++i) {
         write_table(out, "QSOL" + std::to_string(i + 1), e, e.solar_W, i);
         write_table(out, "QALB" + std::to_string(i + 1), e, e.albedo_W, i);
         write_table(out, "QEIR" + std::to_string(i + 1), e, e.earth_ir_W, i);
       }
-      out << "$EVENTS\n$VARIABLES1\n# loads at the orbit time: cyclic linear interpolation of the doublet tables\n";
+    } else {
+      out << "$ARRAYS\n";
+    }
+    out << "$EVENTS\n$SUBROUTINES\n$INITIAL\n$EXECUTION\n      CALL SOLVFM\n";
+    if (tables)
+      // The orbit-periodic state: SOLCYC repeats SLCRNC (Crank-Nicolson) over the period until
+      // the cycle converges, then SLCRNC runs the output orbit. Written as ESATAN-TMS's own case
+      // generator writes it (tolerances 0.01, at most 100 cycles).
+      out << "      CALL SOLCYC('SLCRNC', 0.01D0, 0.01D0, PERIOD, 100, ' ', 'NONE')\n      CALL SLCRNC\n";
+    out << "$VARIABLES1\n";
+    if (tables) {
+      out << "# loads at the orbit time TIMEM: cyclic linear interpolation of the doublet tables\n";
       for (int i = 0; i < n; ++i) {
         const std::string k = std::to_string(i + 1);
-        out << "QS" << k << " = INTCY1(TIMEM, QSOL" << k << ", PERIOD);\n"
-            << "QA" << k << " = INTCY1(TIMEM, QALB" << k << ", PERIOD);\n"
-            << "QE" << k << " = INTCY1(TIMEM, QEIR" << k << ", PERIOD);\n";
+        out << "      QS(" << k << ") = INTCY1(TIMEM, QSOL" << k << ", PERIOD)\n"
+            << "      QA(" << k << ") = INTCY1(TIMEM, QALB" << k << ", PERIOD)\n"
+            << "      QE(" << k << ") = INTCY1(TIMEM, QEIR" << k << ", PERIOD)\n";
       }
-      out << "$EXECUTION\nSOLVFM;\nSLCRNC;\n";
-    } else {
-      out << "$EXECUTION\nSOLVFM;\n";
     }
-    out << "$OUTPUTS\nPRNDTB(' ', 'L, T, QS, QA, QE, QI', CURRENT);\n$ENDMODEL THERMODEC\n";
+    out << "$VARIABLES2\n$OUTPUTS\n      CALL PRNDTB(' ', 'L, T, QS, QA, QE, QI, C', CURRENT)\n$ENDMODEL THERMODEC\n";
   }, protected_inputs);
 }
 

@@ -1,5 +1,8 @@
 // SINDA/FLUINT input writer in the block layout Thermal Desktop generates: HEADER blocks with
-// `register`-free, comma-separated data lines indented by 6 columns; comments "C" in column 1.
+// comma-separated data lines, comment lines "C" in column 1, "$" starting an end-of-line comment
+// (the node's name), boundary and arithmetic nodes with a capacitance of -1.0 as Thermal Desktop
+// writes them; control constants by the names of the SINDA/FLUINT manual (OUTPUT: the output
+// interval of a transient).
 #include "thermodec/exchange/write_sinda_network.h"
 
 #include <ostream>
@@ -41,16 +44,16 @@ void write_sinda_network(const std::filesystem::path& path, const ExportedNetwor
            "      NLOOPS = 1000\n      EBALSA = 1.0E-6\n";
     if (tables)
       out << "      TIMEO  = 0.0\n      TIMEND = " << real(e.period_s * std::max(1, e.orbits)) << "\n      DTIMEI = "
-          << real(e.period_s / S) << "\n      OUTPTM = " << real(e.period_s / S) << "\n";
+          << real(e.period_s / S) << "\n      OUTPUT = " << real(e.period_s / S) << "\n";
     out << "HEADER NODE DATA, MAIN\n";
     for (int i = 0; i < n; ++i) {
-      // Boundary nodes: negative id; arithmetic: capacitance -1.0 (SINDA's convention).
+      // Boundary nodes: negative id; arithmetic and boundary: capacitance -1.0 (SINDA ignores it).
       const bool fixed = net.is_fixed(i);
-      const double c = fixed ? 0.0 : net.capacitance_J_per_K[i] > 0.0 ? net.capacitance_J_per_K[i] : -1.0;
+      const double c = !fixed && net.capacitance_J_per_K[i] > 0.0 ? net.capacitance_J_per_K[i] : -1.0;
       out << "      " << (fixed ? "-" : "") << i + 1 << ", " << real(fixed ? net.fixed_temperature_K[i] : e.temperature_K(i, 0))
           << ", " << real(c) << "   $ " << one_line(net.node_names[i]) << "\n";
     }
-    out << "      -" << kSpaceNode << ", " << real(net.sink_temperature_K) << ", 0.0   $ deep space\n"
+    out << "      -" << kSpaceNode << ", " << real(net.sink_temperature_K) << ", -1.0   $ deep space\n"
         << "HEADER CONDUCTOR DATA, MAIN\n";
     int id = 1;
     for (int i = 0; i < n; ++i)

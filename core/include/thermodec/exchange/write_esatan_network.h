@@ -1,14 +1,14 @@
 #pragma once
-//! ESATAN-TMS thermal network input (.d file, ESATAN language): $MODEL, $LOCALS with $NODES
-//! (diffusion D-nodes: label, T, C, A, ALP, EPS, QI; arithmetic nodes for C = 0; boundary
-//! B-nodes for fixed temperatures and deep space), $CONDUCTORS (GL(i, j) [W/K], GR(i, j) [m^2]),
-//! $CONSTANTS ($CONTROL: TABS = 0 so that temperatures are K, STEFAN, time step and end; $REAL:
-//! the period), $ARRAYS (per node, doublet time tables of the absorbed solar, albedo and Earth-IR
-//! loads over one orbit [s, W]), $VARIABLES1 (QS/QA/QE interpolated cyclically at TIMEM),
-//! $EXECUTION (SOLVFM steady, or SLCRNC transient over `orbits` orbits after an SOLVFM start),
-//! $OUTPUTS, $ENDMODEL. Node numbers: thermal node k -> k+1; deep space -> 99999.
-#include <filesystem>
-#include <vector>
+//! ESATAN-TMS thermal network input (.d file, ESATAN language, laid out as ESATAN-TMS's own
+//! generated .d files): $MODEL, $LOCALS, $NODES (diffusion D-nodes: label, T, C, A, ALP, EPS, QI;
+//! arithmetic A-nodes for C = 0; boundary B-nodes for fixed temperatures and deep space),
+//! $CONDUCTORS (GL(i, j) [W/K], GR(i, j) [m^2]), $CONSTANTS ($REAL: the period; $CONTROL:
+//! TABS = 0 so that temperatures are K, STEFAN, time step and end), $ARRAYS (per node, doublet
+//! time tables of the absorbed solar, albedo and Earth-IR loads over one orbit [s, W]),
+//! $EXECUTION (CALL SOLVFM; transient: CALL SOLCYC('SLCRNC', ...) to the orbit-periodic state,
+//! then CALL SLCRNC over the output orbit), $VARIABLES1 (QS(n), QA(n), QE(n) interpolated
+//! cyclically at TIMEM with INTCY1), $OUTPUTS, $ENDMODEL. Reals carry D exponents. Node
+//! numbers: thermal node k -> k+1; deep space -> 99999.
 
 #include "thermodec/exchange/exported_network.h"
 

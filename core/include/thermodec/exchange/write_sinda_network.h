@@ -1,8 +1,8 @@
 #pragma once
 //! SINDA/FLUINT input (as Thermal Desktop writes it): HEADER OPTIONS DATA, HEADER CONTROL DATA
-//! (UID = SI, ABSZRO = 0 so that temperatures are K, SIGMA, TIMEND, DTIMEI, OUTPTM), HEADER
-//! NODE DATA ("id, T, C": diffusion C > 0; arithmetic C = -1.0; boundary: negative id, for
-//! fixed temperatures and deep space, node 99999), HEADER CONDUCTOR DATA (linear "id, a, b, G"
+//! (UID = SI, ABSZRO = 0 so that temperatures are K, SIGMA, TIMEND, DTIMEI, OUTPUT interval), HEADER
+//! NODE DATA ("id, T, C   $ name": diffusion C > 0; arithmetic C = -1.0; boundary: negative id
+//! and C = -1.0, for fixed temperatures and deep space, node 99999), HEADER CONDUCTOR DATA (linear "id, a, b, G"
 //! [W/K]; radiation "-id, a, b, GR" [m^2], SIGMA applied by SINDA), HEADER ARRAY DATA (per
 //! node, doublet time tables of the absorbed external load over one orbit [s, W]), HEADER
 //! VARIABLES 1 (Qn = internal power + the table interpolated cyclically at TIMEN with D11CYL,

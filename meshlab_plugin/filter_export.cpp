@@ -1,0 +1,131 @@
+// "Thermal: export for other tools": the document's thermal model written by the core's exchange
+// export (core/include/thermodec/exchange/export_model.h) in one of its five formats, exactly as
+// `thermodec export` writes a model file. The filter only reads its parameters, picks the
+// default output path and logs what was written.
+#include <algorithm>
+
+#include <QDir>
+#include <QFileInfo>
+#include <QStringList>
+
+#include "filter_thermodec.h"
+#include "thermodec/common/errors.h"
+#ifdef THERMODEC_FILTER_EXPORT
+#include "document_mesh.h"
+#include "export_calls.h"
+#endif
+
+namespace {
+
+// Menu order of the format parameter; the names are those of `thermodec export --format`.
+const char* const kFormats[] = {"nastran", "esatan", "sinda", "vtk", "csv"};
+constexpr int kFormatCount = 5;
+
+// Default output beside the current layer's file: <stem>.bdf, <stem>.d, <stem>.inp, the folder
+// <stem>_vtk, or the prefix <stem> of the three CSV tables (the CLI's documented examples).
+QString default_output(const QFileInfo& layer_file, const QString& format) {
+  const QString base = layer_file.dir().filePath(layer_file.completeBaseName());
+  if (format == "nastran") return base + ".bdf";
+  if (format == "esatan") return base + ".d";
+  if (format == "sinda") return base + ".inp";
+  if (format == "vtk") return base + "_vtk";
+  return base;
+}
+
+inline void progress(vcg::CallBackPos* cb, int percent, const char* what) {
+  if (cb != nullptr) cb(percent, what);
+}
+
+}  // namespace
+
+QString ThermodecFilterPlugin::export_info() const {
+  return "Writes the thermal model of the document for other thermal tools, as <code>thermodec "
+         "export</code> does (docs/exchange.md): <b>nastran</b> NASTRAN bulk data (GRID*, CTRIA3, one "
+         "PSHELL per node, RADM per coating) for Thermal Desktop, TASverter, Simcenter or FreeCAD; "
+         "<b>esatan</b> an ESATAN-TMS network; <b>sinda</b> a SINDA/FLUINT network; <b>vtk</b> a "
+         "ParaView series (a folder of .vtu files and a .pvd); <b>csv</b> temperature, coupling and "
+         "load tables. The network and result formats first simulate the model as <i>Thermal: "
+         "simulate</i> does; nastran needs no simulation. Materials, node data, environment and "
+         "analysis come from the optional model file, else the core defaults. The output defaults "
+         "to a file (a folder for vtk, a prefix for csv) beside the current layer's file; the "
+         "files written go to the log. The document is not changed."
+         "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
+         "nodes</i>); with several layers, every layer is one node (the one-file-per-node "
+         "layout, e.g. an .mlp project).";
+}
+
+void ThermodecFilterPlugin::export_parameters(RichParameterList& params) const {
+  QStringList formats;
+  for (const char* f : kFormats) formats << f;
+  params.addParam(RichEnum("format", 0, formats, "Format",
+                           "nastran: NASTRAN bulk data (.bdf); esatan: ESATAN-TMS network (.d); sinda: "
+                           "SINDA/FLUINT network (.inp); vtk: ParaView series (a folder); csv: tables "
+                           "(a file prefix)."));
+  params.addParam(RichString("output", "", "Output",
+                             "The file to write (vtk: the folder; csv: the prefix of "
+                             "<prefix>_temperatures.csv, _couplings.csv and _loads.csv). Empty: "
+                             "beside the current layer's file, named after it."));
+  params.addParam(RichString("model_file", "", "Model file (model.json)",
+                             "Optional thermodec model file giving materials, node capacitances and "
+                             "powers, conductances, environment, analysis and radiation settings (as in "
+                             "Thermal: simulate). Empty: the core defaults."));
+  params.addParam(RichInt("rays_per_face", 0, "Rays per face",
+                          "Monte Carlo rays per face for the radiative couplings; 0 = the model's "
+                          "setting. Not used by nastran."));
+  params.addParam(RichFloat("noise_target_K", 0.0025f, "Noise target [K]",
+                            "Noise-targeted sampling as `thermodec export --noise-target` (0 = off): "
+                            "extra rays for the nodes whose temperature noise exceeds it."));
+}
+
+bool ThermodecFilterPlugin::export_for_tools(MeshDocument& md, const RichParameterList& params,
+                                             vcg::CallBackPos* cb) {
+#ifdef THERMODEC_FILTER_EXPORT
+  using namespace thermodec_meshlab;
+  const int choice = params.getEnum("format");
+  if (choice < 0 || choice >= kFormatCount) throw thermodec::InvalidInput("unknown export format");
+  const QString format = kFormats[choice];
+  if (params.getInt("rays_per_face") < 0)
+    throw thermodec::InvalidInput("rays_per_face must be >= 0 (0 = the model's)");
+  if (params.getFloat("noise_target_K") < 0.0f)
+    throw thermodec::InvalidInput("noise_target_K must be >= 0 (0 = off)");
+  if (md.mm() == nullptr) throw thermodec::InvalidInput("the document has no mesh layer");
+
+  QString out = params.getString("output").trimmed();
+  const QFileInfo layer_file(md.mm()->fullName());
+  if (out.isEmpty()) {
+    if (md.mm()->fullName().isEmpty() || !layer_file.dir().exists())
+      throw thermodec::InvalidInput("output: the current layer has no file to put the export beside; set output");
+    out = default_output(layer_file, format);
+  }
+  out = QDir(out).absolutePath();
+
+  progress(cb, 0, "Thermal: gathering nodes");
+  const DocumentMesh dm = mesh_with_nodes(md);
+  DocumentModelRequest request;
+  request.mesh = &dm.mesh;
+  request.node_ids = dm.node_ids;
+  request.ids_index_model_nodes = dm.source == NodeSource::FaceQuality;
+  request.model_file = params.getString("model_file").trimmed().toStdString();
+  request.rays_per_face = params.getInt("rays_per_face");
+  int step = 0;
+  request.progress = [&](const std::string& what) {
+    step = std::min(step + 15, 90);
+    progress(cb, step, what.c_str());
+    Log("  %s", what.c_str());
+  };
+  DocumentExport what;
+  what.format = format.toStdString();
+  what.out = out.toStdString();
+  what.stem = layer_file.completeBaseName().isEmpty() ? "model" : layer_file.completeBaseName().toStdString();
+  what.noise_target_K = params.getFloat("noise_target_K");
+  const std::vector<std::string> files = export_document(request, what);
+
+  Log("Thermal: export for other tools (%s, %d faces, %d nodes): %s", qUtf8Printable(format),
+      dm.mesh.num_faces(), int(dm.mesh.node_names.size()), qUtf8Printable(out));
+  for (const std::string& f : files) Log("  wrote %s", f.c_str());
+  progress(cb, 100, "Thermal: exported");
+  return true;
+#else
+  throw thermodec::InvalidInput("this build of thermodec has no exchange export");
+#endif
+}
