@@ -6,156 +6,24 @@
 #include "thermodec/nodes/load_model.h"
 
 #include <algorithm>
-#include <cctype>
-#include <cmath>
-#include <cstdint>
-#include <fstream>
-#include <iostream>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
 
-#include "thermodec/common/atomic_write.h"
+#include "model_json.h"
 #include "thermodec/common/errors.h"
+#include "thermodec/mesh/format_bdf.h"
 #include "thermodec/mesh/io.h"
 #include "thermodec/nodes/automatic_nodes.h"
-#include "thermodec/nodes/load_case.h"
-#include "thermodec/mesh/format_bdf.h"
 
 namespace thermodec {
 namespace {
 namespace fs = std::filesystem;
-using json = nlohmann::ordered_json;
-
-std::string lower_extension(const fs::path& p) {
-  std::string ext = p.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
+using namespace model_json;
 
 bool is_mesh_path(const fs::path& p) {
   const std::string ext = lower_extension(p);
   return ext == ".obj" || ext == ".ply" || ext == ".stl" || is_nastran_path(p);
 }
-
-// Error context: the model file and the dotted key path ("nodes.body_px.capacitance").
-class Keys {
- public:
-  explicit Keys(std::string file, bool allow_unknown = false) : file_(std::move(file)), allow_unknown_(allow_unknown) {}
-
-  //! An unknown key: an error naming the nearest known key, or a warning when allowed.
-  void unknown(const std::string& key, const std::string& name, const std::vector<std::string>& known,
-               const std::string& context = "") const {
-    std::string list;
-    for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-    const std::string hint = nearest(name, known);
-    const std::string what = "unknown key" + context + (hint.empty() ? "" : " (did you mean '" + hint + "'?)") +
-                             "; known: " + list;
-    if (!allow_unknown_) fail(join(key, name), what + " (--allow-unknown-keys ignores it)");
-    std::cerr << "thermodec: warning: " << file_ << ": '" << join(key, name) << "': " << what << "; ignored\n";
-  }
-
-  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    throw InvalidInput(file_ + ": " + (key.empty() ? std::string() : "'" + key + "': ") + what);
-  }
-
-  void require_object(const json& j, const std::string& key) const {
-    if (!j.is_object()) fail(key, "must be an object {...}, got " + std::string(j.type_name()));
-  }
-
-  void only_keys(const json& obj, const std::string& key, std::initializer_list<const char*> known,
-                 const std::string& context = "") const {
-    for (const auto& item : obj.items()) {
-      if (std::find_if(known.begin(), known.end(), [&](const char* k) { return item.key() == k; }) != known.end()) continue;
-      unknown(key, item.key(), std::vector<std::string>(known.begin(), known.end()), context);
-    }
-  }
-
-  //! The known key closest to `name` by edit distance, if close enough to be a typo.
-  static std::string nearest(const std::string& name, const std::vector<std::string>& known) {
-    std::string best;
-    std::size_t best_d = std::max<std::size_t>(2, name.size() / 3) + 1;
-    for (const auto& k : known) {
-      std::vector<std::size_t> row(k.size() + 1);
-      for (std::size_t j = 0; j <= k.size(); ++j) row[j] = j;
-      for (std::size_t i = 1; i <= name.size(); ++i) {
-        std::size_t diag = row[0];
-        row[0] = i;
-        for (std::size_t j = 1; j <= k.size(); ++j) {
-          const std::size_t up = row[j];
-          row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (std::tolower(static_cast<unsigned char>(name[i - 1])) !=
-                                                                  std::tolower(static_cast<unsigned char>(k[j - 1])))});
-          diag = up;
-        }
-      }
-      if (row[k.size()] < best_d) best_d = row[k.size()], best = k;
-    }
-    return best;
-  }
-
-  double number(const json& obj, const std::string& key, const char* name) const {
-    const json& v = obj.at(name);
-    if (!v.is_number()) fail(join(key, name), "must be a number, got " + std::string(v.type_name()));
-    const double x = v.get<double>();
-    if (!std::isfinite(x)) fail(join(key, name), "must be finite");
-    return x;
-  }
-
-  double number_in(const json& obj, const std::string& key, const char* name, double lo, double hi,
-                   bool lo_open, const char* unit) const {
-    const double x = number(obj, key, name);
-    if ((lo_open ? !(x > lo) : !(x >= lo)) || !(x <= hi)) {
-      std::ostringstream s;
-      s << "must be in " << (lo_open ? "(" : "[") << lo << ", " << hi << "]" << unit << ", got " << x;
-      fail(join(key, name), s.str());
-    }
-    return x;
-  }
-
-  long long integer(const json& obj, const std::string& key, const char* name, long long lo, long long hi) const {
-    const json& v = obj.at(name);
-    long long x = 0;
-    if (v.is_number_integer()) {
-      if (v.is_number_unsigned() && v.get<unsigned long long>() > static_cast<unsigned long long>(hi))
-        fail(join(key, name), "must be at most " + std::to_string(hi));
-      x = v.get<long long>();
-    } else if (v.is_number_float() && std::isfinite(v.get<double>()) && v.get<double>() == std::floor(v.get<double>()) &&
-               std::abs(v.get<double>()) < 9e15) {
-      x = static_cast<long long>(v.get<double>());
-    } else {
-      fail(join(key, name), "must be an integer, got " + v.dump());
-    }
-    if (x < lo || x > hi) fail(join(key, name), "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + std::to_string(x));
-    return x;
-  }
-
-  std::string string(const json& obj, const std::string& key, const char* name) const {
-    const json& v = obj.at(name);
-    if (!v.is_string() || v.get<std::string>().empty()) fail(join(key, name), "must be a non-empty string");
-    return v.get<std::string>();
-  }
-
-  bool boolean(const json& obj, const std::string& key, const char* name) const {
-    const json& v = obj.at(name);
-    if (!v.is_boolean()) fail(join(key, name), "must be true or false");
-    return v.get<bool>();
-  }
-
-  //! Node and material names end up as whole lines of OBJ and PLY files: one printable line.
-  void name(const std::string& key, const std::string& n) const {
-    for (const char c : n)
-      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-        fail(key, "names must not contain control characters (newline, tab, NUL)");
-    if (n.empty() || n.front() == ' ' || n.back() == ' ') fail(key, "names must be non-empty without leading/trailing spaces");
-  }
-
-  static std::string join(const std::string& a, const std::string& b) { return a.empty() ? b : a + "." + b; }
-
- private:
-  std::string file_;
-  bool allow_unknown_ = false;
-};
 
 constexpr const char* kDefaultMaterialName = "default";
 // Documented in docs/model-format.md ("Defaults"): a generic grey coating, neither a white
@@ -276,137 +144,6 @@ ThermalModel model_from_bare_mesh(const fs::path& path, const MeshReadOptions& o
   return model;
 }
 
-// Model and case files are small; a bigger file is a mistake (or /dev/zero), not a model.
-constexpr std::uintmax_t kMaxJsonFileBytes = std::uintmax_t{64} << 20;
-// No model key nests deeper than 4; the limit keeps recursive code (dump() in messages,
-// destruction) far from the stack's end on a file of thousands of '['.
-constexpr int kMaxJsonDepth = 32;
-
-json read_json(const fs::path& path) {
-  std::error_code ec;
-  const auto status = fs::status(path, ec);
-  if (fs::exists(status) && !fs::is_regular_file(status))
-    throw IOError(path.string() + ": not a regular file (a folder, device or FIFO)");
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (!ec && size > kMaxJsonFileBytes)
-    throw IOError(path.string() + ": " + std::to_string(size) + " bytes, more than the " +
-                  std::to_string(kMaxJsonFileBytes) + "-byte limit for JSON files");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IOError(path.string() + ": cannot open for reading");
-  std::stringstream s;
-  s << in.rdbuf();
-  // nlohmann keeps the last of two equal keys; a duplicated node or material would silently
-  // lose its first definition, so duplicates are refused while parsing (one key set per open
-  // object), as is nesting beyond kMaxJsonDepth.
-  std::vector<std::set<std::string>> open_objects;
-  const auto check = [&](int depth, json::parse_event_t event, json& parsed) {
-    if (depth > kMaxJsonDepth)
-      throw InvalidInput(path.string() + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
-    if (event == json::parse_event_t::object_start) open_objects.emplace_back();
-    else if (event == json::parse_event_t::object_end && !open_objects.empty()) open_objects.pop_back();
-    else if (event == json::parse_event_t::key && !open_objects.empty() &&
-             !open_objects.back().insert(parsed.get<std::string>()).second)
-      throw InvalidInput(path.string() + ": key '" + parsed.get<std::string>() + "' appears twice in the same object");
-    return true;
-  };
-  try {
-    return json::parse(s.str(), check);
-  } catch (const json::parse_error& e) {
-    // nlohmann's message carries the line and column.
-    std::string what = e.what();
-    const std::string prefix = "[json.exception.parse_error.101] ";
-    if (what.rfind(prefix, 0) == 0) what = what.substr(prefix.size());
-    throw InvalidInput(path.string() + ": invalid JSON: " + what);
-  } catch (const json::exception& e) {
-    throw InvalidInput(path.string() + ": invalid JSON: " + e.what());  // e.g. a number overflowing double
-  }
-}
-
-void parse_environment(const json& j, const Keys& k, Environment& env) {
-  const std::string key = "environment";
-  k.require_object(j, key);
-  if (!j.contains("type")) k.fail(key, "missing 'type' (fixed_sun or orbit)");
-  const std::string type = k.string(j, key, "type");
-  if (type == "fixed_sun") {
-    env.type = EnvironmentType::fixed_sun;
-    k.only_keys(j, key, {"type", "sun_direction", "solar_flux"}, " for type fixed_sun");
-    if (j.contains("sun_direction")) {
-      const json& d = j.at("sun_direction");
-      if (!d.is_array() || d.size() != 3) k.fail(key + ".sun_direction", "must be an array of 3 numbers");
-      Eigen::Vector3d v;
-      for (int i = 0; i < 3; ++i) {
-        if (!d[i].is_number() || !std::isfinite(d[i].get<double>())) k.fail(key + ".sun_direction", "must be an array of 3 finite numbers");
-        v[i] = d[i].get<double>();
-      }
-      if (!(v.norm() > 0)) k.fail(key + ".sun_direction", "must not be the zero vector");
-      env.sun_direction = v.normalized();
-    }
-    if (j.contains("solar_flux")) env.solar_flux_W_per_m2 = k.number_in(j, key, "solar_flux", 0, 1e7, false, " W/m^2");
-  } else if (type == "orbit") {
-    env.type = EnvironmentType::orbit;
-    k.only_keys(j, key, {"type", "altitude_km", "inclination_deg", "raan_deg", "day_of_year", "attitude", "albedo", "earth_ir_flux"},
-                " for type orbit");
-    if (j.contains("altitude_km")) env.altitude_km = k.number_in(j, key, "altitude_km", 0, 1e6, true, " km");
-    if (j.contains("inclination_deg")) env.inclination_deg = k.number_in(j, key, "inclination_deg", 0, 180, false, " deg");
-    if (j.contains("raan_deg")) env.raan_deg = k.number_in(j, key, "raan_deg", -360, 360, false, " deg");
-    if (j.contains("day_of_year")) env.day_of_year = static_cast<int>(k.integer(j, key, "day_of_year", 1, 366));
-    if (j.contains("attitude")) {
-      const std::string a = k.string(j, key, "attitude");
-      if (a == "nadir") env.attitude = Attitude::nadir;
-      else if (a == "sun") env.attitude = Attitude::sun;
-      else if (a == "inertial") env.attitude = Attitude::inertial;
-      else k.fail(key + ".attitude", "unknown attitude '" + a + "' (known: nadir, sun, inertial)");
-    }
-    if (j.contains("albedo")) env.albedo = k.number_in(j, key, "albedo", 0, 1, false, "");
-    if (j.contains("earth_ir_flux")) env.earth_ir_flux_W_per_m2 = k.number_in(j, key, "earth_ir_flux", 0, 1e4, false, " W/m^2");
-  } else {
-    k.fail(key + ".type", "unknown environment type '" + type + "' (known: fixed_sun, orbit)");
-  }
-}
-
-void parse_analysis(const json& j, const Keys& k, Analysis& a) {
-  const std::string key = "analysis";
-  k.require_object(j, key);
-  if (!j.contains("type")) k.fail(key, "missing 'type' (steady or transient_orbit)");
-  const std::string type = k.string(j, key, "type");
-  if (type == "steady") {
-    a.type = AnalysisType::steady;
-    k.only_keys(j, key, {"type"}, " for type steady");
-  } else if (type == "transient_orbit") {
-    a.type = AnalysisType::transient_orbit;
-    k.only_keys(j, key, {"type", "steps_per_orbit", "orbits", "time_tolerance_K"}, " for type transient_orbit");
-    if (j.contains("steps_per_orbit")) a.steps_per_orbit = static_cast<int>(k.integer(j, key, "steps_per_orbit", 4, 1000000));
-    if (j.contains("orbits")) a.orbits = static_cast<int>(k.integer(j, key, "orbits", 1, 10000));
-    if (j.contains("time_tolerance_K")) a.time_tolerance_K = k.number_in(j, key, "time_tolerance_K", 0.0, 100.0, true, "K");
-  } else {
-    k.fail(key + ".type", "unknown analysis type '" + type + "' (known: steady, transient_orbit)");
-  }
-}
-
-// Model files and load case files alike: an orbit transient needs an orbit.
-void check_analysis_fits_environment(const Analysis& a, const Environment& e, const Keys& k) {
-  if (a.type == AnalysisType::transient_orbit && e.type != EnvironmentType::orbit)
-    k.fail("analysis.type", "transient_orbit needs an environment of type orbit (there is no orbit period otherwise)");
-}
-
-void parse_radiation(const json& j, const Keys& k, RadiationSettings& r) {
-  const std::string key = "radiation";
-  k.require_object(j, key);
-  k.only_keys(j, key, {"rays_per_face", "min_rays_per_node", "seed"});
-  // One side emits at most max(rays_per_face, min_rays_per_node) rays and the Sobol table
-  // holds that many 16-byte points: 1e7 keeps it at 160 MB (40x the default
-  // min_rays_per_node), where 1e9 would ask for 16 GB.
-  constexpr long long kMaxRaysPerSide = 10000000;
-  if (j.contains("rays_per_face")) r.rays_per_face = static_cast<int>(k.integer(j, key, "rays_per_face", 1, kMaxRaysPerSide));
-  if (j.contains("min_rays_per_node"))
-    r.min_rays_per_node = static_cast<int>(k.integer(j, key, "min_rays_per_node", 0, kMaxRaysPerSide));
-  if (j.contains("seed")) {
-    const json& s = j.at("seed");
-    if (!s.is_number_unsigned() && !(s.is_number_integer() && s.get<long long>() >= 0))
-      k.fail("radiation.seed", "must be an integer >= 0, got " + s.dump());
-    r.seed = s.get<std::uint64_t>();
-  }
-}
 
 ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& options, bool allow_unknown_keys) {
   const std::string file = path.string();
@@ -541,15 +278,6 @@ ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& option
   return model;
 }
 
-const char* attitude_name(Attitude a) {
-  switch (a) {
-    case Attitude::nadir: return "nadir";
-    case Attitude::sun: return "sun";
-    case Attitude::inertial: return "inertial";
-  }
-  return "nadir";
-}
-
 }  // namespace
 
 ThermalModel load_model(const fs::path& path, const MeshReadOptions& options) {
@@ -571,116 +299,5 @@ ThermalModel load_model(const fs::path& path, const ModelLoadOptions& options) {
 }
 
 ThermalModel load_model(const fs::path& path) { return load_model(path, ModelLoadOptions{}); }
-
-LoadCase own_case(const ThermalModel& model, const std::string& name) {
-  return LoadCase{name, model.environment, model.analysis};
-}
-
-LoadCase load_case(const fs::path& path, const ThermalModel& base) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw IOError(path.string() + ": no such file");
-  const Keys k(path.string());
-  const json j = read_json(path);
-  k.require_object(j, "");
-  k.only_keys(j, "", {"name", "description", "environment", "analysis"}, " in a load case file");
-  LoadCase c = own_case(base, path.stem().string());
-  if (j.contains("name")) c.name = k.string(j, "", "name");
-  if (j.contains("environment")) parse_environment(j.at("environment"), k, c.environment);
-  if (j.contains("analysis")) parse_analysis(j.at("analysis"), k, c.analysis);
-  check_analysis_fits_environment(c.analysis, c.environment, k);
-  return c;
-}
-
-ThermalModel with_case(const ThermalModel& model, const LoadCase& c) {
-  ThermalModel m = model;
-  m.environment = c.environment;
-  m.analysis = c.analysis;
-  return m;
-}
-
-void save_model(const ThermalModel& model, const fs::path& json_path, const fs::path& mesh_path) {
-  const std::string ext = lower_extension(mesh_path);
-  if (ext != ".obj" && ext != ".ply")
-    throw InvalidInput(mesh_path.string() + ": a model's mesh must be .obj or .ply (STL cannot hold node groups)");
-  if (lower_extension(json_path) != ".json") throw InvalidInput(json_path.string() + ": the model file must end in .json");
-  const Mesh& mesh = model.mesh;
-  const int nf = mesh.num_faces();
-  if (mesh.face_node.size() != nf || mesh.face_material.size() != nf)
-    throw InvalidInput("save_model: the model's mesh has no node or material per face");
-  if (mesh.node_names.size() != model.nodes.size() || mesh.material_names.size() != model.materials.size())
-    throw InvalidInput("save_model: the mesh's node/material names do not match the model's nodes/materials");
-  for (int f = 0; f < nf; ++f)
-    if (mesh.face_node[f] < 0 || mesh.face_node[f] >= static_cast<int>(model.nodes.size()))
-      throw InvalidInput("save_model: face " + std::to_string(f) + " has no valid node");
-  if (model.default_material < 0 || model.default_material >= static_cast<int>(model.materials.size()))
-    throw InvalidInput("save_model: default_material out of range");
-
-  json j;
-  std::error_code ec;
-  const fs::path json_dir = fs::absolute(json_path, ec).parent_path();
-  fs::path rel = fs::absolute(mesh_path, ec).lexically_relative(json_dir);
-  if (rel.empty()) rel = fs::absolute(mesh_path, ec);
-  j["mesh"] = rel.generic_string();
-  j["unit_scale"] = 1.0;  // the mesh is written in metres
-  json mats = json::object();
-  for (const auto& m : model.materials) mats[m.name] = {{"absorptivity", m.absorptivity}, {"emissivity", m.emissivity}};
-  j["materials"] = mats;
-  j["default_material"] = model.materials[model.default_material].name;
-  json nodes = json::object();
-  for (std::size_t n = 0; n < model.nodes.size(); ++n) {
-    const Node& node = model.nodes[n];
-    json v = json::object();
-    if (node.material >= 0) v["material"] = model.materials.at(node.material).name;
-    v["capacitance"] = node.capacitance_J_per_K;
-    v["power"] = node.power_W;
-    if (node.fixed_temperature_K) v["fixed_temperature"] = *node.fixed_temperature_K;
-    if (node.sampling_boost != Node::SamplingBoost{})
-      v["sampling_boost"] = {{"ir", node.sampling_boost.ir}, {"loads", node.sampling_boost.loads}};
-    // Sidedness is stated here when it is uniform over the node; otherwise only the mesh
-    // file (PLY property, OBJ comment) carries it per face.
-    int back = -2;
-    bool uniform = true;
-    for (int f = 0; f < nf && uniform; ++f) {
-      if (mesh.face_node[f] != static_cast<int>(n)) continue;
-      const int b = mesh.face_back_material.size() == nf ? mesh.face_back_material[f] : -1;
-      if (back == -2) back = b;
-      uniform = b == back;
-    }
-    if (uniform && back == -1) v["two_sided"] = false;
-    if (uniform && back >= 0) {
-      v["two_sided"] = true;
-      v["back_material"] = model.materials.at(back).name;
-    }
-    nodes[node.name] = v;
-  }
-  j["nodes"] = nodes;
-  json links = json::array();
-  for (const auto& c : model.conductances)
-    links.push_back({{"from", model.nodes.at(c.from).name}, {"to", model.nodes.at(c.to).name}, {"value", c.conductance_W_per_K}});
-  j["conductances"] = links;
-  const Environment& e = model.environment;
-  if (e.type == EnvironmentType::fixed_sun)
-    j["environment"] = {{"type", "fixed_sun"},
-                        {"sun_direction", {e.sun_direction.x(), e.sun_direction.y(), e.sun_direction.z()}},
-                        {"solar_flux", e.solar_flux_W_per_m2}};
-  else
-    j["environment"] = {{"type", "orbit"},          {"altitude_km", e.altitude_km}, {"inclination_deg", e.inclination_deg},
-                        {"raan_deg", e.raan_deg},   {"day_of_year", e.day_of_year}, {"attitude", attitude_name(e.attitude)},
-                        {"albedo", e.albedo},       {"earth_ir_flux", e.earth_ir_flux_W_per_m2}};
-  if (model.analysis.type == AnalysisType::steady)
-    j["analysis"] = {{"type", "steady"}};
-  else {
-    j["analysis"] = {{"type", "transient_orbit"}, {"steps_per_orbit", model.analysis.steps_per_orbit}, {"orbits", model.analysis.orbits}};
-    if (model.analysis.time_tolerance_K != Analysis{}.time_tolerance_K) j["analysis"]["time_tolerance_K"] = model.analysis.time_tolerance_K;
-  }
-  j["radiation"] = {{"rays_per_face", model.radiation.rays_per_face},
-                    {"min_rays_per_node", model.radiation.min_rays_per_node},
-                    {"seed", model.radiation.seed}};
-
-  MeshWriteOptions mesh_options;
-  mesh_options.protected_inputs = {json_path};
-  write_mesh(mesh_path, mesh, mesh_options);
-  write_text_atomically(json_path, j.dump(2) + "\n", {mesh_path});
-}
 
 }  // namespace thermodec

@@ -1,0 +1,95 @@
+// The environment, analysis and radiation sections of model and load-case files.
+#include <cmath>
+#include <cstdint>
+
+#include "model_json.h"
+
+namespace thermodec::model_json {
+
+void parse_environment(const json& j, const Keys& k, Environment& env) {
+  const std::string key = "environment";
+  k.require_object(j, key);
+  if (!j.contains("type")) k.fail(key, "missing 'type' (fixed_sun or orbit)");
+  const std::string type = k.string(j, key, "type");
+  if (type == "fixed_sun") {
+    env.type = EnvironmentType::fixed_sun;
+    k.only_keys(j, key, {"type", "sun_direction", "solar_flux"}, " for type fixed_sun");
+    if (j.contains("sun_direction")) {
+      const json& d = j.at("sun_direction");
+      if (!d.is_array() || d.size() != 3) k.fail(key + ".sun_direction", "must be an array of 3 numbers");
+      Eigen::Vector3d v;
+      for (int i = 0; i < 3; ++i) {
+        if (!d[i].is_number() || !std::isfinite(d[i].get<double>())) k.fail(key + ".sun_direction", "must be an array of 3 finite numbers");
+        v[i] = d[i].get<double>();
+      }
+      if (!(v.norm() > 0)) k.fail(key + ".sun_direction", "must not be the zero vector");
+      env.sun_direction = v.normalized();
+    }
+    if (j.contains("solar_flux")) env.solar_flux_W_per_m2 = k.number_in(j, key, "solar_flux", 0, 1e7, false, " W/m^2");
+  } else if (type == "orbit") {
+    env.type = EnvironmentType::orbit;
+    k.only_keys(j, key, {"type", "altitude_km", "inclination_deg", "raan_deg", "day_of_year", "attitude", "albedo", "earth_ir_flux"},
+                " for type orbit");
+    if (j.contains("altitude_km")) env.altitude_km = k.number_in(j, key, "altitude_km", 0, 1e6, true, " km");
+    if (j.contains("inclination_deg")) env.inclination_deg = k.number_in(j, key, "inclination_deg", 0, 180, false, " deg");
+    if (j.contains("raan_deg")) env.raan_deg = k.number_in(j, key, "raan_deg", -360, 360, false, " deg");
+    if (j.contains("day_of_year")) env.day_of_year = static_cast<int>(k.integer(j, key, "day_of_year", 1, 366));
+    if (j.contains("attitude")) {
+      const std::string a = k.string(j, key, "attitude");
+      if (a == "nadir") env.attitude = Attitude::nadir;
+      else if (a == "sun") env.attitude = Attitude::sun;
+      else if (a == "inertial") env.attitude = Attitude::inertial;
+      else k.fail(key + ".attitude", "unknown attitude '" + a + "' (known: nadir, sun, inertial)");
+    }
+    if (j.contains("albedo")) env.albedo = k.number_in(j, key, "albedo", 0, 1, false, "");
+    if (j.contains("earth_ir_flux")) env.earth_ir_flux_W_per_m2 = k.number_in(j, key, "earth_ir_flux", 0, 1e4, false, " W/m^2");
+  } else {
+    k.fail(key + ".type", "unknown environment type '" + type + "' (known: fixed_sun, orbit)");
+  }
+}
+
+void parse_analysis(const json& j, const Keys& k, Analysis& a) {
+  const std::string key = "analysis";
+  k.require_object(j, key);
+  if (!j.contains("type")) k.fail(key, "missing 'type' (steady or transient_orbit)");
+  const std::string type = k.string(j, key, "type");
+  if (type == "steady") {
+    a.type = AnalysisType::steady;
+    k.only_keys(j, key, {"type"}, " for type steady");
+  } else if (type == "transient_orbit") {
+    a.type = AnalysisType::transient_orbit;
+    k.only_keys(j, key, {"type", "steps_per_orbit", "orbits", "time_tolerance_K"}, " for type transient_orbit");
+    if (j.contains("steps_per_orbit")) a.steps_per_orbit = static_cast<int>(k.integer(j, key, "steps_per_orbit", 4, 1000000));
+    if (j.contains("orbits")) a.orbits = static_cast<int>(k.integer(j, key, "orbits", 1, 10000));
+    if (j.contains("time_tolerance_K")) a.time_tolerance_K = k.number_in(j, key, "time_tolerance_K", 0.0, 100.0, true, "K");
+  } else {
+    k.fail(key + ".type", "unknown analysis type '" + type + "' (known: steady, transient_orbit)");
+  }
+}
+
+// Model files and load case files alike: an orbit transient needs an orbit.
+void check_analysis_fits_environment(const Analysis& a, const Environment& e, const Keys& k) {
+  if (a.type == AnalysisType::transient_orbit && e.type != EnvironmentType::orbit)
+    k.fail("analysis.type", "transient_orbit needs an environment of type orbit (there is no orbit period otherwise)");
+}
+
+void parse_radiation(const json& j, const Keys& k, RadiationSettings& r) {
+  const std::string key = "radiation";
+  k.require_object(j, key);
+  k.only_keys(j, key, {"rays_per_face", "min_rays_per_node", "seed"});
+  // One side emits at most max(rays_per_face, min_rays_per_node) rays and the Sobol table
+  // holds that many 16-byte points: 1e7 keeps it at 160 MB (40x the default
+  // min_rays_per_node), where 1e9 would ask for 16 GB.
+  constexpr long long kMaxRaysPerSide = 10000000;
+  if (j.contains("rays_per_face")) r.rays_per_face = static_cast<int>(k.integer(j, key, "rays_per_face", 1, kMaxRaysPerSide));
+  if (j.contains("min_rays_per_node"))
+    r.min_rays_per_node = static_cast<int>(k.integer(j, key, "min_rays_per_node", 0, kMaxRaysPerSide));
+  if (j.contains("seed")) {
+    const json& s = j.at("seed");
+    if (!s.is_number_unsigned() && !(s.is_number_integer() && s.get<long long>() >= 0))
+      k.fail("radiation.seed", "must be an integer >= 0, got " + s.dump());
+    r.seed = s.get<std::uint64_t>();
+  }
+}
+
+}  // namespace thermodec::model_json
