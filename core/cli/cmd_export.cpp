@@ -40,7 +40,7 @@ const char* const kFormatHelp =
 
 void run_export(const ExportOptions& o) {
   const ExchangeFormat format = exchange_format(o.format);
-  ModelLoadOptions load;
+  ModelLoadOptions load = model_load_options();
   load.clean_bare_mesh = !o.raw_mesh;
   ThermalModel model = load_model(o.model, load);
   ExportSettings settings;

@@ -9,6 +9,7 @@ namespace thermodec::cli {
 namespace {
 int g_exit_code = 0;
 bool g_allow_unknown_keys = false;
+int g_max_nodes = thermodec::AutomaticNodeOptions{}.max_nodes;
 }
 
 thermodec::ModelLoadOptions model_load_options(const thermodec::MeshReadOptions& mesh, bool clean_bare_mesh) {
@@ -16,6 +17,7 @@ thermodec::ModelLoadOptions model_load_options(const thermodec::MeshReadOptions&
   o.mesh = mesh;
   o.clean_bare_mesh = clean_bare_mesh;
   o.allow_unknown_keys = g_allow_unknown_keys;
+  o.automatic_nodes.max_nodes = g_max_nodes;
   return o;
 }
 
@@ -68,6 +70,11 @@ int main(int argc, char** argv) {
   // Accepted before or after the subcommand (fallthrough).
   app.add_flag("--allow-unknown-keys", g_allow_unknown_keys,
                "Unknown keys in a model file warn instead of failing (e.g. a file from a newer version)");
+  app.add_option("--nodes", g_max_nodes,
+                 "A mesh without node groups is split into at most N thermal nodes (connected parts, then "
+                 "faces of one orientation; the smallest merge first)")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
   app.fallthrough();
   app.set_version_flag("--version", std::string("thermodec ") + thermodec::kThermodecVersion);
   add_info(app);

@@ -78,6 +78,21 @@ TEST(CliInputChecks, allow_unknown_keys_downgrades_the_error_to_a_warning) {
   EXPECT_TRUE(has(r.err, "warning")) << r.err;
 }
 
+TEST(CliInputChecks, nodes_option_caps_the_automatic_breakdown_of_a_mesh_without_groups) {
+  auto d = temp_dir("nodes_cap");
+  std::istringstream grouped(read_text(kData / "satellite.obj"));
+  std::string bare;
+  for (std::string line; std::getline(grouped, line);)
+    if (line.rfind("g ", 0) != 0 && line.rfind("usemtl", 0) != 0 && line.rfind("o ", 0) != 0) bare += line + "\n";
+  write_text(d / "bare.obj", bare);
+  const CliRun r = run_cli("info --nodes 4 " + q(d / "bare.obj"), d);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "nodes               4\n")) << r.out;
+  const CliRun zero = run_cli("info --nodes 0 " + q(d / "bare.obj"), d);
+  EXPECT_EQ(zero.exit_code, 1);
+  EXPECT_TRUE(has(zero.err, "--nodes")) << zero.err;
+}
+
 TEST(CliInputChecks, misspelt_nested_key_names_the_nearest_known_key) {
   auto d = temp_dir("nested_typo");
   fs::copy_file(kData / "satellite.obj", d / "satellite.obj");

@@ -45,10 +45,10 @@ int index_of(const std::vector<Node>& v, const std::string& name) {
 
 // Makes every face belong to a node: a mesh without any group gets the automatic nodal
 // breakdown; stray faces of a grouped mesh go to the node "ungrouped".
-void ensure_nodes(Mesh& mesh) {
+void ensure_nodes(Mesh& mesh, const AutomaticNodeOptions& automatic) {
   const bool any_group = mesh.face_node.size() > 0 && mesh.face_node.maxCoeff() >= 0;
   if (!any_group) {
-    assign_automatic_nodes(mesh);
+    assign_automatic_nodes(mesh, automatic);
     return;
   }
   if (mesh.face_node.minCoeff() >= 0) return;
@@ -103,22 +103,21 @@ void resolve_faces(ThermalModel& model, const std::vector<NodeSides>& sides, con
   for (const auto& n : model.nodes) mesh.node_names.push_back(n.name);
 }
 
-ThermalModel model_from_bare_mesh(const fs::path& path, const MeshReadOptions& options,
-                                  const BareMeshCleanupOptions* cleanup) {
+ThermalModel model_from_bare_mesh(const fs::path& path, const ModelLoadOptions& options) {
   ThermalModel model;
   model.mesh_path = path;
-  model.mesh = read_mesh(path, options);
+  model.mesh = read_mesh(path, options.mesh);
   Eigen::VectorXi two_sided;
   // Only a mesh without any group is a raw CAD export; a grouped mesh was prepared for
   // thermodec (or by it) and is taken as written.
   const bool grouped = model.mesh.face_node.size() > 0 && model.mesh.face_node.maxCoeff() >= 0;
-  if (cleanup && !grouped) {
-    BareMeshCleanupResult cleaned = cleanup_bare_mesh(model.mesh, *cleanup);
+  if (options.clean_bare_mesh && !grouped) {
+    BareMeshCleanupResult cleaned = cleanup_bare_mesh(model.mesh, options.cleanup);
     model.mesh = std::move(cleaned.mesh);
     two_sided = std::move(cleaned.two_sided);
     model.mesh_cleanup = cleaned.report;
   }
-  ensure_nodes(model.mesh);
+  ensure_nodes(model.mesh, options.automatic_nodes);
   model.materials.push_back({kDefaultMaterialName, kDefaultAbsorptivity, kDefaultEmissivity});
   model.default_material = 0;
   // With no model file there are no coating properties: materials named in the mesh get the
@@ -145,9 +144,9 @@ ThermalModel model_from_bare_mesh(const fs::path& path, const MeshReadOptions& o
 }
 
 
-ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& options, bool allow_unknown_keys) {
+ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& options) {
   const std::string file = path.string();
-  const Keys k(file, allow_unknown_keys);
+  const Keys k(file, options.allow_unknown_keys);
   const json j = read_json(path);
   k.require_object(j, "");
   if (!j.contains("mesh") && j.contains("environment") && !j.contains("nodes") && !j.contains("materials"))
@@ -199,9 +198,9 @@ ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& option
   }
 
   // The mesh: its groups are the nodes.
-  model.mesh = read_mesh(model.mesh_path, options);
+  model.mesh = read_mesh(model.mesh_path, options.mesh);
   model.mesh.V *= model.unit_scale;
-  ensure_nodes(model.mesh);
+  ensure_nodes(model.mesh, options.automatic_nodes);
   for (const auto& name : model.mesh.node_names) {
     Node node;
     node.name = name;
@@ -280,22 +279,20 @@ ThermalModel model_from_json(const fs::path& path, const MeshReadOptions& option
 
 }  // namespace
 
-ThermalModel load_model(const fs::path& path, const MeshReadOptions& options) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw IOError(path.string() + ": no such file");
-  if (is_mesh_path(path)) return model_from_bare_mesh(path, options, nullptr);
-  if (lower_extension(path) != ".json")
-    throw InvalidInput(path.string() + ": a model is a .json model file or a .obj, .ply or .stl mesh");
-  return model_from_json(path, options, false);
+ThermalModel load_model(const fs::path& path, const MeshReadOptions& mesh_options) {
+  ModelLoadOptions options;
+  options.mesh = mesh_options;
+  options.clean_bare_mesh = false;
+  return load_model(path, options);
 }
 
 ThermalModel load_model(const fs::path& path, const ModelLoadOptions& options) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw IOError(path.string() + ": no such file");
-  if (is_mesh_path(path)) return model_from_bare_mesh(path, options.mesh, options.clean_bare_mesh ? &options.cleanup : nullptr);
+  if (is_mesh_path(path)) return model_from_bare_mesh(path, options);
   if (lower_extension(path) != ".json")
     throw InvalidInput(path.string() + ": a model is a .json model file or a .obj, .ply or .stl mesh");
-  return model_from_json(path, options.mesh, options.allow_unknown_keys);
+  return model_from_json(path, options);
 }
 
 ThermalModel load_model(const fs::path& path) { return load_model(path, ModelLoadOptions{}); }

@@ -6,6 +6,7 @@
 
 #include "thermodec/mesh/bare_mesh_cleanup.h"
 #include "thermodec/mesh/io.h"
+#include "thermodec/nodes/automatic_nodes.h"
 #include "thermodec/nodes/thermal_model.h"
 
 namespace thermodec {
@@ -29,6 +30,8 @@ struct ModelLoadOptions {
   //! An unknown key in the model file is an error naming the nearest known key; true makes
   //! it a warning (CLI `--allow-unknown-keys`), e.g. for a file written by a newer version.
   bool allow_unknown_keys = false;
+  //! The automatic nodal breakdown of a mesh without groups (CLI `--nodes N` sets max_nodes).
+  AutomaticNodeOptions automatic_nodes;
 };
 
 //! Same, with all loading options. load_model(path) = load_model(path, ModelLoadOptions{}).
