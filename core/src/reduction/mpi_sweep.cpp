@@ -14,8 +14,9 @@ namespace thermodec {
 namespace {
 bool g_started = false;
 
-// One rank's curves as doubles (node, sample count, ratios, differences, faces): NaN
-// differences and face counts (< 2^53) travel exactly.
+// One rank's curves as doubles (node, sample count, ratios, differences, faces, then per
+// sample the difference field as rows, columns, values): NaN differences and face counts
+// (< 2^53) travel exactly.
 std::vector<double> pack(const std::vector<SensitivityCurve>& curves, int trials, long long peak_bytes) {
   std::vector<double> b{static_cast<double>(trials), static_cast<double>(peak_bytes)};
   for (const auto& c : curves) {
@@ -24,6 +25,12 @@ std::vector<double> pack(const std::vector<SensitivityCurve>& curves, int trials
     b.insert(b.end(), c.ratios.begin(), c.ratios.end());
     b.insert(b.end(), c.max_abs_dT_K.begin(), c.max_abs_dT_K.end());
     for (int f : c.faces_after) b.push_back(f);
+    for (std::size_t i = 0; i < c.ratios.size(); ++i) {
+      const Eigen::MatrixXd& d = i < c.dT_K.size() ? c.dT_K[i] : Eigen::MatrixXd();
+      b.push_back(static_cast<double>(d.rows()));
+      b.push_back(static_cast<double>(d.cols()));
+      b.insert(b.end(), d.data(), d.data() + d.size());
+    }
   }
   return b;
 }
@@ -44,6 +51,14 @@ int unpack(const double* p, const double* end, std::vector<SensitivityCurve>& cu
     c.max_abs_dT_K.assign(p + m, p + 2 * m);
     for (std::size_t i = 0; i < m; ++i) c.faces_after.push_back(static_cast<int>(p[2 * m + i]));
     p += 3 * m;
+    for (std::size_t i = 0; i < m; ++i) {
+      if (p + 2 > end) throw SolverError("internal: malformed sensitivity curves gathered from an MPI rank");
+      const auto rows = static_cast<Eigen::Index>(p[0]), cols = static_cast<Eigen::Index>(p[1]);
+      if (rows < 0 || cols < 0 || p + 2 + rows * cols > end)
+        throw SolverError("internal: malformed sensitivity curves gathered from an MPI rank");
+      c.dT_K.push_back(Eigen::Map<const Eigen::MatrixXd>(p + 2, rows, cols));
+      p += 2 + rows * cols;
+    }
   }
   return trials;
 }

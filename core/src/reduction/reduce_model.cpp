@@ -338,6 +338,11 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
       const TrialResult o = full ? refs[c]->verify(r) : refs[c]->trial(r);
       t.max_abs_dT_K = std::max(t.max_abs_dT_K, o.max_abs_dT_K);
       t.node_max_abs_dT_K = t.node_max_abs_dT_K.cwiseMax(o.node_max_abs_dT_K);
+      if (t.dT_K.rows() == o.dT_K.rows()) {  // the cases' fields side by side
+        Eigen::MatrixXd both(t.dT_K.rows(), t.dT_K.cols() + o.dT_K.cols());
+        both << t.dT_K, o.dT_K;
+        t.dT_K = std::move(both);
+      }
       t.timing.decimation_s += o.timing.decimation_s;
       t.timing.couplings_s += o.timing.couplings_s;
       t.timing.loads_s += o.timing.loads_s;

@@ -41,7 +41,8 @@ TrialResult trial_result(const SimulationResult& reference, const SimulationResu
       reference.temperature_K.cols() != candidate.temperature_K.cols())
     throw InvalidInput("candidate and reference results differ in size");
   TrialResult t;
-  const Eigen::MatrixXd dT = (candidate.temperature_K - reference.temperature_K).cwiseAbs();
+  t.dT_K = candidate.temperature_K - reference.temperature_K;
+  const Eigen::MatrixXd dT = t.dT_K.cwiseAbs();
   t.node_max_abs_dT_K = dT.rowwise().maxCoeff();
   // note: NaN temperatures must not hide behind maxCoeff(): they fail every tolerance.
   t.max_abs_dT_K = dT.array().isNaN().any() ? std::numeric_limits<double>::quiet_NaN()

@@ -53,6 +53,7 @@ std::vector<SensitivityCurve> sensitivity_analysis(int num_nodes, const TrialFun
       c.ratios.insert(c.ratios.begin(), below);
       c.max_abs_dT_K.insert(c.max_abs_dT_K.begin(), res.max_abs_dT_K);
       c.faces_after.insert(c.faces_after.begin(), faces_of(res));
+      c.dT_K.insert(c.dT_K.begin(), res.dT_K);
       if (res.max_abs_dT_K <= options.refine_first_above_K) break;
     }
     int last_faces = -1;
@@ -64,6 +65,7 @@ std::vector<SensitivityCurve> sensitivity_analysis(int num_nodes, const TrialFun
       c.ratios.push_back(r);
       c.max_abs_dT_K.push_back(res.max_abs_dT_K);
       c.faces_after.push_back(faces);
+      c.dT_K.push_back(res.dT_K);
       last_faces = faces;
       if (!(res.max_abs_dT_K <= options.cap_K)) break;
     }

@@ -8,6 +8,7 @@
 
 #include "thermodec/common/errors.h"
 #include "thermodec/reduction/prediction.h"
+#include "thermodec/reduction/superposition.h"
 
 namespace thermodec {
 
@@ -145,6 +146,78 @@ void push_remaining_slack(const std::vector<const SensitivityCurve*>& curve_of, 
   }
 }
 
+// Back-off budget spent (a large model's leave-one-out step costs one trial per reduced node),
+// or a step stalled (stall_fraction): scale back rather than give up the reduction, by
+// bisection on the share m of the tolerance each node may spend on its own curve: node k goes
+// to min(its current ratio, feasible_ratio(curve_k, m tol)). Many nodes that each move the
+// model by up to the tolerance add up; a smaller per-node budget keeps the reduction of the
+// insensitive nodes where a common factor on all ratios cuts everyone alike (tdrs at 0.5 K:
+// 34 nodes at m = 1 measured 1.56 K, at m = 1/4 0.23 K with 18699 faces, while a common factor
+// of 0.11 on the backed-off ratios was needed for 0.43 K, 19445 faces). A later pass (its
+// verification failed) starts at m = 1/2, so the passes end at the unreduced model at worst.
+Eigen::VectorXd scale_back(const std::vector<const SensitivityCurve*>& curve_of, const Eigen::VectorXd& base,
+                           const TrialFunction& trial, const InformedOptions& o, bool first_pass, int& evaluations,
+                           const RecordFn& record, TrialResult& res) {
+  const double tol = o.tolerance_K;
+  const int num_nodes = static_cast<int>(base.size());
+  constexpr int kScaleBackSteps = 6;  // share of the tolerance resolved to 1/64
+  auto scaled = [&](double m) {
+    Eigen::VectorXd r(num_nodes);
+    for (int k = 0; k < num_nodes; ++k)
+      r[k] = curve_of[k] ? std::min(base[k], feasible_ratio(*curve_of[k], m * tol)) : 0.0;
+    return r;
+  };
+  double lo = 0.0, hi = first_pass ? 1.0 : 0.5;
+  TrialResult lo_res;
+  for (int it = 0; it < kScaleBackSteps; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    const Eigen::VectorXd r = scaled(mid);
+    const TrialResult t = trial(r);
+    ++evaluations;
+    record(r, t, "scale back: each node's share of the tolerance x" + std::to_string(mid));
+    if (within(t, tol)) {
+      lo = mid;
+      lo_res = t;
+    } else {
+      hi = mid;
+    }
+  }
+  if (lo > 0.0) res = lo_res;
+  return scaled(lo);
+}
+
+// The informed strategy's first candidate, measured by `trial` into `res`. By superposition:
+// the superposition's allocation for the tolerance; while its trial measures over the
+// tolerance, the target is scaled by tolerance / measured (a proportional correction of the
+// superposition's error) and re-allocated, at most o.max_corrections times. Otherwise the
+// paper's per-node prediction. `first` receives the first prediction's ratios.
+Eigen::VectorXd predicted_start(const std::vector<const SensitivityCurve*>& curve_of, const TrialFunction& trial,
+                                const InformedOptions& o, bool by_superposition, int& evaluations, const RecordFn& record,
+                                TrialResult& res, Eigen::VectorXd& first) {
+  const double tol = o.tolerance_K;
+  const int num_nodes = static_cast<int>(curve_of.size());
+  Eigen::VectorXd ratios = Eigen::VectorXd::Zero(num_nodes);
+  if (!by_superposition)
+    for (int k = 0; k < num_nodes; ++k)
+      if (curve_of[k]) ratios[k] = feasible_ratio(*curve_of[k], tol);
+  double target = tol;
+  if (by_superposition) ratios = superposed_allocation(curve_of, num_nodes, target);
+  first = ratios;
+  res = trial(ratios);
+  ++evaluations;
+  record(ratios, res, by_superposition ? "predicted by superposition" : "predicted");
+  for (int c = 0; by_superposition && c < o.max_corrections && !within(res, tol) && res.max_abs_dT_K > 0.0; ++c) {
+    target *= tol / res.max_abs_dT_K;  // NaN measured: the loop ends on the next check
+    const Eigen::VectorXd next = superposed_allocation(curve_of, num_nodes, target);
+    if (next == ratios) break;
+    ratios = next;
+    res = trial(ratios);
+    ++evaluations;
+    record(ratios, res, "corrected superposition (target " + fmt_ratio(target) + " K)");
+  }
+  return ratios;
+}
+
 }  // namespace
 
 ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves, int num_nodes,
@@ -160,28 +233,24 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
     if (c.node >= 0 && c.node < num_nodes) curve_of[c.node] = &c;
 
   ReductionOutcome out;
-  Eigen::VectorXd ratios = Eigen::VectorXd::Zero(num_nodes);
-  for (int k = 0; k < num_nodes; ++k)
-    if (curve_of[k]) ratios[k] = feasible_ratio(*curve_of[k], tol);
-  out.predicted_ratio_per_node = ratios;
-
+  const bool fields = has_difference_fields(curve_of);
   int evaluations = 0;
   auto record = [&](const Eigen::VectorXd& r, const TrialResult& res, const std::string& action) {
-    out.history.push_back({r, res, within(res, tol), action});
-    log(action + ": faces " + std::to_string(res.faces_after) + ", max|dT| " +
-        std::to_string(res.max_abs_dT_K) + " K");
+    ReductionStep step{r, res, within(res, tol), action};
+    if (fields) step.predicted_K = superposed_max_abs_dT_K(curve_of, r);
+    out.history.push_back(step);
+    log(action + ": faces " + std::to_string(res.faces_after) + ", max|dT| " + std::to_string(res.max_abs_dT_K) +
+        " K" + (fields ? " (superposition predicted " + std::to_string(step.predicted_K) + " K)" : ""));
   };
-
-  TrialResult res = trial(ratios);
-  ++evaluations;
-  record(ratios, res, "predicted");
+  TrialResult res;
+  Eigen::VectorXd ratios = predicted_start(curve_of, trial, o, fields && o.start_by_superposition, evaluations,
+                                           record, res, out.predicted_ratio_per_node);
 
   // Back-off: measured contributions (leave-one-out) decide which node gives way.
   Eigen::VectorXd best = Eigen::VectorXd::Zero(num_nodes);
   TrialResult best_verified;
   bool have_best = false;
   int scale_passes = 0;
-  constexpr int kScaleBackSteps = 6;  // share of the tolerance resolved to 1/64
   while (true) {
     bool stalled = false;  // a back-off step that barely helped: many small contributors
     while (!within(res, tol) && ratios.maxCoeff() > 0.0 && evaluations < o.max_evaluations && !stalled) {
@@ -239,42 +308,8 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       }
     }
     if (!within(res, tol) && ratios.maxCoeff() > 0.0) {
-      // Evaluation budget spent (a large model's leave-one-out step costs one trial per reduced
-      // node), or a step stalled (stall_fraction): scale back rather than give up the
-      // reduction, by bisection on the share m of the
-      // tolerance each node may spend on its own curve: node k goes to
-      // min(its current ratio, feasible_ratio(curve_k, m tol)). Many nodes that each move the
-      // model by up to the tolerance add up; a smaller per-node budget keeps the reduction of
-      // the insensitive nodes where a common factor on all ratios cuts everyone alike (tdrs
-      // at 0.5 K: 34 nodes at m = 1 measured 1.56 K, at m = 1/4 0.23 K with 18699 faces, while
-      // a common factor of 0.11 on the backed-off ratios was needed for 0.43 K, 19445 faces).
-      // A later pass (its verification failed) starts at m = 1/2, so the passes end at the
-      // unreduced model at worst.
       if (!stalled) log("evaluation budget spent while backing off; scaling every node's share of the tolerance back");
-      const Eigen::VectorXd base = ratios;
-      auto scaled = [&](double m) {
-        Eigen::VectorXd r(num_nodes);
-        for (int k = 0; k < num_nodes; ++k)
-          r[k] = curve_of[k] ? std::min(base[k], feasible_ratio(*curve_of[k], m * tol)) : 0.0;
-        return r;
-      };
-      double lo = 0.0, hi = scale_passes++ == 0 ? 1.0 : 0.5;
-      TrialResult lo_res;
-      for (int it = 0; it < kScaleBackSteps; ++it) {
-        const double mid = 0.5 * (lo + hi);
-        const Eigen::VectorXd r = scaled(mid);
-        const TrialResult t = trial(r);
-        ++evaluations;
-        record(r, t, "scale back: each node's share of the tolerance x" + std::to_string(mid));
-        if (within(t, tol)) {
-          lo = mid;
-          lo_res = t;
-        } else {
-          hi = mid;
-        }
-      }
-      ratios = scaled(lo);
-      if (lo > 0.0) res = lo_res;
+      ratios = scale_back(curve_of, ratios, trial, o, scale_passes++ == 0, evaluations, record, res);
     }
     const TrialResult v = verify(ratios);
     record(ratios, v, "verify");

@@ -18,6 +18,8 @@ struct SensitivityCurve {
   std::vector<double> ratios;          //!< fraction of the node's faces removed [-]
   std::vector<double> max_abs_dT_K;    //!< max |dT| of the whole model [K]
   std::vector<int> faces_after;        //!< faces the node kept
+  //! Per sample, the trial's signed difference field (TrialResult::dT_K), or empty.
+  std::vector<Eigen::MatrixXd> dT_K;
 };
 
 struct SensitivityOptions {

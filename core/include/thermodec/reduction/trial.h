@@ -14,6 +14,11 @@ struct TrialResult {
   Eigen::VectorXd node_max_abs_dT_K;   //!< per node: max over time of |dT| [K]
   Eigen::VectorXi node_faces_after;    //!< per node: faces kept by the decimator
   int faces_after = 0;                 //!< total faces of the candidate mesh
+  //! The signed difference field T_candidate - T_reference [K], nodes x output times (with
+  //! several load cases, the cases' columns side by side). Single-node trials keep it so that
+  //! a combination of node reductions can be predicted by superposition (superposition.h).
+  //! Empty when the trial function does not provide it.
+  Eigen::MatrixXd dT_K;
   //! Wall time of the trial's phases [s] (for benchmarks; 0 for a phase it skipped). A full
   //! (non-incremental) simulation puts its couplings, loads and solve all in `simulation_s`.
   //! An incremental trial computes its couplings and loads side by side: their times overlap.
