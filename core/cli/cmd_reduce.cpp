@@ -9,6 +9,7 @@
 #include "thermodec/nodes/load_case.h"
 #include "thermodec/common/output_paths.h"
 #include "thermodec/nodes/load_model.h"
+#include "thermodec/reduction/record_budget.h"
 #include "thermodec/reduction/reduce_model.h"
 #include "thermodec/report/reduction_report.h"
 #include "thermodec/thermal/simulate_model.h"
@@ -34,6 +35,7 @@ struct ReduceCliOptions {
   bool max_evaluations_set = false;
   double noise_target_fraction = 0.05;
   double max_area_change = -1.0;  // < 0: the default
+  double record_memory_GiB = 0.0;  // 0: the default (record_budget.h)
   std::vector<std::string> case_files;
 };
 
@@ -80,6 +82,7 @@ void run_reduce(const ReduceCliOptions& o) {
     s.reference.decimation.max_relative_area_change = o.max_area_change;
     s.area_error_fraction = 0.0;
   }
+  if (o.record_memory_GiB > 0.0) s.reference.record_budget_bytes = static_cast<std::size_t>(o.record_memory_GiB * 1073741824.0);
   // Load cases read (and checked) before any simulation.
   for (const auto& f : o.case_files) s.extra_cases.push_back(load_case(f, model));
 #ifdef THERMODEC_HAS_MPI
@@ -110,7 +113,9 @@ void run_reduce(const ReduceCliOptions& o) {
   for (const auto& w : warnings) std::cerr << "reduce: warning: plot not written: " << w << "\n";
   std::cout << reduction_summary(run);
   char mem[160];
-  std::snprintf(mem, sizeof mem, "peak memory: %.0f MiB", run.peak_memory_bytes / 1048576.0);
+  const std::size_t records = s.reference.record_budget_bytes > 0 ? s.reference.record_budget_bytes : default_record_budget_bytes();
+  std::snprintf(mem, sizeof mem, "peak memory: %.0f MiB (ray records allowed up to %.2f GiB)", run.peak_memory_bytes / 1048576.0,
+                records / 1073741824.0);
   std::cout << mem;
   if (run.ranks > 1) {
     std::snprintf(mem, sizeof mem, " (rank 0; largest of the other %d ranks %.0f MiB)", run.ranks - 1,
@@ -167,6 +172,11 @@ void add_reduce(CLI::App& app) {
                   "bound on each node's relative area change by the decimator, used as given (default: from the "
                   "tolerance, so that area drift dT = T dA/4A costs at most 10 % of it at the hottest node)")
       ->check(CLI::NonNegativeNumber);
+  sub->add_option("--record-memory", o->record_memory_GiB,
+                  "memory for the reference's reusable ray records [GiB], shared 7:8:2 by IR, sun/Earth and Earth "
+                  "ray geometry records; beyond it trials re-trace instead (same results, slower). Default: 4.25 GiB "
+                  "or a quarter of the machine's memory if less")
+      ->check(CLI::Range(0.01, 1024.0));
   sub->add_option("--case", o->case_files,
                   "another load case the reduced model must also meet (repeatable): a JSON file "
                   "{\"name\": .., \"environment\": {..}, \"analysis\": {..}} read over the model's own "

@@ -15,6 +15,7 @@
 #include "thermodec/nodes/load_case.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/rays/surface_sides.h"
+#include "thermodec/reduction/record_budget.h"
 #include "thermodec/reduction/reduce_model.h"
 #include "thermodec/report/reduction_report.h"
 #include "thermodec/thermal/simulate_model.h"
@@ -132,6 +133,26 @@ TEST(ReductionReference, incremental_trials_match_full_recompute) {
   EXPECT_EQ(ref.trials_evaluated(), before + 1);
   EXPECT_EQ(ta.max_abs_dT_K, tb.max_abs_dT_K);
   EXPECT_EQ(ta.node_faces_after, tb.node_faces_after);
+}
+
+TEST(ReductionReference, trials_do_not_depend_on_the_ray_record_budget) {
+  // Without room for records, trials re-trace every ray near the change: slower, same numbers.
+  const RecordBudget split = split_record_budget(default_record_budget_bytes());
+  EXPECT_LE(split.ir_bytes + split.load_bytes + split.earth_geometry_bytes, default_record_budget_bytes());
+  EXPECT_EQ(split_record_budget(std::size_t(17) << 28).load_bytes, std::size_t(2) << 30);
+  const ThermalModel model = small_model();
+  ReductionReferenceSettings rs;
+  rs.simulation.loads.earth_rays_per_face = 16;
+  rs.simulation.loads.sun_rays_per_face = 256;
+  ReductionReferenceSettings starved = rs;
+  starved.record_budget_bytes = 17;  // one byte per share: no record fits
+  ReductionReference with(model, rs), without(model, starved);
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(7);
+  r[6] = 0.8;
+  r[0] = 0.5;
+  const TrialResult a = with.trial(r), b = without.trial(r);
+  EXPECT_EQ(a.max_abs_dT_K, b.max_abs_dT_K);
+  EXPECT_EQ(a.node_max_abs_dT_K, b.node_max_abs_dT_K);
 }
 
 TEST(ReductionReference, trial_noise_floor_redraws_one_node_at_a_time_as_a_full_run_would) {

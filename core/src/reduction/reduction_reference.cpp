@@ -13,6 +13,7 @@
 #include "thermodec/radiation/face_view_factors.h"
 #include "thermodec/radiation/radiation_reference.h"
 #include "thermodec/rays/ray_scene.h"
+#include "thermodec/reduction/record_budget.h"
 
 namespace thermodec {
 
@@ -72,7 +73,11 @@ ReductionReference::ReductionReference(const ThermalModel& model, const Reductio
   for (int k = 0; k < n; ++k)
     if (impl_->faces_per_node[k] == 0)
       throw InvalidInput("node '" + model.nodes[k].name + "' has no faces in the mesh");
-  impl_->radiation = std::make_unique<RadiationReference>(prepare_radiation(model, model.radiation));
+  const RecordBudget budget = split_record_budget(
+      settings.record_budget_bytes > 0 ? settings.record_budget_bytes : default_record_budget_bytes());
+  impl_->settings.simulation.loads.ray_record_budget_bytes = budget.load_bytes;
+  impl_->settings.simulation.loads.earth_ray_geometry_budget_bytes = budget.earth_geometry_bytes;
+  impl_->radiation = std::make_unique<RadiationReference>(prepare_radiation(model, model.radiation, budget.ir_bytes));
   // The reference's loads, recording their samples so that trials re-sample only what a
   // change can reach; with the prepared couplings they make the reference simulation itself
   // (the same rays, samples and solve as simulate_model).

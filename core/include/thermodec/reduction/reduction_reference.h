@@ -17,6 +17,9 @@ namespace thermodec {
 struct ReductionReferenceSettings {
   DecimationOptions decimation;
   ModelSimulationSettings simulation;  //!< same for reference, trials and verification
+  //! Memory for the reference's reusable ray records [bytes] (record_budget.h); 0 = the
+  //! default (default_record_budget_bytes). Results do not depend on it, only trial speed.
+  std::size_t record_budget_bytes = 0;
 };
 
 //! One evaluated candidate with everything needed to report it.
