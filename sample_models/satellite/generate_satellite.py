@@ -5,6 +5,11 @@ boom, an instrument box), as a coarse mesh (~1000 triangles) and a dense one (~2
 of the same craft, each with its thermal model file.
 
     /usr/bin/python3 generate_satellite.py [OUTPUT_DIR]     (default: this script's folder)
+    /usr/bin/python3 generate_satellite.py --refine K OUTPUT_DIR
+
+The second form writes only satellite_kK.obj and model_kK.json: every grid refined K times, the
+dish 10 K rings x 32 K segments (K = 4 is the dense variant; K = 9 about 100k triangles), for
+scale benchmarks (scripts/bench_scale).
 
 Standard library only and deterministic: rerunning rewrites byte-identical files.
 
@@ -331,7 +336,26 @@ def write_json(data, path):
         f.write(json.dumps(data, indent=2) + "\n")
 
 
+def write_refined(k, out):
+    os.makedirs(out, exist_ok=True)
+    write_mtl(os.path.join(out, "satellite.mtl"))
+    mesh = build(k, 10 * k, 32 * k)
+    check(mesh)
+    mesh_file = "satellite_k%d.obj" % k
+    write_obj(mesh, os.path.join(out, mesh_file),
+              "thermodec sample satellite refined %dx: %d vertices, %d triangles"
+              % (k, len(mesh.vertices), len(mesh.faces)))
+    write_json(model(mesh_file), os.path.join(out, "model_k%d.json" % k))
+    print("%s: %d vertices, %d triangles, %d nodes" % (mesh_file, len(mesh.vertices), len(mesh.faces),
+                                                       len(NODE_ORDER)))
+
+
 def main():
+    if len(sys.argv) == 4 and sys.argv[1] == "--refine" and sys.argv[2].isdigit() and int(sys.argv[2]) >= 1:
+        write_refined(int(sys.argv[2]), sys.argv[3])
+        return
+    if len(sys.argv) > 2 or (len(sys.argv) == 2 and sys.argv[1].startswith("-")):
+        sys.exit("usage: generate_satellite.py [OUTPUT_DIR] | --refine K OUTPUT_DIR")
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
     os.makedirs(out, exist_ok=True)
     write_mtl(os.path.join(out, "satellite.mtl"))
