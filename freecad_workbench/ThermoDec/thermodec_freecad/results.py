@@ -77,8 +77,15 @@ def _mesh_feature(analysis, mesh, mesh_path, temperatures, name):
     if FreeCAD.GuiUp:
         from . import viewproviders
         viewproviders.ViewProviderThermalMesh(feature.ViewObject)
+        feature.ViewObject.Lighting = "Two side"  # thin sheets (wings) are seen from both sides
     analysis.addObject(feature)
-    feature.Mesh = Mesh.Mesh(([FreeCAD.Vector(*p) for p in V], [tuple(int(j) for j in t) for t in F]))
+    # One point triple per triangle: the (points, indices) form drops triangles whose edge
+    # another two already share (a wing hinge, an instrument foot), and FaceNode would then
+    # no longer line up with the facets.
+    points = [FreeCAD.Vector(*p) for p in V]
+    feature.Mesh = Mesh.Mesh([[points[int(j)] for j in t] for t in F])
+    if feature.Mesh.CountFacets != len(F):
+        raise ThermoDecError("%s: FreeCAD kept %d of %d triangles" % (mesh_path, feature.Mesh.CountFacets, len(F)))
     feature.FaceNode = [int(n) for n in face_node]
     feature.FaceMaterial = [int(m) for m in np.asarray(mesh.face_material)]
     feature.NodeNames = node_names
@@ -104,12 +111,13 @@ def _mesh_feature(analysis, mesh, mesh_path, temperatures, name):
     return feature, summary
 
 
-def _result_of(analysis, mesh, result, model, result_path):
+def _result_of(analysis, mesh, result, model, result_path, name="ThermalResult"):
     """The ThermalResult of a core SimulationResult on `mesh`, with the model's seed and rays
     per face: what the simulation used (simulate_model reads them from model.radiation)."""
     return thermal_result.makeResult(analysis, mesh, list(result.nodes), np.asarray(result.times_s),
                                      np.asarray(result.temperature_K), seed=model.radiation.seed,
-                                     rays_per_face=model.radiation.rays_per_face, result_file=result_path)
+                                     rays_per_face=model.radiation.rays_per_face, result_file=result_path,
+                                     name=name)
 
 
 def simulate_model_file(analysis, model_path, name="SimulatedMesh"):
@@ -131,7 +139,7 @@ def simulate_model_file(analysis, model_path, name="SimulatedMesh"):
     if old is not None:
         analysis.Document.removeObject(old.Name)
     feature, _ = _mesh_feature(analysis, model.mesh, model_path, None, name)
-    res = _result_of(analysis, feature, result, model, result_path)
+    res = _result_of(analysis, feature, result, model, result_path, name + "Result")
     _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (result_path, res.Shown, res.ColourMinK, res.ColourMaxK))
     return feature, res
 

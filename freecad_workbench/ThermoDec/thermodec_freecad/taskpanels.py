@@ -199,8 +199,8 @@ class ResultPanel(_Panel):
         bar.addLayout(ticks, 1)
         layout.addLayout(bar)
 
-        self.table = QtGui.QTableWidget(len(self.rows), 4)
-        self.table.setHorizontalHeaderLabels(["node", "min [K]", "mean [K]", "max [K]"])
+        self.table = QtGui.QTableWidget(len(self.rows), 5)
+        self.table.setHorizontalHeaderLabels(["node", "min [K]", "mean [K]", "max [K]", "shown [K]"])
         for i, row in enumerate(self.rows):
             self.table.setItem(i, 0, QtGui.QTableWidgetItem(row[0]))
             for j, value in enumerate(row[1:]):
@@ -208,8 +208,12 @@ class ResultPanel(_Panel):
                 item.setTextAlignment(0x0082)  # right, vertically centred
                 self.table.setItem(i, j + 1, item)
         self.table.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
+        self._fill_shown()
         self.table.resizeColumnsToContents()
+        self.form.setMinimumWidth(sum(self.table.columnWidth(j) for j in range(5)) + 24)
         self.table.verticalHeader().setVisible(False)
+        self.table.verticalHeader().setDefaultSectionSize(self.table.fontMetrics().height() + 6)
+        self.table.horizontalHeader().setStretchLastSection(True)
         self.table.setMinimumHeight(min(30 + 24 * len(self.rows), 420))
         layout.addWidget(self.table)
 
@@ -243,10 +247,21 @@ class ResultPanel(_Panel):
         self.bottom.setText("%.1f K (blue)" % r.ColourMinK)
         self.shown.setText("colour: node temperature,\n%s" % r.Shown)
 
+    def _fill_shown(self):
+        """The table's last column: each node's value in the field shown."""
+        from . import temperature_field, thermal_result
+        nodes, _, T = thermal_result.matrix(self.result)
+        values = dict(zip(nodes, temperature_field.node_field(T, self.choice())))
+        for i, row in enumerate(self.rows):
+            item = QtGui.QTableWidgetItem("%.2f" % values[row[0]])
+            item.setTextAlignment(0x0082)
+            self.table.setItem(i, 4, item)
+
     def _changed(self, *args):
         from . import thermal_result
         self._label_step()
         thermal_result.set_field(self.result, self.choice())  # preview; OK records it
+        self._fill_shown()
         self._show_bar()
         FreeCADGui.updateGui()
 

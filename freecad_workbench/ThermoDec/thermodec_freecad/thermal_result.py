@@ -122,6 +122,9 @@ def makeResult(analysis, mesh, nodes, times_s, temperatures_K, seed=None, rays_p
     show(obj)
     obj.purgeTouched()
     if FreeCAD.GuiUp:
+        for other in objects.members(analysis, ThermalResult):  # one colour bar at a time
+            if other != obj and other.ViewObject is not None:
+                other.ViewObject.Visibility = False
         obj.ViewObject.Proxy.refresh(obj.ViewObject)
     return obj
 

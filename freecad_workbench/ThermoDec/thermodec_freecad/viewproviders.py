@@ -60,7 +60,9 @@ def _heat(t):
 def _colour_faces(obj, colours):
     """Per-triangle colours on a Mesh feature: one segment per colour, highlighted."""
     import Mesh
-    mesh = Mesh.Mesh(obj.Mesh.Topology)  # same points and facets, no earlier segments
+    # Same facets in the same order, no earlier segments. One point triple per facet: the
+    # (points, indices) form would drop facets on edges that two others already share.
+    mesh = Mesh.Mesh([f.Points for f in obj.Mesh.Facets])
     groups = {}
     for f, c in enumerate(colours):
         groups.setdefault(c, []).append(f)
@@ -97,7 +99,9 @@ def _legend_graph(low, high, title):
     light = coin.SoLightModel()
     light.model = coin.SoLightModel.BASE_COLOR
     root.addChild(light)
-    x0, x1, y0, y1 = 1.0, 1.07, -0.7, 0.7
+    # Right of the model, clear of the navigation cube (top right) and the axis cross (bottom
+    # right) in a landscape view; the field's name goes under the bar.
+    x0, x1, y0, y1 = 1.0, 1.07, -0.7, 0.5
     step = (y1 - y0) / len(bands)
     coords = coin.SoCoordinate3()
     points = []
@@ -119,15 +123,15 @@ def _legend_graph(low, high, title):
     font = coin.SoFont()
     font.size = 14
     root.addChild(font)
-    for value, text in labels + [(None, "T [K], " + title)]:
+    for value, text in labels + [(None, ["node temperature", title])]:
         sep = coin.SoSeparator()
         move = coin.SoTranslation()
         if value is None:
-            move.translation = (x0 - 0.1, y1 + 0.08, 0)
+            move.translation = (x0 - 0.3, y0 - 0.1, 0)
         else:
             move.translation = (x1 + 0.03, y0 + (value - low) / ((high - low) or 1.0) * (y1 - y0) - 0.015, 0)
         label = coin.SoText2()
-        label.string = text
+        label.string.setValues(0, len(text), text) if isinstance(text, list) else label.string.setValue(text)
         sep.addChild(move)
         sep.addChild(label)
         root.addChild(sep)
