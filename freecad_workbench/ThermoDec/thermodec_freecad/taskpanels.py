@@ -164,8 +164,8 @@ class ResultPanel(_Panel):
         self.form = QtGui.QWidget()
         self.form.setWindowTitle("Thermal result")
         layout = QtGui.QVBoxLayout(self.form)
-        run = "%d time(s) over %.0f s" % (len(self.times), self.times[-1] - self.times[0]) if len(self.times) > 1 \
-            else "steady state"
+        run = "%d time steps, %.1f s apart" % (len(self.times), self.times[1] - self.times[0]) \
+            if len(self.times) > 1 else "steady state"
         used = ("seed %d, %d rays per face" % (result.Seed, result.RaysPerFace)) if result.Seed >= 0 \
             else "seed and rays not recorded (imported result)"
         info = QtGui.QLabel("%s on %s\n%s; %s" % (result.Label, result.ResultMesh.Label, run, used))
