@@ -536,10 +536,16 @@ class CoreRuns(_DocTest):
         for a, b in zip(thermodec.node_areas_m2(dense.mesh), thermodec.node_areas_m2(reduced.mesh)):
             self.assertLessEqual(abs(b - a) / a, 0.005 + 1e-12)  # DecimationOptions default bound
         self.assertEqual(len(feature.FaceTemperature), summary["faces"])
+        shown = [r for r in objects.members(self.analysis, thermal_result.ThermalResult) if r.ResultMesh == feature]
+        self.assertEqual(len(shown), 1)  # the dense simulation on the reduced triangles, its seed kept
+        self.assertEqual((shown[0].Seed, shown[0].ResultFile), (self.analysis.Seed, self.analysis.ResultFile))
         # The paper's question, for the record: how far the reduced model's temperatures are.
         diff = thermodec.compare_results(thermodec.simulate_model(dense), thermodec.simulate_model(reduced))
         FreeCAD.Console.PrintMessage("ThermoDec test: dense %d -> reduced %d faces, max |dT| %.2f K at %s\n"
                                      % (summary["faces_before"], summary["faces"], diff.max_abs_K, diff.node))
+        results.decimate(self.analysis, 0.5)  # a second run replaces the mesh and its result
+        self.assertEqual(len([r for r in objects.members(self.analysis, thermal_result.ThermalResult)
+                              if r.ResultMesh is None or r.ResultMesh.Name == "ReducedMesh"]), 1)
 
     def test_reduction_meets_its_tolerance_and_writes_the_core_outputs(self):
         # Fixed sun and few rays keep this fast (the orbit case takes ~1 min: see docs/freecad.md).
@@ -565,6 +571,8 @@ class CoreRuns(_DocTest):
             self.assertEqual(json.load(f)["faces_after"], summary["faces"])
         self.assertEqual(list(summary["cases"]), ["model"])
         self.assertEqual(len(feature.FaceTemperature), summary["faces"])
+        shown = [r for r in objects.members(self.analysis, thermal_result.ThermalResult) if r.ResultMesh == feature][0]
+        self.assertEqual((shown.Seed, shown.RaysPerFace), (self.analysis.Seed, 100))  # the verified run's
         FreeCAD.Console.PrintMessage("ThermoDec test: reduce %d -> %d faces, max |dT| %.3f K, noise %.3f K\n"
                                      % (summary["faces_before"], summary["faces"],
                                         summary["max_temperature_difference_K"], summary["noise_floor_K"]))

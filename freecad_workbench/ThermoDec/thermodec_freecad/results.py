@@ -111,6 +111,17 @@ def _mesh_feature(analysis, mesh, mesh_path, temperatures, name):
     return feature, summary
 
 
+def _remove_mesh(analysis, name):
+    """Removes the mesh feature `name` (an earlier run's) and the results shown on it."""
+    old = analysis.Document.getObject(name)
+    if old is None:
+        return
+    for res in objects.members(analysis, thermal_result.ThermalResult):
+        if res.ResultMesh == old:
+            analysis.Document.removeObject(res.Name)
+    analysis.Document.removeObject(old.Name)
+
+
 def _result_of(analysis, mesh, result, model, result_path, name="ThermalResult"):
     """The ThermalResult of a core SimulationResult on `mesh`, with the model's seed and rays
     per face: what the simulation used (simulate_model reads them from model.radiation)."""
@@ -135,9 +146,7 @@ def simulate_model_file(analysis, model_path, name="SimulatedMesh"):
     stem = os.path.splitext(os.path.basename(model_path))[0]
     result_path = os.path.join(folder, "%s_result.json" % stem)
     _write_json(result_path, result.to_json())
-    old = analysis.Document.getObject(name)
-    if old is not None:
-        analysis.Document.removeObject(old.Name)
+    _remove_mesh(analysis, name)
     feature, _ = _mesh_feature(analysis, model.mesh, model_path, None, name)
     res = _result_of(analysis, feature, result, model, result_path, name + "Result")
     _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (result_path, res.Shown, res.ColourMinK, res.ColourMaxK))
@@ -226,13 +235,16 @@ def decimate(analysis, global_ratio=None, json_path=None):
         data = json.load(f)
     data["mesh"] = "model.obj"
     _write_json(os.path.join(folder, "model.json"), data)
+    dense = [r for r in objects.members(analysis, thermal_result.ThermalResult) if r.ResultMesh == analysis.ThermalMesh]
     temperatures = None
-    if analysis.ResultFile and os.path.exists(analysis.ResultFile):
+    if not dense and analysis.ResultFile and os.path.exists(analysis.ResultFile):
         temperatures = node_mean_temperatures(analysis.ResultFile)
-    old = analysis.Document.getObject("ReducedMesh")
-    if old is not None:
-        analysis.Document.removeObject(old.Name)
+    _remove_mesh(analysis, "ReducedMesh")
     feature, summary = import_results(analysis, mesh_path, temperatures, name="ReducedMesh")
+    if dense:  # the dense model's simulation, node by node, on the reduced triangles
+        nodes, times, T = thermal_result.matrix(dense[-1])
+        thermal_result.makeResult(analysis, feature, nodes, times, T, seed=dense[-1].Seed, rays_per_face=dense[-1].RaysPerFace,
+                                  result_file=dense[-1].ResultFile, name="ReducedMeshResult")
     summary.update(faces_before=int(model.mesh.num_faces), global_ratio=ratio,
                    nodes_reached=sum(1 for n in result.nodes if n.reached))
     _progress("reduced to %d faces (from %d)" % (summary["faces"], summary["faces_before"]))
@@ -268,13 +280,10 @@ def reduce(analysis, tolerance_K=None, json_path=None, plots=True, cases=()):
     folder = os.path.join(os.path.dirname(json_path), "reduced")
     for warning in td.write_reduction_outputs(run, folder, [json_path, mesh_path], plots):
         FreeCAD.Console.PrintWarning("ThermoDec: %s\n" % warning)
-    result = run.reduced_result
-    temperatures = {name: float(np.mean(row)) for name, row in zip(result.nodes, np.asarray(result.temperature_K))}
-    old = analysis.Document.getObject("ReducedMesh")
-    if old is not None:
-        analysis.Document.removeObject(old.Name)
-    feature, summary = import_results(analysis, os.path.join(folder, "reduced.obj"), temperatures,
-                                      name="ReducedMesh")
+    _remove_mesh(analysis, "ReducedMesh")
+    feature, summary = import_results(analysis, os.path.join(folder, "reduced.obj"), None, name="ReducedMesh")
+    # The verified reduced model's own simulation, with the seed and rays it ran with.
+    _result_of(analysis, feature, run.reduced_result, run.reduced_model, "", name="ReducedMeshResult")
     summary.update(faces_before=run.faces_before, tolerance_K=run.tolerance_K,
                    noise_floor_K=run.noise_floor_K,
                    max_temperature_difference_K=run.max_temperature_difference_K,
