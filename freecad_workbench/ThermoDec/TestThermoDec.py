@@ -515,7 +515,7 @@ class CoreRuns(_DocTest):
         mesh_path = os.path.join(os.path.dirname(self.analysis.ModelFile), "model.obj")
         imported, summary = results.import_results(self.analysis, mesh_path, result.ResultFile, name="Imported")
         res = self.doc.getObject(summary["result"])
-        self.assertEqual((res.Seed, res.ColourMinK), (-1, result.ColourMinK))
+        self.assertEqual((res.Seed, res.ColourMinK, res.ResultFile), (-1, result.ColourMinK, result.ResultFile))
         self.assertEqual(list(imported.FaceTemperature), list(feature.FaceTemperature))
 
     def test_nastran_export_for_other_tools_reads_back_with_every_triangle(self):

@@ -44,12 +44,13 @@ def import_results(analysis, mesh_path, temperatures=None, name="Results"):
     simulate`, Simulate) adds a ThermalResult with its time series (colour bar, min/mean/max,
     time steps). Returns (feature, summary dict)."""
     td = core.module()
-    if isinstance(temperatures, str) and temperatures:
-        temperatures = _read_json(temperatures)
+    source = temperatures if isinstance(temperatures, str) else ""
+    if source:
+        temperatures = _read_json(source)
     if _is_result(temperatures):
         nodes, times, T = temperature_field.temperature_matrix(temperatures)
         feature, summary = _mesh_feature(analysis, td.read_mesh(mesh_path), mesh_path, None, name)
-        res = thermal_result.makeResult(analysis, feature, nodes, times, T)
+        res = thermal_result.makeResult(analysis, feature, nodes, times, T, result_file=source)
         summary.update(temperature_min_K=res.ColourMinK, temperature_max_K=res.ColourMaxK, result=res.Name)
         return feature, summary
     return _mesh_feature(analysis, td.read_mesh(mesh_path), mesh_path, temperatures, name)
