@@ -138,6 +138,21 @@ def _legend_graph(low, high, title):
     return root
 
 
+def _recolour(mesh):
+    """Per-triangle colours from the mesh's FaceColors: Coloring off and on makes the Mesh
+    view provider read them again."""
+    if mesh is not None and mesh.ViewObject is not None and "Coloring" in mesh.ViewObject.PropertiesList:
+        mesh.ViewObject.Coloring = False
+        mesh.ViewObject.Coloring = True
+
+
+def _recolour_later(doc_name, result_name):
+    doc = FreeCAD.listDocuments().get(doc_name)
+    result = doc.getObject(result_name) if doc is not None else None
+    if result is not None:
+        _recolour(result.ResultMesh)
+
+
 class ViewProviderThermalResult(ViewProvider):
     """Shows a ThermalResult: its mesh coloured per triangle (the mesh's FaceColors through
     the Mesh view provider's Coloring) and the colour bar over the 3D view. Double-click
@@ -173,10 +188,12 @@ class ViewProviderThermalResult(ViewProvider):
             return
         root.removeAllChildren()
         root.addChild(_legend_graph(obj.ColourMinK, obj.ColourMaxK, obj.Shown))
-        mesh = obj.ResultMesh
-        if mesh is not None and mesh.ViewObject is not None and "Coloring" in mesh.ViewObject.PropertiesList:
-            mesh.ViewObject.Coloring = False  # off and on: the Mesh view provider re-reads the colours
-            mesh.ViewObject.Coloring = True
+        _recolour(obj.ResultMesh)
+        # Opening a document, the mesh's view is rebuilt after this runs, without colours:
+        # colour it again once the event loop is back.
+        from PySide import QtCore
+        doc, name = obj.Document.Name, obj.Name
+        QtCore.QTimer.singleShot(0, lambda: _recolour_later(doc, name))
 
     def onDelete(self, vobj, subelements):
         mesh = vobj.Object.ResultMesh
