@@ -178,7 +178,7 @@ class Simulate(_CoreCommand):
 
 
 class ShowResult(_Command):
-    icon, menu, tip = "Simulate.svg", "Thermal result", \
+    icon, menu, tip = "Result.svg", "Thermal result", \
         "Per-node min / mean / max over the orbit, colour bar, and the field or time step shown"
 
     def _result(self):

@@ -159,7 +159,7 @@ class ViewProviderThermalResult(ViewProvider):
     opens the result panel (table, field and time step)."""
 
     def __init__(self, vobj):
-        super().__init__(vobj, "Simulate.svg")
+        super().__init__(vobj, "Result.svg")
 
     def attach(self, vobj):
         from pivy import coin
