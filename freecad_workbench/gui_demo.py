@@ -23,6 +23,9 @@ OUT = os.path.abspath(os.environ.get("THERMODEC_DEMO_OUTPUT", "thermodec_gui_dem
 #: (seconds), on a coarser dense mesh with fewer rays so that it stays a few minutes.
 REDUCE = os.environ.get("THERMODEC_DEMO_REDUCE") == "1"
 MAX_EDGE_MM = 250.0 if REDUCE else 120.0
+#: The shipped sample model, simulated as it is at the end of the walk-through.
+#: THERMODEC_SAMPLE_MODEL overrides it (default: the checkout's sample_models/satellite/model.json).
+SAMPLE_MODEL = os.environ.get("THERMODEC_SAMPLE_MODEL")
 
 
 def process_events():
@@ -135,7 +138,9 @@ def main():
     Gui.SendMsgToActiveView("ViewFit")
     process_events()
     screenshot("reduced")
+    sample_result = simulate_sample(doc, analysis, reduced)
     doc.saveAs(os.path.join(OUT, "satellite.FCStd"))
+    from thermodec_freecad import temperature_field, thermal_result
     tm = analysis.ThermalMesh
     t = tm.FaceTemperature
     with open(os.path.join(OUT, "summary.txt"), "w") as f:
@@ -145,6 +150,13 @@ def main():
         f.write("reduced (%s): %d triangles\nmodel %s\nresult %s\n" % (
             "Reduce, tolerance %g K" % analysis.ToleranceK if REDUCE else "Decimate 0.9",
             reduced.Mesh.CountFacets, json_path, analysis.ResultFile))
+        mesh, res = sample_result
+        rows = temperature_field.statistics_table(*thermal_result.matrix(res)[::2])
+        f.write("sample %s: %d triangles, %d nodes, seed %d, %d rays per face, %d times; colour bar (%s) "
+                "%.2f K .. %.2f K\n" % (res.ResultFile, mesh.Mesh.CountFacets, len(rows), res.Seed, res.RaysPerFace,
+                                        len(res.TimesS), res.Shown, res.ColourMinK, res.ColourMaxK))
+        for row in rows:
+            f.write("  %-12s min %.2f K  mean %.2f K  max %.2f K\n" % row)
         report = os.path.join(OUT, "model", "reduced", "report.json")
         if REDUCE and os.path.exists(report):
             import json
@@ -153,6 +165,54 @@ def main():
             f.write("report: %s\n" % json.dumps({k: data[k] for k in (
                 "faces_before", "faces_after", "max_temperature_difference_K", "noise_floor_K",
                 "tolerance_K") if k in data}))
+
+
+def simulate_sample(doc, analysis, reduced):
+    """The shipped sample model (sample_models/satellite, 882 triangles, 13 nodes) simulated as
+    it is (orbit, transient), shown with its colour bar and the result panel: the mean over the
+    orbit, then one time step in sunlight. Returns (mesh, ThermalResult)."""
+    import thermodec_freecad
+    from thermodec_freecad import gui_actions, objects, taskpanels, thermal_result
+    sample = SAMPLE_MODEL or os.path.join(os.path.dirname(thermodec_freecad.__file__), os.pardir, os.pardir,
+                                          os.pardir, "sample_models", "satellite", "model.json")
+    assert gui_actions.run("Simulate model file", [
+        "analysis = App.ActiveDocument.%s" % analysis.Name,
+        "import thermodec_freecad.results as tdresults",
+        "tdresults.simulate_model_file(analysis, %r)" % os.path.abspath(sample)]), "simulate sample"
+    mesh = doc.getObject("SimulatedMesh")
+    result = [r for r in objects.members(analysis, thermal_result.ThermalResult) if r.ResultMesh == mesh][0]
+    for obj in (analysis.ThermalMesh, reduced):
+        obj.ViewObject.Visibility = False
+    mesh.ViewObject.DisplayMode = "Flat Lines"
+    Gui.activeDocument().activeView().viewIsometric()
+    Gui.SendMsgToActiveView("ViewFit")
+    process_events()
+    screenshot("sample_mean")
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(result)
+    Gui.runCommand("ThermoDec_ShowResult")  # the command opens the result panel (setEdit) ...
+    process_events()
+    if not Gui.Control.activeDialog():
+        raise RuntimeError("the Thermal result command opened no panel")
+    Gui.ActiveDocument.resetEdit()
+    Gui.Selection.clearSelection()
+    panel = taskpanels.ResultPanel(result)  # ... opened here by hand to drive its controls
+    Gui.Control.showDialog(panel)
+    from PySide import QtCore, QtGui
+    window = Gui.getMainWindow()
+    docks = [d for d in window.findChildren(QtGui.QDockWidget) if d.windowTitle() == "Combo View"]
+    window.resizeDocks(docks, [430] * len(docks), QtCore.Qt.Horizontal)  # the whole table in view
+    Gui.SendMsgToActiveView("ViewFit")
+    process_events()
+    screenshot("sample_result_panel")
+    panel.field.setCurrentIndex(3)  # one time step: the hottest moment of the +Y wing
+    nodes, times, T = thermal_result.matrix(result)
+    panel.step.setValue(int(T[nodes.index("wing_py")].argmax()))
+    process_events()
+    screenshot("sample_time_step")
+    assert panel.accept(), "result panel"
+    process_events()
+    return mesh, result
 
 
 def run():

@@ -169,6 +169,11 @@ NodeTemperatures simulate_document(const thermodec::Mesh& mesh, const std::vecto
     out.mean_K.push_back(row.mean());
     out.max_K.push_back(row.maxCoeff());
   }
+  // Where the orbit's extremes occur: the first thing a thermal engineer checks against limits.
+  out.coldest = static_cast<int>(std::min_element(out.min_K.begin(), out.min_K.end()) - out.min_K.begin());
+  out.hottest = static_cast<int>(std::max_element(out.max_K.begin(), out.max_K.end()) - out.max_K.begin());
+  out.seed = model.radiation.seed;
+  out.rays_per_face = model.radiation.rays_per_face;
   return out;
 }
 

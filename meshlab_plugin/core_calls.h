@@ -20,6 +20,10 @@ struct NodeTemperatures {
   int orbits = 0;                            //!< transient: orbits simulated
   double periodicity_residual_K = 0.0;       //!< transient: max |T(P) - T(0)| [K]
   std::string model_description;             //!< one line: where materials/environment came from
+  int coldest = 0;                           //!< node with the lowest min_K (index into nodes)
+  int hottest = 0;                           //!< node with the highest max_K
+  unsigned long long seed = 0;               //!< Monte Carlo seed the simulation used
+  int rays_per_face = 0;                     //!< rays per face the simulation used
 };
 
 //! Simulates the document's mesh (face_node set for every face; node_names) as

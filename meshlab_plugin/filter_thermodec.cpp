@@ -496,11 +496,12 @@ bool ThermodecFilterPlugin::simulate(MeshDocument& md, const RichParameterList& 
         Log("  %s", what.c_str());
       });
 
-  Log("Thermal: simulate (%s): %s, %d time(s)%s", t.model_description.c_str(),
+  Log("Thermal: simulate (%s): %s, %d time(s)%s, %d rays per face, seed %llu", t.model_description.c_str(),
       t.transient ? "orbit-periodic transient" : "steady state", t.times,
       t.transient ? qUtf8Printable(QString(", %1 orbits, periodicity residual %2 K")
                                        .arg(t.orbits).arg(t.periodicity_residual_K, 0, 'g', 3))
-                  : "");
+                  : "",
+      t.rays_per_face, t.seed);
   Log("  node: min / mean / max [K]");
   for (size_t n = 0; n < t.nodes.size(); ++n)
     Log("  %s%s: %.2f / %.2f / %.2f", t.nodes[n].c_str(),
@@ -512,6 +513,12 @@ bool ThermodecFilterPlugin::simulate(MeshDocument& md, const RichParameterList& 
   for (size_t f = 0; f < value.size(); ++f) value[f] = node_value[dm.mesh.face_node[f]];
   const auto range = std::minmax_element(node_value.begin(), node_value.end());
   const double lo = *range.first, hi = *range.second > lo ? *range.second : lo + 1.0;
+  // A document node and, when it differs, the model node it was simulated as.
+  const auto label = [&t](size_t n) {
+    return t.model_nodes[n] == t.nodes[n] ? t.nodes[n] : t.nodes[n] + " = " + t.model_nodes[n];
+  };
+  const std::string lo_node = label(range.first - node_value.begin());
+  const std::string hi_node = label(range.second - node_value.begin());
 
   // One layer: the temperatures go to a copy, so that the node ids stay in the original's
   // quality. Several layers: the nodes are the layers, so the quality is free to use.
@@ -530,8 +537,10 @@ bool ThermodecFilterPlugin::simulate(MeshDocument& md, const RichParameterList& 
     vcg::tri::UpdateColor<CMeshO>::PerFaceQualityRamp(layer->cm, CMeshO::ScalarType(hi),
                                                       CMeshO::ScalarType(lo));
   }
-  Log("  face quality = node %s temperature [K], colour ramp %.2f K (blue) .. %.2f K (red)",
-      face_value == 0 ? "min" : face_value == 2 ? "max" : "mean", lo, hi);
+  Log("Thermal: temperature range over the orbit: %.2f K (min, node %s) .. %.2f K (max, node %s)",
+      t.min_K[t.coldest], label(t.coldest).c_str(), t.max_K[t.hottest], label(t.hottest).c_str());
+  Log("  face quality = node %s temperature [K], colour ramp %.2f K (blue, node %s) .. %.2f K (red, node %s)",
+      face_value == 0 ? "min" : face_value == 2 ? "max" : "mean", lo, lo_node.c_str(), hi, hi_node.c_str());
   progress(cb, 100, "Thermal: simulated");
   return true;
 #else

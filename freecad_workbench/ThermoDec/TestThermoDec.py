@@ -16,7 +16,8 @@ import numpy as np
 import FreeCAD
 from FreeCAD import Vector
 
-from thermodec_freecad import coatings, export, objects, references, results, sample, tessellate
+from thermodec_freecad import (coatings, export, objects, references, results, sample, temperature_field,
+                               tessellate, thermal_result)
 from thermodec_freecad.errors import ThermoDecError
 
 try:
@@ -74,6 +75,120 @@ class CoatingLibrary(unittest.TestCase):
             self.assertEqual((mat.Absorptivity, mat.Emissivity), (0.41, 0.66))
         finally:
             FreeCAD.closeDocument(doc.Name)
+
+
+class TemperatureField(unittest.TestCase):
+    """The pure part of a result's display: statistics, field, colour map, legend."""
+
+    # Two nodes, three times: a cycling node and an isothermal one (test input, not a solution).
+    NODES = ["panel", "core"]
+    T = np.array([[200.0, 230.0, 260.0], [300.0, 300.0, 300.0]])
+
+    def test_node_statistics_are_min_time_average_and_max_per_node(self):
+        low, mean, high = temperature_field.node_statistics(self.T)
+        self.assertEqual(list(low), [200.0, 300.0])
+        self.assertEqual(list(mean), [230.0, 300.0])
+        self.assertEqual(list(high), [260.0, 300.0])
+        self.assertEqual(temperature_field.statistics_table(self.NODES, self.T),
+                         [("core", 300.0, 300.0, 300.0), ("panel", 200.0, 230.0, 260.0)])
+
+    def test_field_is_a_statistic_or_one_time_step(self):
+        self.assertEqual(list(temperature_field.node_field(self.T, "max")), [260.0, 300.0])
+        self.assertEqual(list(temperature_field.node_field(self.T, 1)), [230.0, 300.0])
+        self.assertEqual(temperature_field.field_name(2, [0.0, 1900.0, 3800.0]), "step 2 (t = 3800 s)")
+        self.assertEqual(temperature_field.field_name("min"), "min over the orbit")
+        with self.assertRaisesRegex(ThermoDecError, "time step 3 outside 0..2"):
+            temperature_field.node_field(self.T, 3)
+        with self.assertRaisesRegex(ThermoDecError, "field must be min, mean, max or a time step"):
+            temperature_field.node_field(self.T, "hottest")
+
+    def test_faces_take_their_nodes_value_matched_by_name(self):
+        # The mesh lists its nodes in another order than the result.
+        faces = temperature_field.face_values([1.0, 2.0], [0, 1, 1, 0], ["core", "panel"], self.NODES)
+        self.assertEqual(list(faces), [2.0, 1.0, 1.0, 2.0])
+        with self.assertRaisesRegex(ThermoDecError, "no temperature for node\\(s\\) dish"):
+            temperature_field.face_values([1.0, 2.0], [0], ["dish"], self.NODES)
+
+    def test_colour_map_runs_blue_to_red_in_the_legends_levels(self):
+        low, high = temperature_field.colour_range([200.0, 260.0])
+        self.assertEqual((low, high), (200.0, 260.0))
+        c = temperature_field.colours([200.0, 260.0, 100.0, 999.0, 230.0], low, high)
+        self.assertEqual(c[0], temperature_field.heat_colour(0.0))
+        self.assertEqual(c[1], temperature_field.heat_colour(1.0))
+        self.assertEqual((c[2], c[3]), (c[0], c[1]))  # clamped
+        r, g, b = c[0]
+        self.assertTrue(b > r and b > g)  # cold is blue
+        r, g, b = c[1]
+        self.assertTrue(r > g and r > b)  # hot is red
+        bands, labels = temperature_field.legend(low, high)
+        self.assertEqual(len(bands), temperature_field.LEVELS)
+        self.assertTrue(set(c) <= {colour for _, colour in bands})  # the mesh shows legend colours only
+        self.assertEqual([text for _, text in labels], ["200.0 K", "215.0 K", "230.0 K", "245.0 K", "260.0 K"])
+        self.assertEqual(temperature_field.colour_range([250.0, 250.0]), (249.5, 250.5))  # flat: still a map
+
+    def test_result_json_is_checked(self):
+        good = {"nodes": self.NODES, "times_s": [0, 1, 2],
+                "temperatures_K": {"panel": list(self.T[0]), "core": list(self.T[1])}}
+        nodes, times, T = temperature_field.temperature_matrix(good)
+        self.assertEqual(nodes, self.NODES)
+        self.assertTrue(np.array_equal(T, self.T))
+        good["temperatures_K"]["core"] = [300.0, 300.0]
+        with self.assertRaisesRegex(ThermoDecError, "node 'core' has 2 temperatures for 3 times"):
+            temperature_field.temperature_matrix(good)
+        with self.assertRaisesRegex(ThermoDecError, "not a thermodec result"):
+            temperature_field.temperature_matrix({"panel": 250.0})
+
+
+class ResultObject(_DocTest):
+    """ThermalResult on a hand-made two-node mesh: the field shown, its colours, undo."""
+
+    def setUp(self):
+        super().setUp()
+        import Mesh
+        self.analysis = objects.makeAnalysis(self.doc)
+        self.mesh = self.doc.addObject("Mesh::FeaturePython", "Two")
+        tessellate.ThermalMesh(self.mesh)
+        self.mesh.Mesh = Mesh.Mesh([[Vector(0, 0, 0), Vector(1, 0, 0), Vector(0, 1, 0)],
+                                    [Vector(1, 0, 0), Vector(1, 1, 0), Vector(0, 1, 0)],
+                                    [Vector(0, 0, 1), Vector(1, 0, 1), Vector(0, 1, 1)]])
+        self.mesh.FaceNode = [1, 1, 0]
+        self.mesh.NodeNames = ["core", "panel"]
+        self.result = thermal_result.makeResult(self.analysis, self.mesh, TemperatureField.NODES, [0.0, 1900.0, 3800.0],
+                                                TemperatureField.T, seed=7, rays_per_face=300)
+
+    def test_mean_is_shown_first_with_its_range_and_the_seed_used(self):
+        self.assertEqual(list(self.mesh.FaceTemperature), [230.0, 230.0, 300.0])
+        self.assertEqual((self.result.ColourMinK, self.result.ColourMaxK), (230.0, 300.0))
+        self.assertEqual((self.result.Seed, self.result.RaysPerFace), (7, 300))
+        self.assertEqual(len(self.mesh.FaceColors), 3)
+        self.assertEqual(tuple(self.mesh.FaceColors[2])[:3], tuple(np.float32(temperature_field.heat_colour(1.0))))
+
+    def test_time_step_and_min_are_chosen_by_property_and_undone(self):
+        self.doc.UndoMode = 1
+        self.doc.openTransaction("show step 0")
+        thermal_result.set_field(self.result, 0)
+        self.doc.commitTransaction()
+        self.assertEqual(list(self.mesh.FaceTemperature), [200.0, 200.0, 300.0])
+        self.assertEqual(self.result.Shown, "step 0 (t = 0 s)")
+        self.assertEqual((self.result.ColourMinK, self.result.ColourMaxK), (200.0, 300.0))
+        self.doc.undo()
+        self.doc.recompute()
+        self.assertEqual(self.result.Field, "mean")
+        self.assertEqual(list(self.mesh.FaceTemperature), [230.0, 230.0, 300.0])
+        thermal_result.set_field(self.result, "max")
+        self.assertEqual(list(self.mesh.FaceTemperature), [260.0, 260.0, 300.0])
+        with self.assertRaisesRegex(ThermoDecError, "time step 5 outside 0..2"):
+            thermal_result.set_field(self.result, 5)
+
+    def test_result_survives_save_and_reopen(self):
+        path = os.path.join(_output_dir("result_fcstd"), "result.FCStd")
+        self.doc.saveAs(path)
+        FreeCAD.closeDocument(self.doc.Name)
+        doc = FreeCAD.openDocument(path)
+        result = [o for o in doc.Objects if objects.is_type(o, thermal_result.ThermalResult)][0]
+        thermal_result.set_field(result, "min")
+        self.assertEqual(list(result.ResultMesh.FaceTemperature), [200.0, 200.0, 300.0])
+        self.assertEqual(result.Seed, 7)
 
 
 class SampleSatellite(_DocTest):
@@ -370,8 +485,14 @@ class CoreRuns(_DocTest):
         path, summary = results.simulate(self.analysis)
         self.assertEqual(sorted(summary), sorted(self.analysis.ThermalMesh.NodeNames))
         tm = self.analysis.ThermalMesh
-        for n, t in zip(tm.FaceNode, tm.FaceTemperature):
-            self.assertEqual(t, summary[tm.NodeNames[n]]["mean_K"])
+        for n, t in zip(tm.FaceNode, tm.FaceTemperature):  # the workbench's time average, the core's mean
+            self.assertAlmostEqual(t, summary[tm.NodeNames[n]]["mean_K"], places=9)
+        result = objects.members(self.analysis, thermal_result.ThermalResult)[0]
+        self.assertEqual((result.Seed, result.RaysPerFace), (self.analysis.Seed, self.analysis.RaysPerFace))
+        self.assertEqual(result.ResultFile, path)
+        for row in temperature_field.statistics_table(*thermal_result.matrix(result)[::2]):
+            self.assertAlmostEqual(row[1], summary[row[0]]["min_K"], places=9)
+            self.assertAlmostEqual(row[3], summary[row[0]]["max_K"], places=9)
         for node in summary.values():
             self.assertTrue(0 < node["min_K"] <= node["mean_K"] <= node["max_K"] < 1000)
         with open(path) as f:
@@ -379,6 +500,23 @@ class CoreRuns(_DocTest):
         results.simulate(self.analysis)
         with open(path) as f:
             self.assertEqual(json.load(f)["temperatures_K"], first)  # same seed, same numbers
+
+    def test_a_model_file_simulates_as_it_is_with_its_seed(self):
+        results.simulate(self.analysis)
+        self.analysis.Seed = 5  # the analysis changed since: the file's seed is the one used
+        feature, result = results.simulate_model_file(self.analysis, self.analysis.ModelFile)
+        self.assertEqual(result.Seed, 1)
+        self.assertEqual(feature.Mesh.CountFacets, self.analysis.ThermalMesh.Mesh.CountFacets)
+        with open(self.analysis.ResultFile) as f:
+            same = json.load(f)["summary"]  # same file, same seed: same numbers
+        for n, t in zip(feature.FaceNode, feature.FaceTemperature):
+            self.assertAlmostEqual(t, same[feature.NodeNames[n]]["mean_K"], places=9)
+        # A result.json imports with its time series (no seed recorded in the file).
+        mesh_path = os.path.join(os.path.dirname(self.analysis.ModelFile), "model.obj")
+        imported, summary = results.import_results(self.analysis, mesh_path, result.ResultFile, name="Imported")
+        res = self.doc.getObject(summary["result"])
+        self.assertEqual((res.Seed, res.ColourMinK, res.ResultFile), (-1, result.ColourMinK, result.ResultFile))
+        self.assertEqual(list(imported.FaceTemperature), list(feature.FaceTemperature))
 
     def test_nastran_export_for_other_tools_reads_back_with_every_triangle(self):
         out = os.path.join(self.analysis.OutputDirectory, "model.bdf")
@@ -398,10 +536,16 @@ class CoreRuns(_DocTest):
         for a, b in zip(thermodec.node_areas_m2(dense.mesh), thermodec.node_areas_m2(reduced.mesh)):
             self.assertLessEqual(abs(b - a) / a, 0.005 + 1e-12)  # DecimationOptions default bound
         self.assertEqual(len(feature.FaceTemperature), summary["faces"])
+        shown = [r for r in objects.members(self.analysis, thermal_result.ThermalResult) if r.ResultMesh == feature]
+        self.assertEqual(len(shown), 1)  # the dense simulation on the reduced triangles, its seed kept
+        self.assertEqual((shown[0].Seed, shown[0].ResultFile), (self.analysis.Seed, self.analysis.ResultFile))
         # The paper's question, for the record: how far the reduced model's temperatures are.
         diff = thermodec.compare_results(thermodec.simulate_model(dense), thermodec.simulate_model(reduced))
         FreeCAD.Console.PrintMessage("ThermoDec test: dense %d -> reduced %d faces, max |dT| %.2f K at %s\n"
                                      % (summary["faces_before"], summary["faces"], diff.max_abs_K, diff.node))
+        results.decimate(self.analysis, 0.5)  # a second run replaces the mesh and its result
+        self.assertEqual(len([r for r in objects.members(self.analysis, thermal_result.ThermalResult)
+                              if r.ResultMesh is None or r.ResultMesh.Name == "ReducedMesh"]), 1)
 
     def test_reduction_meets_its_tolerance_and_writes_the_core_outputs(self):
         # Fixed sun and few rays keep this fast (the orbit case takes ~1 min: see docs/freecad.md).
@@ -427,6 +571,8 @@ class CoreRuns(_DocTest):
             self.assertEqual(json.load(f)["faces_after"], summary["faces"])
         self.assertEqual(list(summary["cases"]), ["model"])
         self.assertEqual(len(feature.FaceTemperature), summary["faces"])
+        shown = [r for r in objects.members(self.analysis, thermal_result.ThermalResult) if r.ResultMesh == feature][0]
+        self.assertEqual((shown.Seed, shown.RaysPerFace), (self.analysis.Seed, 100))  # the verified run's
         FreeCAD.Console.PrintMessage("ThermoDec test: reduce %d -> %d faces, max |dT| %.3f K, noise %.3f K\n"
                                      % (summary["faces_before"], summary["faces"],
                                         summary["max_temperature_difference_K"], summary["noise_floor_K"]))

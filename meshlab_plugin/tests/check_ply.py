@@ -4,9 +4,14 @@ holding node ids, one colour per node. Exit 0 when every requested check holds, 
 reason on stderr. PLY ascii and binary_little_endian; triangles only (what MeshLab writes here).
 
   check_ply.py OUT.ply [--faces N] [--min-faces N] [--max-faces N] [--nodes N | --max-nodes N] [--faces-per-node N]
-               [--integer-quality] [--colour-per-node] [--quality-range LO HI]
+               [--integer-quality] [--colour-per-node] [--quality-range LO HI] [--ramp-from-log LOG]
+
+--ramp-from-log: the "colour ramp LO K (blue, node A) .. HI K (red, node B)" line of a
+Thermal: simulate log must give the quality's min and max, and the faces must be coloured by
+quality (one colour per value, the coldest blue, the hottest red).
 """
 import argparse
+import re
 import sys
 
 import numpy as np
@@ -94,6 +99,28 @@ def read_ply(path):
     return out
 
 
+def check_ramp(faces, q, log_path, fail):
+    with open(log_path, encoding="utf-8", errors="replace") as f:
+        m = re.search(r"colour ramp ([0-9.]+) K \(blue, node ([^)]+)\) \.\. ([0-9.]+) K \(red, node ([^)]+)\)", f.read())
+    if not m:
+        fail(f"no colour ramp line in {log_path}")
+    lo, hi = float(m.group(1)), float(m.group(3))
+    # The log prints two decimals; the PLY holds float32 kelvin.
+    if abs(q.min() - lo) > 0.006 or abs(q.max() - hi) > 0.006:
+        fail(f"quality [{q.min():.3f}, {q.max():.3f}] is not the logged ramp [{lo:.2f}, {hi:.2f}]")
+    if "red" not in faces.dtype.names:
+        fail("faces have no colour (saved without -m fc?)")
+    rgb = np.stack([faces["red"], faces["green"], faces["blue"]], axis=1).astype(np.int64)
+    key = rgb[:, 0] * 65536 + rgb[:, 1] * 256 + rgb[:, 2]
+    for value in np.unique(q):
+        if len(np.unique(key[q == value])) != 1:
+            fail(f"faces at {value:g} K have several colours: not coloured by quality")
+    cold, hot = rgb[np.argmin(q)], rgb[np.argmax(q)]
+    if not (cold[2] > cold[0] and hot[0] > hot[2]):
+        fail(f"coldest face colour {cold.tolist()} is not blue or hottest {hot.tolist()} not red")
+    print(f"  colour ramp {lo:.2f} K ({m.group(2)}, rgb {cold.tolist()}) .. {hi:.2f} K ({m.group(4)}, rgb {hot.tolist()})")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("ply")
@@ -106,6 +133,7 @@ def main():
     ap.add_argument("--integer-quality", action="store_true")
     ap.add_argument("--colour-per-node", action="store_true")
     ap.add_argument("--quality-range", type=float, nargs=2)
+    ap.add_argument("--ramp-from-log")
     a = ap.parse_args()
 
     def fail(msg):
@@ -125,7 +153,8 @@ def main():
     if a.max_faces is not None and n > a.max_faces:
         fail(f"{n} faces, expected at most {a.max_faces}")
     names = faces.dtype.names
-    need_q = a.nodes or a.max_nodes or a.faces_per_node or a.integer_quality or a.colour_per_node or a.quality_range
+    need_q = a.nodes or a.max_nodes or a.faces_per_node or a.integer_quality or a.colour_per_node or a.quality_range \
+        or a.ramp_from_log
     if need_q and "quality" not in names:
         fail("faces have no quality (saved without -m fq?)")
     if not need_q:
@@ -134,6 +163,8 @@ def main():
     print(f"  quality in [{q.min():g}, {q.max():g}]")
     if a.quality_range and (q.min() < a.quality_range[0] or q.max() > a.quality_range[1]):
         fail(f"quality [{q.min():g}, {q.max():g}] outside [{a.quality_range[0]:g}, {a.quality_range[1]:g}]")
+    if a.ramp_from_log:
+        check_ramp(faces, q, a.ramp_from_log, fail)
     if a.integer_quality or a.nodes or a.max_nodes or a.faces_per_node or a.colour_per_node:
         bad = np.nonzero((q != np.floor(q)) | (q < 0))[0]
         if len(bad):

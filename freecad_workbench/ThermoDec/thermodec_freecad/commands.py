@@ -14,8 +14,8 @@ from .gui_actions import active_analysis, analysis_line, error, refs_code, run, 
 SETUP = ["ThermoDec_ImportStep", "ThermoDec_Analysis", "ThermoDec_NodeFromSelection", "ThermoDec_MaterialToSelection",
          "ThermoDec_AutoNodesPerFace", "ThermoDec_AutoNodesPerSolid", "ThermoDec_Conductance",
          "ThermoDec_Environment"]
-RUN = ["ThermoDec_Tessellate", "ThermoDec_Export", "ThermoDec_ExportTool", "ThermoDec_Simulate", "ThermoDec_Decimate",
-       "ThermoDec_Reduce", "ThermoDec_ImportResults"]
+RUN = ["ThermoDec_Tessellate", "ThermoDec_Export", "ThermoDec_ExportTool", "ThermoDec_Simulate", "ThermoDec_ShowResult",
+       "ThermoDec_Decimate", "ThermoDec_Reduce", "ThermoDec_ImportResults"]
 
 
 class _Command:
@@ -177,6 +177,29 @@ class Simulate(_CoreCommand):
             status("ThermoDec: simulation done")
 
 
+class ShowResult(_Command):
+    icon, menu, tip = "Result.svg", "Thermal result", \
+        "Per-node min / mean / max over the orbit, colour bar, and the field or time step shown"
+
+    def _result(self):
+        from . import thermal_result
+        selected = [o for o in FreeCADGui.Selection.getSelection() if objects.is_type(o, thermal_result.ThermalResult)]
+        if selected:
+            return selected[0]
+        analysis = active_analysis()
+        found = objects.members(analysis, thermal_result.ThermalResult) if analysis is not None else []
+        return found[-1] if found else None
+
+    def IsActive(self):
+        return _Command.IsActive(self) and self._result() is not None
+
+    def Activated(self):
+        result = self._result()
+        if result is None:
+            return error("simulate first: the analysis has no thermal result")
+        FreeCADGui.activeDocument().setEdit(result.Name)
+
+
 class Decimate(_CoreCommand):
     icon, menu, tip, function = "Decimate.svg", "Decimate", \
         "Node-preserving decimation of the dense mesh to a global ratio (thermodec core)", \
@@ -256,7 +279,8 @@ def register():
                       ("ThermoDec_Environment", EnvironmentCommand),
                       ("ThermoDec_Tessellate", Tessellate), ("ThermoDec_Export", Export),
                       ("ThermoDec_ExportTool", ExportTool),
-                      ("ThermoDec_Simulate", Simulate), ("ThermoDec_Decimate", Decimate),
+                      ("ThermoDec_Simulate", Simulate), ("ThermoDec_ShowResult", ShowResult),
+                      ("ThermoDec_Decimate", Decimate),
                       ("ThermoDec_Reduce", Reduce),
                       ("ThermoDec_ImportResults", ImportResults)):
         FreeCADGui.addCommand(name, cls())

@@ -10,7 +10,7 @@ import numpy as np
 
 import FreeCAD
 
-from . import core, export, objects, tessellate, units
+from . import core, export, objects, temperature_field, tessellate, thermal_result, units
 from .errors import ThermoDecError
 
 
@@ -32,13 +32,41 @@ def _node_temperatures(temperatures):
         raise ThermoDecError("temperatures must map node names to kelvin") from None
 
 
+def _is_result(data):
+    """True for a result.json dict (time series per node), not a {node: K} map."""
+    return isinstance(data, dict) and "times_s" in data and "nodes" in data
+
+
 def import_results(analysis, mesh_path, temperatures=None, name="Results"):
     """Reads `mesh_path` with the core and adds it to the analysis as a Mesh feature with
-    per-triangle node (and temperature [K] when `temperatures` maps node names to K, or names
-    a JSON file that does). Returns (feature, summary dict)."""
-    import Mesh
+    per-triangle node. `temperatures`: a {node name: K} map (or a JSON file holding one,
+    optionally under 'temperatures_K') colours the triangles; a result.json (`thermodec
+    simulate`, Simulate) adds a ThermalResult with its time series (colour bar, min/mean/max,
+    time steps). Returns (feature, summary dict)."""
     td = core.module()
-    mesh = td.read_mesh(mesh_path)
+    source = temperatures if isinstance(temperatures, str) else ""
+    if source:
+        temperatures = _read_json(source)
+    if _is_result(temperatures):
+        nodes, times, T = temperature_field.temperature_matrix(temperatures)
+        feature, summary = _mesh_feature(analysis, td.read_mesh(mesh_path), mesh_path, None, name)
+        res = thermal_result.makeResult(analysis, feature, nodes, times, T, result_file=source)
+        summary.update(temperature_min_K=res.ColourMinK, temperature_max_K=res.ColourMaxK, result=res.Name)
+        return feature, summary
+    return _mesh_feature(analysis, td.read_mesh(mesh_path), mesh_path, temperatures, name)
+
+
+def _read_json(path):
+    try:
+        with open(path, encoding="utf-8") as f:
+            return json.load(f)
+    except (OSError, ValueError) as e:
+        raise ThermoDecError("cannot read temperatures from %s: %s" % (path, e)) from None
+
+
+def _mesh_feature(analysis, mesh, mesh_path, temperatures, name):
+    """A core mesh as a ThermalMesh feature of the analysis (mm), by node or by temperature."""
+    import Mesh
     face_node = np.asarray(mesh.face_node)
     if np.any(face_node < 0):
         raise ThermoDecError("%s: %d triangles have no node" % (mesh_path, int(np.sum(face_node < 0))))
@@ -50,8 +78,15 @@ def import_results(analysis, mesh_path, temperatures=None, name="Results"):
     if FreeCAD.GuiUp:
         from . import viewproviders
         viewproviders.ViewProviderThermalMesh(feature.ViewObject)
+        feature.ViewObject.Lighting = "Two side"  # thin sheets (wings) are seen from both sides
     analysis.addObject(feature)
-    feature.Mesh = Mesh.Mesh(([FreeCAD.Vector(*p) for p in V], [tuple(int(j) for j in t) for t in F]))
+    # One point triple per triangle: the (points, indices) form drops triangles whose edge
+    # another two already share (a wing hinge, an instrument foot), and FaceNode would then
+    # no longer line up with the facets.
+    points = [FreeCAD.Vector(*p) for p in V]
+    feature.Mesh = Mesh.Mesh([[points[int(j)] for j in t] for t in F])
+    if feature.Mesh.CountFacets != len(F):
+        raise ThermoDecError("%s: FreeCAD kept %d of %d triangles" % (mesh_path, feature.Mesh.CountFacets, len(F)))
     feature.FaceNode = [int(n) for n in face_node]
     feature.FaceMaterial = [int(m) for m in np.asarray(mesh.face_material)]
     feature.NodeNames = node_names
@@ -77,6 +112,48 @@ def import_results(analysis, mesh_path, temperatures=None, name="Results"):
     return feature, summary
 
 
+def _remove_mesh(analysis, name):
+    """Removes the mesh feature `name` (an earlier run's) and the results shown on it."""
+    old = analysis.Document.getObject(name)
+    if old is None:
+        return
+    for res in objects.members(analysis, thermal_result.ThermalResult):
+        if res.ResultMesh == old:
+            analysis.Document.removeObject(res.Name)
+    analysis.Document.removeObject(old.Name)
+
+
+def _result_of(analysis, mesh, result, model, result_path, name="ThermalResult"):
+    """The ThermalResult of a core SimulationResult on `mesh`, with the model's seed and rays
+    per face: what the simulation used (simulate_model reads them from model.radiation)."""
+    return thermal_result.makeResult(analysis, mesh, list(result.nodes), np.asarray(result.times_s),
+                                     np.asarray(result.temperature_K), seed=model.radiation.seed,
+                                     rays_per_face=model.radiation.rays_per_face, result_file=result_path,
+                                     name=name)
+
+
+def simulate_model_file(analysis, model_path, name="SimulatedMesh"):
+    """Simulates a thermodec model file as it is (e.g. sample_models/satellite/model.json:
+    what `thermodec simulate` runs), writes <model stem>_result.json into the analysis'
+    output folder and adds the model's mesh with a ThermalResult to the analysis.
+    Returns (mesh feature, ThermalResult)."""
+    td = core.module()
+    core.require("simulate_model")
+    _progress("simulating %s" % model_path)
+    model = td.load_model(model_path)
+    result = td.simulate_model(model, _progress)
+    folder = os.path.dirname(export.default_paths(analysis)[0])
+    os.makedirs(folder, exist_ok=True)
+    stem = os.path.splitext(os.path.basename(model_path))[0]
+    result_path = os.path.join(folder, "%s_result.json" % stem)
+    _write_json(result_path, result.to_json())
+    _remove_mesh(analysis, name)
+    feature, _ = _mesh_feature(analysis, model.mesh, model_path, None, name)
+    res = _result_of(analysis, feature, result, model, result_path, name + "Result")
+    _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (result_path, res.Shown, res.ColourMinK, res.ColourMaxK))
+    return feature, res
+
+
 def _progress(message):
     FreeCAD.Console.PrintMessage("ThermoDec: %s\n" % message)
     if FreeCAD.GuiUp:
@@ -96,8 +173,9 @@ def _write_json(path, data):
 
 def simulate(analysis, json_path=None):
     """Exports the analysis, runs the core's reference simulation (thermodec.simulate_model,
-    what `thermodec simulate` runs) and writes result.json beside the model. The ThermalMesh
-    gets each triangle's node mean temperature [K] (coloured in the GUI).
+    what `thermodec simulate` runs) and writes result.json beside the model. A ThermalResult
+    (thermal_result.py) keeps the node temperatures over the orbit and shows each triangle's
+    node mean temperature [K] on the ThermalMesh (colour bar in the GUI).
     Returns (result path, {node: {"min_K", "mean_K", "max_K"}})."""
     td = core.module()
     core.require("simulate_model")
@@ -110,13 +188,9 @@ def simulate(analysis, json_path=None):
     _write_json(result_path, data)
     analysis.ResultFile = result_path
     summary = data["summary"]
-    tm = analysis.ThermalMesh
-    face_t = [summary[tm.NodeNames[n]]["mean_K"] for n in tm.FaceNode]
-    tm.FaceTemperature = face_t
-    if FreeCAD.GuiUp:
-        from . import viewproviders
-        viewproviders.colour_by_temperature(tm, face_t, min(face_t), max(face_t))
-    _progress("simulation done: %s (%.1f K .. %.1f K)" % (result_path, min(face_t), max(face_t)))
+    summary.pop("time_error_K", None)  # per-node entries only
+    res = _result_of(analysis, analysis.ThermalMesh, result, model, result_path)
+    _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (result_path, res.Shown, res.ColourMinK, res.ColourMaxK))
     return result_path, summary
 
 
@@ -162,13 +236,16 @@ def decimate(analysis, global_ratio=None, json_path=None):
         data = json.load(f)
     data["mesh"] = "model.obj"
     _write_json(os.path.join(folder, "model.json"), data)
+    dense = [r for r in objects.members(analysis, thermal_result.ThermalResult) if r.ResultMesh == analysis.ThermalMesh]
     temperatures = None
-    if analysis.ResultFile and os.path.exists(analysis.ResultFile):
+    if not dense and analysis.ResultFile and os.path.exists(analysis.ResultFile):
         temperatures = node_mean_temperatures(analysis.ResultFile)
-    old = analysis.Document.getObject("ReducedMesh")
-    if old is not None:
-        analysis.Document.removeObject(old.Name)
+    _remove_mesh(analysis, "ReducedMesh")
     feature, summary = import_results(analysis, mesh_path, temperatures, name="ReducedMesh")
+    if dense:  # the dense model's simulation, node by node, on the reduced triangles
+        nodes, times, T = thermal_result.matrix(dense[-1])
+        thermal_result.makeResult(analysis, feature, nodes, times, T, seed=dense[-1].Seed, rays_per_face=dense[-1].RaysPerFace,
+                                  result_file=dense[-1].ResultFile, name="ReducedMeshResult")
     summary.update(faces_before=int(model.mesh.num_faces), global_ratio=ratio,
                    nodes_reached=sum(1 for n in result.nodes if n.reached))
     _progress("reduced to %d faces (from %d)" % (summary["faces"], summary["faces_before"]))
@@ -204,13 +281,10 @@ def reduce(analysis, tolerance_K=None, json_path=None, plots=True, cases=()):
     folder = os.path.join(os.path.dirname(json_path), "reduced")
     for warning in td.write_reduction_outputs(run, folder, [json_path, mesh_path], plots):
         FreeCAD.Console.PrintWarning("ThermoDec: %s\n" % warning)
-    result = run.reduced_result
-    temperatures = {name: float(np.mean(row)) for name, row in zip(result.nodes, np.asarray(result.temperature_K))}
-    old = analysis.Document.getObject("ReducedMesh")
-    if old is not None:
-        analysis.Document.removeObject(old.Name)
-    feature, summary = import_results(analysis, os.path.join(folder, "reduced.obj"), temperatures,
-                                      name="ReducedMesh")
+    _remove_mesh(analysis, "ReducedMesh")
+    feature, summary = import_results(analysis, os.path.join(folder, "reduced.obj"), None, name="ReducedMesh")
+    # The verified reduced model's own simulation, with the seed and rays it ran with.
+    _result_of(analysis, feature, run.reduced_result, run.reduced_model, "", name="ReducedMeshResult")
     summary.update(faces_before=run.faces_before, tolerance_K=run.tolerance_K,
                    noise_floor_K=run.noise_floor_K,
                    max_temperature_difference_K=run.max_temperature_difference_K,

@@ -2,7 +2,7 @@
 through gui_actions.run (one undoable transaction, replayable script lines)."""
 
 import FreeCADGui
-from PySide import QtGui
+from PySide import QtCore, QtGui
 
 from . import coatings, gui_actions, objects
 
@@ -133,3 +133,159 @@ class TessellatePanel(_Panel):
             gui_actions.status("ThermoDec: %d triangles, longest edge %.1f mm" % (tm.Mesh.CountFacets, tm.LongestEdge))
             FreeCADGui.Control.closeDialog()
         return ok
+
+
+def _colour_bar(low, high, height=220):
+    """The colour map as a picture for the panel: bands bottom (low) to top (high) [K]."""
+    from .temperature_field import legend
+    bands, _ = legend(low, high)
+    pixmap = QtGui.QPixmap(28, height)
+    painter = QtGui.QPainter(pixmap)
+    step = height / float(len(bands))
+    for k, (_, (r, g, b)) in enumerate(bands):
+        top = int(round(height - (k + 1) * step))
+        painter.fillRect(0, top, 28, int(round(height - k * step)) - top,
+                         QtGui.QColor(int(255 * r), int(255 * g), int(255 * b)))
+    painter.end()
+    return pixmap
+
+
+class ResultPanel(_Panel):
+    """A ThermalResult: per-node min / mean / max over the orbit (a table), the colour bar of
+    the field shown, and the choice of that field (a statistic or one time step). Choices
+    preview at once; OK keeps them as one undoable transaction, Cancel restores."""
+
+    def __init__(self, result):
+        from . import temperature_field, thermal_result
+        self.result = result
+        self.original = thermal_result.field(result)
+        nodes, self.times, T = thermal_result.matrix(result)
+        self.rows = temperature_field.statistics_table(nodes, T)
+        self.form = QtGui.QWidget()
+        self.form.setWindowTitle("Thermal result")
+        layout = QtGui.QVBoxLayout(self.form)
+        run = "%d time steps, %.1f s apart" % (len(self.times), self.times[1] - self.times[0]) \
+            if len(self.times) > 1 else "steady state"
+        used = ("seed %d, %d rays per face" % (result.Seed, result.RaysPerFace)) if result.Seed >= 0 \
+            else "seed and rays not recorded (imported result)"
+        info = QtGui.QLabel("%s on %s\n%s; %s" % (result.Label, result.ResultMesh.Label, run, used))
+        info.setWordWrap(True)
+        layout.addWidget(info)
+
+        form = QtGui.QFormLayout()
+        self.field = QtGui.QComboBox()
+        self.field.addItems(["mean over the orbit", "min over the orbit", "max over the orbit", "time step"])
+        self.step = QtGui.QSlider()
+        self.step.setOrientation(QtCore.Qt.Horizontal)
+        self.step.setRange(0, max(len(self.times) - 1, 0))
+        self.step_label = QtGui.QLabel()
+        form.addRow("Show", self.field)
+        form.addRow("Time step", self.step)
+        form.addRow("", self.step_label)
+        layout.addLayout(form)
+
+        bar = QtGui.QHBoxLayout()
+        self.bar = QtGui.QLabel()
+        ticks = QtGui.QVBoxLayout()
+        self.top, self.bottom = QtGui.QLabel(), QtGui.QLabel()
+        self.shown = QtGui.QLabel()
+        self.shown.setWordWrap(True)
+        ticks.addWidget(self.top)
+        ticks.addStretch(1)
+        ticks.addWidget(self.shown)
+        ticks.addStretch(1)
+        ticks.addWidget(self.bottom)
+        bar.addWidget(self.bar)
+        bar.addLayout(ticks, 1)
+        layout.addLayout(bar)
+
+        self.table = QtGui.QTableWidget(len(self.rows), 5)
+        self.table.setHorizontalHeaderLabels(["node", "min [K]", "mean [K]", "max [K]", "shown [K]"])
+        for i, row in enumerate(self.rows):
+            self.table.setItem(i, 0, QtGui.QTableWidgetItem(row[0]))
+            for j, value in enumerate(row[1:]):
+                item = QtGui.QTableWidgetItem("%.2f" % value)
+                item.setTextAlignment(0x0082)  # right, vertically centred
+                self.table.setItem(i, j + 1, item)
+        self.table.setEditTriggers(QtGui.QAbstractItemView.NoEditTriggers)
+        self._fill_shown()
+        self.table.resizeColumnsToContents()
+        self.form.setMinimumWidth(sum(self.table.columnWidth(j) for j in range(5)) + 24)
+        self.table.verticalHeader().setVisible(False)
+        self.table.verticalHeader().setDefaultSectionSize(self.table.fontMetrics().height() + 6)
+        self.table.horizontalHeader().setStretchLastSection(True)
+        self.table.setMinimumHeight(min(30 + 24 * len(self.rows), 420))
+        layout.addWidget(self.table)
+
+        self._set_controls(self.original)
+        self.field.currentIndexChanged.connect(self._changed)
+        self.step.valueChanged.connect(self._changed)
+        self._show_bar()
+
+    def _set_controls(self, field):
+        index = {"mean": 0, "min": 1, "max": 2}
+        self.field.setCurrentIndex(index.get(field, 3))
+        if field not in index:
+            self.step.setValue(int(field))
+        self._label_step()
+
+    def _label_step(self):
+        k = self.step.value()
+        self.step.setEnabled(self.field.currentIndex() == 3)
+        if len(self.times):
+            self.step_label.setText("step %d of %d, t = %.0f s" % (k, len(self.times) - 1, self.times[k]))
+
+    def choice(self):
+        """The field the controls select: 'mean' / 'min' / 'max' or a time step index."""
+        k = self.field.currentIndex()
+        return ("mean", "min", "max")[k] if k < 3 else self.step.value()
+
+    def _show_bar(self):
+        r = self.result
+        self.bar.setPixmap(_colour_bar(r.ColourMinK, r.ColourMaxK))
+        self.top.setText("%.1f K (red)" % r.ColourMaxK)
+        self.bottom.setText("%.1f K (blue)" % r.ColourMinK)
+        self.shown.setText("colour: node temperature,\n%s" % r.Shown)
+
+    def _fill_shown(self):
+        """The table's last column: each node's value in the field shown."""
+        from . import temperature_field, thermal_result
+        nodes, _, T = thermal_result.matrix(self.result)
+        values = dict(zip(nodes, temperature_field.node_field(T, self.choice())))
+        for i, row in enumerate(self.rows):
+            item = QtGui.QTableWidgetItem("%.2f" % values[row[0]])
+            item.setTextAlignment(0x0082)
+            self.table.setItem(i, 4, item)
+
+    def _changed(self, *args):
+        from . import thermal_result
+        self._label_step()
+        thermal_result.set_field(self.result, self.choice())  # preview; OK records it
+        self._fill_shown()
+        self._show_bar()
+        FreeCADGui.updateGui()
+
+    def accept(self):
+        from . import thermal_result
+        choice = self.choice()
+        thermal_result.set_field(self.result, self.original)  # so that undo returns here
+        ok = gui_actions.run("Show thermal result", [
+            "import thermodec_freecad.thermal_result as tdresult",
+            "tdresult.set_field(App.ActiveDocument.%s, %r)" % (self.result.Name, choice)])
+        if ok:
+            self._close()
+        return ok
+
+    def reject(self):
+        from . import thermal_result
+        thermal_result.set_field(self.result, self.original)
+        self._close()
+        return True
+
+    def _close(self):
+        doc = FreeCADGui.ActiveDocument
+        if doc is not None and doc.getInEdit() is not None:
+            doc.resetEdit()  # opened by double-click: unsetEdit closes the panel
+        else:
+            FreeCADGui.Control.closeDialog()
+
