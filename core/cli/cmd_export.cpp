@@ -49,6 +49,7 @@ void run_export(const ExportOptions& o) {
   settings.noise_target_K = o.noise_target_K;
   if (!o.raw_mesh) apply_bare_mesh_ray_budgets(model, settings.simulation);
   if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
+  if (format != ExchangeFormat::nastran) guard_simulation_cost("export", model, settings.simulation, o.quiet);
   if (!o.quiet) settings.simulation.progress = [](const std::string& m) { std::cerr << "export: " << m << "\n"; };
   const auto files = export_model(std::move(model), format, o.out, fs::path(o.model).stem().string(), settings);
   if (!o.quiet)

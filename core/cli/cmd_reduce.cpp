@@ -104,6 +104,7 @@ void run_reduce(const ReduceCliOptions& o) {
             << (s.extra_cases.empty() ? std::string() : ", " + std::to_string(1 + s.extra_cases.size()) + " load cases")
             << (ranks.size > 1 ? ", sensitivity sweep over " + std::to_string(ranks.size) + " MPI ranks" : std::string())
             << "\n";
+  guard_simulation_cost("reduce", model, s.reference.simulation, o.quiet || !root, s.extra_cases);
   ReductionRun run = reduce_model(model, s);
   if (run.sweep_only) return;  // an MPI rank other than 0: its curves went to rank 0
   run.ranks = ranks.size;

@@ -7,7 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "thermodec/nodes/load_case.h"
 #include "thermodec/nodes/load_model.h"
+#include "thermodec/thermal/simulation_cost.h"
 
 namespace thermodec::cli {
 
@@ -42,5 +44,17 @@ void set_exit_code(int code);
 //! Model loading options carrying the global `--allow-unknown-keys` flag; `mesh` and
 //! `clean_bare_mesh` as given (load_model(path, MeshReadOptions) takes meshes as read).
 thermodec::ModelLoadOptions model_load_options(const thermodec::MeshReadOptions& mesh = {}, bool clean_bare_mesh = true);
+
+//! The global `--force` flag: run even when a simulation's estimated cost is over the limits.
+bool force_costly_runs();
+
+//! Before the expensive work of `command`: estimates one simulation of `model` (and of it in each
+//! of `cases`) with `settings` (thermal/simulation_cost.h), prints the estimate on stderr unless
+//! `quiet`, and refuses a run over SimulationCostLimits with InvalidInput naming the setting
+//! that drives it, unless `--force` was given (then a warning).
+void guard_simulation_cost(const std::string& command, const thermodec::ThermalModel& model,
+                           const thermodec::ModelSimulationSettings& settings, bool quiet,
+                           const std::vector<thermodec::LoadCase>& cases = {},
+                           thermodec::SimulationCostScope scope = thermodec::SimulationCostScope::simulation);
 
 }  // namespace thermodec::cli

@@ -1,16 +1,21 @@
 // thermodec command-line interface: one subcommand per pipeline step.
+#include <cstdio>
 #include <iostream>
 
 #include "commands.h"
 #include "thermodec/common/errors.h"
 #include "thermodec/common/version.h"
+#include "thermodec/thermal/simulation_cost.h"
 
 namespace thermodec::cli {
 namespace {
 int g_exit_code = 0;
 bool g_allow_unknown_keys = false;
 int g_max_nodes = thermodec::AutomaticNodeOptions{}.max_nodes;
+bool g_force = false;
 }
+
+bool force_costly_runs() { return g_force; }
 
 thermodec::ModelLoadOptions model_load_options(const thermodec::MeshReadOptions& mesh, bool clean_bare_mesh) {
   thermodec::ModelLoadOptions o;
@@ -75,6 +80,17 @@ int main(int argc, char** argv) {
                  "faces of one orientation; the smallest merge first)")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
+  {
+    const thermodec::SimulationCostLimits limits;
+    char help[400];
+    std::snprintf(help, sizeof help,
+                  "Run a simulation even when its estimated cost is over the limits: %.0e rays traced, "
+                  "%.0e units of thermal solver work (~30 min), %.0f GiB of memory. simulate, viewfactors, export "
+                  "and reduce print the estimate and otherwise refuse such a run, naming the setting that "
+                  "drives it (docs/model-format.md, \"Validation\")",
+                  limits.max_rays, limits.max_solver_work, limits.max_memory_bytes / double(1ull << 30));
+    app.add_flag("--force", g_force, help);
+  }
   app.fallthrough();
   app.set_version_flag("--version", std::string("thermodec ") + thermodec::kThermodecVersion);
   add_info(app);

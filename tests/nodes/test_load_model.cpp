@@ -355,3 +355,13 @@ TEST(LoadModel, sample_satellite_model_loads) {
   EXPECT_GE(m.mesh.face_material.minCoeff(), 0);
   EXPECT_EQ(m.environment.type, EnvironmentType::orbit);
 }
+
+TEST(LoadModel, sun_direction_with_extreme_components_keeps_its_direction) {
+  // Found by the reader fuzzer: the plain norm of [1, 0, -1e308] overflows, which made the
+  // direction the zero vector, and that of [1e-200, 0, 0] underflows, which refused it.
+  json j = example();
+  j["environment"]["sun_direction"] = json::array({1, 0, -1e308});
+  EXPECT_TRUE(load_variant(j).environment.sun_direction.isApprox(Eigen::Vector3d(0, 0, -1)));
+  j["environment"]["sun_direction"] = json::array({1e-200, 0, 0});
+  EXPECT_EQ(load_variant(j).environment.sun_direction, Eigen::Vector3d(1, 0, 0));
+}

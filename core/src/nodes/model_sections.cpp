@@ -22,8 +22,10 @@ void parse_environment(const json& j, const Keys& k, Environment& env) {
         if (!d[i].is_number() || !std::isfinite(d[i].get<double>())) k.fail(key + ".sun_direction", "must be an array of 3 finite numbers");
         v[i] = d[i].get<double>();
       }
-      if (!(v.norm() > 0)) k.fail(key + ".sun_direction", "must not be the zero vector");
-      env.sun_direction = v.normalized();
+      // Stable norm: [1, 0, 1e308] overflows the plain one (its direction would become zero)
+      // and [1e-200, 0, 0] underflows it (a valid direction refused as zero).
+      if (!(v.stableNorm() > 0)) k.fail(key + ".sun_direction", "must not be the zero vector");
+      env.sun_direction = v.stableNormalized();
     }
     if (j.contains("solar_flux")) env.solar_flux_W_per_m2 = k.number_in(j, key, "solar_flux", 0, 1e7, false, " W/m^2");
   } else if (type == "orbit") {

@@ -1,0 +1,151 @@
+// Runs that would take hours are refused before the work, naming the setting and the estimate
+// (thermal/simulation_cost.h), unless the global --force is given; every simulating command
+// prints its estimate.
+#include <unistd.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kData = THERMODEC_TEST_DATA_DIR;
+const fs::path kSample = fs::path(THERMODEC_SOURCE_DIR) / "sample_models" / "satellite";
+
+struct CliRun {
+  int exit_code;
+  std::string out, err;
+};
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path temp_dir(const std::string& name) {
+  auto d = fs::temp_directory_path() / ("thermodec_test_cli_cost_" + std::to_string(::getpid()) + "_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// `prefix` goes before the CLI (e.g. "timeout 4").
+CliRun run_cli(const std::string& args, const fs::path& dir, const std::string& prefix = "") {
+  const std::string cmd = prefix + " '" + THERMODEC_CLI + "' " + args + " >'" + (dir / "stdout").string() + "' 2>'" +
+                          (dir / "stderr").string() + "'";
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(dir / "stdout"), read_text(dir / "stderr")};
+}
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+// The sample satellite (882 faces) with radiation.rays_per_face at its maximum, 10^7.
+fs::path sample_with_rays_at_maximum(const fs::path& d) {
+  fs::copy_file(kSample / "satellite.obj", d / "satellite.obj");
+  nlohmann::json m = nlohmann::json::parse(read_text(kSample / "model.json"));
+  m["radiation"]["rays_per_face"] = 10000000;
+  std::ofstream(d / "model.json") << m.dump(1);
+  return d / "model.json";
+}
+
+// The 12-face example model on an orbit, orbit transient with `positions` load positions.
+fs::path cube_on_orbit(const fs::path& d, int positions) {
+  fs::copy_file(kData / "satellite.obj", d / "satellite.obj", fs::copy_options::overwrite_existing);
+  nlohmann::json m = nlohmann::json::parse(read_text(kData / "example_model.json"));
+  m["environment"] = {{"type", "orbit"}};
+  m["analysis"] = {{"type", "transient_orbit"}, {"steps_per_orbit", positions}};
+  const fs::path p = d / ("cube_" + std::to_string(positions) + ".json");
+  std::ofstream(p) << m.dump(1);
+  return p;
+}
+
+void expect_refused(const CliRun& r, const std::string& knob) {
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_TRUE(has(r.err, "thermodec: invalid input: estimated cost")) << r.err;
+  EXPECT_TRUE(has(r.err, "over the limit")) << r.err;
+  EXPECT_TRUE(has(r.err, knob)) << r.err;
+  EXPECT_TRUE(has(r.err, "--force")) << r.err;
+}
+
+}  // namespace
+
+TEST(CliCostChecks, rays_per_face_at_its_maximum_on_the_sample_is_refused_by_every_simulating_command) {
+  const auto d = temp_dir("rays");
+  const fs::path m = sample_with_rays_at_maximum(d);
+  const std::string knob = "radiation.rays_per_face = 10000000";
+  expect_refused(run_cli("simulate " + q(m) + " --json " + q(d / "r.json"), d), knob);
+  EXPECT_FALSE(fs::exists(d / "r.json"));
+  expect_refused(run_cli("viewfactors " + q(m) + " --json " + q(d / "vf.json"), d), knob);
+  expect_refused(run_cli("export " + q(m) + " --format csv -o " + q(d / "tables"), d), knob);
+  expect_refused(run_cli("reduce " + q(m) + " --out " + q(d / "reduced"), d), knob);
+  EXPECT_FALSE(fs::exists(d / "reduced" / "report.json"));
+  // The estimate names the rays: 1374 sides x 10^7.
+  const CliRun r = run_cli("viewfactors " + q(m) + " --json " + q(d / "vf.json"), d);
+  EXPECT_TRUE(has(r.err, "1.4e+10 rays to trace (limit 1e+10)")) << r.err;
+  // The NASTRAN export simulates nothing: no estimate, no refusal.
+  const CliRun nastran = run_cli("export " + q(m) + " --format nastran -o " + q(d / "mesh.bdf") + " -q", d);
+  EXPECT_EQ(nastran.exit_code, 0) << nastran.err;
+  EXPECT_TRUE(fs::exists(d / "mesh.bdf"));
+}
+
+TEST(CliCostChecks, a_million_orbit_positions_on_a_12_face_model_is_refused_naming_the_setting) {
+  const auto d = temp_dir("positions");
+  expect_refused(run_cli("simulate -q " + q(cube_on_orbit(d, 1000000)), d), "analysis.steps_per_orbit = 1000000");
+  // The same through the command-line override of a reasonable model.
+  expect_refused(run_cli("simulate " + q(cube_on_orbit(d, 72)) + " --load-positions 1000000", d), "1000000 load positions");
+  // 10^5 positions: the thermal solver (3 x 10^12 units of work) is what exceeds.
+  expect_refused(run_cli("simulate " + q(cube_on_orbit(d, 100000)), d), "thermal solver work");
+}
+
+TEST(CliCostChecks, a_load_case_over_the_limit_is_refused_by_reduce_and_named) {
+  const auto d = temp_dir("case");
+  std::ofstream(d / "long.json") << R"({"name": "long", "analysis": {"type": "transient_orbit", "steps_per_orbit": 1000000}})";
+  const CliRun r = run_cli("reduce " + q(cube_on_orbit(d, 24)) + " --case " + q(d / "long.json") + " --out " +
+                               q(d / "reduced"),
+                           d);
+  expect_refused(r, "analysis.steps_per_orbit = 1000000");
+  EXPECT_TRUE(has(r.err, "estimated cost (case long) over the limit")) << r.err;
+}
+
+TEST(CliCostChecks, force_runs_it_anyway_with_a_warning) {
+  const auto d = temp_dir("force");
+  // Over the solver limit only; stopped by `timeout` once it is past the check.
+  const CliRun r = run_cli("simulate -q " + q(cube_on_orbit(d, 100000)) + " --force", d, "timeout 4");
+  EXPECT_EQ(r.exit_code, 124) << "not refused, still running when stopped: " << r.err;
+  EXPECT_TRUE(has(r.err, "simulate: warning: estimated cost over the limit, running anyway (--force)")) << r.err;
+  EXPECT_TRUE(has(r.err, "thermal solver work")) << r.err;
+}
+
+TEST(CliCostChecks, simulating_commands_print_their_estimate_and_quiet_hides_it) {
+  const auto d = temp_dir("print");
+  const fs::path m = kData / "example_model.json";
+  CliRun r = run_cli("simulate " + q(m) + " --noise-target 0", d);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(has(r.err, "simulate: estimated cost: ")) << r.err;
+  EXPECT_TRUE(has(r.err, "rays (IR 5e+05")) << r.err;  // 12 faces: 2 nodes x 250 000 (min_rays_per_node)
+  EXPECT_TRUE(has(r.err, "steady solve x 2 nodes")) << r.err;
+  r = run_cli("simulate -q " + q(m) + " --noise-target 0", d);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_FALSE(has(r.err, "estimated cost")) << r.err;
+  r = run_cli("viewfactors " + q(m) + " --json " + q(d / "vf.json"), d);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(has(r.err, "viewfactors: estimated cost: 5e+05 rays (IR 5e+05); memory")) << r.err;
+}
+
+TEST(CliCostChecks, help_documents_force_and_the_limits) {
+  const auto d = temp_dir("help");
+  const CliRun r = run_cli("--help", d);
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_TRUE(has(r.out, "--force")) << r.out;
+  EXPECT_TRUE(has(r.out, "1e+10 rays traced")) << r.out;
+  EXPECT_TRUE(has(r.out, "16 GiB")) << r.out;
+}
