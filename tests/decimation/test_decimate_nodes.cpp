@@ -399,3 +399,28 @@ TEST(DecimateNodes, area_neutral_placement_keeps_curved_node_areas_and_reaches_f
     }
   }
 }
+
+TEST(DecimateNodes, thin_bent_tube_loses_whole_cross_sections_and_keeps_its_area_and_volume) {
+  // A 0.2 m x 0.02 m rib bent through 90 degrees on a 5 m radius, 16 segments (0.49 m long,
+  // 5.6 degrees of bend each). A single collapse drags one corner a whole segment along the bend
+  // and tilts the 2 cm side faces past the normal bound; whole cross-sections go instead, and
+  // the kept loop moves out of the bend so that area and volume stay.
+  test::MeshBuilder b;
+  test::add_bent_tube(b, 5.0, 0.2, 0.02, 16, 0);
+  const Mesh tube = b.build(1);
+  ASSERT_EQ(tube.num_faces(), 16 * 8 + 4);
+  DecimationOptions o;
+  o.max_relative_area_change = 1e-4;
+  const DecimationResult r = decimate_nodes(tube, Eigen::VectorXd::Constant(1, 0.75), o);
+  expect_node_preserving(tube, r, o);  // node area within 1e-4, closed, no new open edges
+  ASSERT_EQ(r.closed_volume_after_m3.size(), 1u);
+  EXPECT_NEAR(r.closed_volume_after_m3[0], r.closed_volume_before_m3[0],
+              o.max_relative_volume_change * r.closed_volume_before_m3[0]);
+  // The middle of the rib keeps 4 corners per station: faces between two stations are 8.
+  EXPECT_LE(r.mesh.num_faces(), 48) << "measured 36 faces (target 33)";
+
+  // Without section collapses the bend stops the decimation early (measured 94 faces).
+  o.collapse_tube_sections = false;
+  const DecimationResult single = decimate_nodes(tube, Eigen::VectorXd::Constant(1, 0.75), o);
+  EXPECT_GE(single.mesh.num_faces(), 80);
+}

@@ -109,6 +109,30 @@ inline void add_sphere(MeshBuilder& b, const Eigen::Vector3d& c, double r, int r
     }
 }
 
+// A thin rectangular tube (a strut or an antenna rib: width x height cross-section [m]) bent
+// along a quarter circle of radius r in the xy plane, `segments` segments, both ends capped,
+// outward normals, node `node_id`.
+inline void add_bent_tube(MeshBuilder& b, double r, double width, double height, int segments, int node_id) {
+  auto corner = [&](int i, int k) {
+    const double t = 0.5 * M_PI * i / segments;
+    const Eigen::Vector3d radial(std::cos(t), std::sin(t), 0);
+    const double dr = (k == 1 || k == 2) ? 0.5 * width : -0.5 * width;
+    const double dz = (k >= 2) ? 0.5 * height : -0.5 * height;
+    return b.vertex((r + dr) * radial + Eigen::Vector3d(0, 0, dz));
+  };
+  for (int i = 0; i < segments; ++i)
+    for (int k = 0; k < 4; ++k) {
+      // Side k joins corners k and k+1 of stations i and i+1 (quads split on one diagonal).
+      const int a = corner(i, k), bb = corner(i, (k + 1) % 4), c = corner(i + 1, (k + 1) % 4), d = corner(i + 1, k);
+      b.face(a, d, c, node_id);
+      b.face(a, c, bb, node_id);
+    }
+  b.face(corner(0, 0), corner(0, 1), corner(0, 2), node_id);  // caps
+  b.face(corner(0, 0), corner(0, 2), corner(0, 3), node_id);
+  b.face(corner(segments, 0), corner(segments, 2), corner(segments, 1), node_id);
+  b.face(corner(segments, 0), corner(segments, 3), corner(segments, 2), node_id);
+}
+
 // Two nodes side by side on a unit plate (node 0 for x < 0.5), n x n grid, open boundary.
 inline Mesh two_node_plate(int n) {
   MeshBuilder b;

@@ -15,8 +15,7 @@ bool NodeCollapse::IsFeasible(vcg::BaseParameterClass* pp) {
   // other entries whose stars changed are re-evaluated here when they surface. If the cost
   // rose, the collapse goes back into the heap at its new priority instead of running now.
   const ScalarType stored = _priority;
-  const bool fresh = c.stamp[c.vi(pos.V(0))] <= evaluated_at_ && c.stamp[c.vi(pos.V(1))] <= evaluated_at_;
-  if (!fresh) ComputePriority(pp);
+  if (!is_fresh(c)) ComputePriority(pp);
   if (!valid_) return false;
   if (_priority > stored) {
     auto& heap = *static_cast<HeapType*>(c.heap);
@@ -48,7 +47,16 @@ bool NodeCollapse::IsFeasible(vcg::BaseParameterClass* pp) {
         c.opt.max_relative_volume_change * std::abs(c.comp_volume0[d.key]))
       return false;
   }
-  return link_condition(c);
+  // A section collapse checked its topology when it was evaluated (section_collapse.cpp).
+  return section_.n > 0 || link_condition(c);
+}
+
+bool NodeCollapse::is_fresh(const Context& c) const {
+  auto unchanged = [&](const VVertex* v) { return !v->IsD() && c.stamp[c.vi(v)] <= evaluated_at_; };
+  if (!unchanged(pos.cV(0)) || !unchanged(pos.cV(1))) return false;
+  for (int j = 0; j < section_.n; ++j)
+    if (!unchanged(section_.gone[j]) || !unchanged(section_.kept[j])) return false;
+  return true;
 }
 
 bool NodeCollapse::is_contour_edge(const Context& c, VVertex* a, VVertex* b) {

@@ -14,6 +14,7 @@ namespace thermodec::collapse {
 void NodeCollapse::evaluate(Context& c, VVertex* gone, VVertex* kept, bool optimal) {
   valid_ = false;
   _priority = std::numeric_limits<float>::max();
+  section_ = Section();
   pos.V(0) = gone;
   pos.V(1) = kept;
   removed_per_node_.clear();

@@ -57,6 +57,7 @@ struct Context : vcg::BaseParameterClass {
   std::vector<VFace*> star;      // scratch for evaluate()
   std::vector<VVertex*> scratch_v[3];
   std::vector<std::pair<VVertex*, VVertex*>> scratch_e[2];
+  std::vector<VVertex*> section_scratch[2];  // for the thin-tube section collapse
   void* heap = nullptr;          // vcg's heap, for re-queuing re-evaluated collapses
   // vcg's stopping face count (sum of the targets); free removals lower it by what they took,
   // since they do not bring any node closer to its target.

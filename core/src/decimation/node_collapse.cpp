@@ -28,6 +28,15 @@ NodeCollapse::ScalarType NodeCollapse::ComputePriority(vcg::BaseParameterClass* 
     if (with_budget == 0 || (spent > 0 && !c.opt.free_exact_contour_collapses)) return _priority;
   }
   const uint8_t ca = c.vclass[c.vi(a)], cb = c.vclass[c.vi(b)];
+  // On a thin tube, the whole cross-section goes (section_collapse.cpp), in the cheaper direction.
+  if (c.opt.collapse_tube_sections && (ca == kFree || cb == kFree)) {
+    NodeCollapse other = *this;
+    const bool forward = ca == kFree && evaluate_section(c, a, b);
+    const bool backward = cb == kFree && other.evaluate_section(c, b, a);
+    if (backward && (!forward || other._priority < _priority)) *this = other;
+    if (forward || backward) return _priority;
+    if (on_thin_tube(c, a, b) || on_thin_tube(c, b, a)) return _priority;
+  }
   if (ca == kFree && cb == kFree) {
     evaluate(c, a, b, /*optimal=*/true);
   } else if (ca == kFree) {
@@ -60,8 +69,9 @@ void NodeCollapse::Execute(VMesh& m, vcg::BaseParameterClass* pp) {
   VVertex* gone = pos.V(0);
   VVertex* kept = pos.V(1);
   std::vector<int> removed_faces;
-  for (vcg::face::VFIterator<VFace> it(gone); !it.End(); ++it)
-    if (it.V1() == kept || it.V2() == kept) removed_faces.push_back(c.fi(it.F()));
+  if (section_.n == 0)
+    for (vcg::face::VFIterator<VFace> it(gone); !it.End(); ++it)
+      if (it.V1() == kept || it.V2() == kept) removed_faces.push_back(c.fi(it.F()));
   for (const auto& d : removed_per_node_) {
     const int k = static_cast<int>(d.value);
     if (c.node_faces[d.key] - k < c.node_target[d.key]) {
@@ -73,9 +83,14 @@ void NodeCollapse::Execute(VMesh& m, vcg::BaseParameterClass* pp) {
   for (const auto& d : removed_per_region_) c.region_faces[d.key] -= static_cast<int>(d.value);
   for (const auto& d : area_delta_) c.node_area[d.key] += d.value;
   for (const auto& d : volume_delta_) c.comp_volume[d.key] += d.value;
+  if (section_.n > 0) return execute_section(m, c);
   vcg::tri::EdgeCollapser<VMesh, VPair>::Do(m, pos, vcg::Point3d(x_[0], x_[1], x_[2]));
-  // Provenance: hand each removed face to a surviving face around the kept vertex, same
-  // region first (it covers the same node surface), else same node, else any.
+  record_absorbed(c, removed_faces, kept);
+}
+
+// Provenance: hand each removed face to a surviving face around the kept vertex, same
+// region first (it covers the same node surface), else same node, else any.
+void NodeCollapse::record_absorbed(Context& c, const std::vector<int>& removed_faces, VVertex* kept) {
   for (int f : removed_faces) {
     int best = -1, best_rank = 3;
     for (vcg::face::VFIterator<VFace> it(kept); !it.End(); ++it) {
@@ -92,20 +107,24 @@ void NodeCollapse::Execute(VMesh& m, vcg::BaseParameterClass* pp) {
 void NodeCollapse::UpdateHeap(HeapType& heap, vcg::BaseParameterClass* pp) {
   auto& c = *static_cast<Context*>(pp);
   ++c.mark;
-  VVertex* kept = pos.V(1);
-  kept->IMark() = c.mark;  // invalidates the old entries at the kept vertex
-  auto& ring = c.scratch_v[0];
-  ring.clear();
-  for (vcg::face::VFIterator<VFace> it(kept); !it.End(); ++it) {
-    ring.push_back(it.V1());
-    ring.push_back(it.V2());
-  }
-  std::sort(ring.begin(), ring.end());
-  ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
   ++c.clock;
-  c.stamp[c.vi(kept)] = c.clock;
-  for (VVertex* r : ring) c.stamp[c.vi(r)] = c.clock;
-  for (VVertex* r : ring) push(heap, std::min(kept, r), std::max(kept, r), c);
+  // The kept vertex, or every vertex of a section collapse's kept loop.
+  const int nkept = section_.n > 0 ? section_.n : 1;
+  auto& edges = c.scratch_e[0];
+  edges.clear();
+  for (int j = 0; j < nkept; ++j) {
+    VVertex* kept = section_.n > 0 ? section_.kept[j] : pos.V(1);
+    kept->IMark() = c.mark;  // invalidates the old entries at the kept vertex
+    c.stamp[c.vi(kept)] = c.clock;
+    for (vcg::face::VFIterator<VFace> it(kept); !it.End(); ++it)
+      for (VVertex* r : {it.V1(), it.V2()}) {
+        c.stamp[c.vi(r)] = c.clock;
+        edges.emplace_back(std::min(kept, r), std::max(kept, r));
+      }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  for (const auto& [a, b] : edges) push(heap, a, b, c);
 }
 
 void NodeCollapse::push(HeapType& heap, VVertex* a, VVertex* b, Context& c) {

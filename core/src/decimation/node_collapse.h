@@ -21,6 +21,9 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
 
   bool valid() const { return valid_; }
 
+  //! Most vertices on one cross-section loop of a thin tube (section_collapse.cpp).
+  static constexpr int kMaxSection = 12;
+
   ScalarType ComputePriority(vcg::BaseParameterClass* pp) override;
 
   bool IsUpToDate() const override {
@@ -94,6 +97,50 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   // when the kept vertex is non-manifold (frozen): the removed vertex is always manifold.
   bool link_condition(Context& c) const;
 
+  // Thin-tube section collapse (section_collapse.cpp): when `gone` and `kept` lie on two
+  // consecutive cross-section loops of a thin tube (loops of n short edges joined by long ones),
+  // the whole loop at `gone` moves onto the loop at `kept` in one step, removing the 2n faces
+  // between them, so the tube stays a tube instead of being skewed by single collapses.
+  struct Section {
+    int n = 0;                                   // 0: a single edge collapse
+    std::array<VVertex*, kMaxSection> gone{}, kept{};  // gone[j] merges into kept[j]
+    Vec3 shift = Vec3::Zero();                   // the kept loop moves by this [m]
+    Vec3 centre = Vec3::Zero();                  // the kept loop's centroid [m]
+  };
+
+  // The two loops of a section collapse of `gone` into `kept`, aligned so that gone[j] and
+  // kept[j] share an edge; false if the edge is not on a thin tube.
+  static bool find_section(Context& c, VVertex* gone, VVertex* kept, Section& s);
+  // v lies on a cross-section loop of free vertices of a thin tube along its edge to w: a
+  // single collapse of that edge would break the loop (and every later section collapse
+  // through it).
+  static bool on_thin_tube(Context& c, VVertex* v, VVertex* w);
+  bool section_topology_ok(Context& c) const;
+  // Where vertex v is after the section collapse, the kept loop moved by `shift` [m].
+  Vec3 section_position(const VVertex* v, const Vec3& shift) const;
+  struct SectionMeasures {
+    double area_m2 = 0, volume_change_m3 = 0;
+    Vec3 area_gradient = Vec3::Zero(), volume_gradient = Vec3::Zero();  // [m], [m^2]
+  };
+  SectionMeasures section_measures(const Context& c, const Vec3& shift) const;
+  Vec3 section_restoring_shift(const Context& c) const;
+  bool section_keeps_volume(const Context& c, const Vec3& shift) const;
+  bool section_removes(const VFace* f) const;  // f lies between the two loops
+
+  // Evaluates the section collapse of `gone` into `kept` (validity, cost, deltas, the kept
+  // loop's area-restoring shift); false if it is not a valid section collapse.
+  bool evaluate_section(Context& c, VVertex* gone, VVertex* kept);
+
+  // Runs the section collapse: n vcg edge collapses, the kept loop moved by its shift.
+  void execute_section(VMesh& m, Context& c);
+
+  // Hands each face of `removed` to a surviving face around `kept` (provenance).
+  static void record_absorbed(Context& c, const std::vector<int>& removed, VVertex* kept);
+
+  // Every vertex the entry depends on is unchanged since it was evaluated.
+  bool is_fresh(const Context& c) const;
+
+  Section section_;
   bool valid_ = false;
   int evaluated_at_ = 0;
   Vec3 x_ = Vec3::Zero();

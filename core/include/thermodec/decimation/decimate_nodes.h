@@ -18,6 +18,7 @@
 //!    coplanar faces: `free_exact_contour_collapses`);
 //!  - vertices where >= 3 regions (or a region and an open boundary and another region) meet,
 //!    non-manifold vertices and the ends of non-manifold edges never move or disappear;
+//!  - on thin tubes a whole cross-section loop collapses at once (collapse_tube_sections);
 //!  - the link condition (Dey-Edelsbrunner) keeps the topology, a normal-deviation test
 //!    forbids face flips, and every node's area and every closed component's enclosed volume
 //!    stay within the stated relative tolerances of their input values.
@@ -64,6 +65,17 @@ struct DecimationOptions {
   //! collapse from its own budget. Without this, a node reduced alone (all other ratios 0)
   //! could never coarsen any of its interfaces.
   bool free_exact_contour_collapses = true;
+  //! Thin tubes (struts, ribs, booms, cables: a loop of n <= 12 short edges swept along long
+  //! ones) are coarsened a whole cross-section at a time: the loop at the removed vertex moves
+  //! onto the next loop along the tube and the 2n faces between them disappear. A single edge
+  //! collapse there would drag one corner a whole segment along a curved tube and tilt the
+  //! tube's thin side faces past max_normal_deviation_deg, so curved thin tubes could not be
+  //! coarsened at all. The kept loop is scaled about its centroid so that the node's area is
+  //! kept (a chord is shorter than the arc it replaces). Same constraints as any collapse.
+  bool collapse_tube_sections = true;
+  //! "Thin" for collapse_tube_sections: every cross-section edge is shorter than this fraction
+  //! of the collapsed edge along the tube.
+  double tube_section_ratio = 0.5;
   //! "Exact" for free_exact_contour_collapses, dimensionless: the removed vertex deviates from
   //! the new contour segment by at most this fraction of the segment's length, every face of
   //! the unpaying node around it has a unit normal within this distance (~ radians) of the
