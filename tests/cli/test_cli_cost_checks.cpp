@@ -1,9 +1,7 @@
 // Runs that would take hours are refused before the work, naming the setting and the estimate
 // (thermal/simulation_cost.h), unless the global --force is given; every simulating command
 // prints its estimate.
-#include <unistd.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <filesystem>
 #include <fstream>
@@ -11,42 +9,17 @@
 #include <sstream>
 #include <string>
 
+#include "cli_run.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
+using namespace thermodec::test;
+
 const fs::path kData = THERMODEC_TEST_DATA_DIR;
 const fs::path kSample = fs::path(THERMODEC_SOURCE_DIR) / "sample_models" / "satellite";
 
-struct CliRun {
-  int exit_code;
-  std::string out, err;
-};
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-fs::path temp_dir(const std::string& name) {
-  auto d = fs::temp_directory_path() / ("thermodec_test_cli_cost_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-// `prefix` goes before the CLI (e.g. "timeout 4").
-CliRun run_cli(const std::string& args, const fs::path& dir, const std::string& prefix = "") {
-  const std::string cmd = prefix + " '" + THERMODEC_CLI + "' " + args + " >'" + (dir / "stdout").string() + "' 2>'" +
-                          (dir / "stderr").string() + "'";
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(dir / "stdout"), read_text(dir / "stderr")};
-}
-
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
-bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 // The sample satellite (882 faces) with radiation.rays_per_face at its maximum, 10^7.
 fs::path sample_with_rays_at_maximum(const fs::path& d) {

@@ -1,8 +1,6 @@
 // The CLI's contract for `info` and `convert`: exit 0 on success, 1 on bad input with a
 // one-line reason on stderr, outputs never overwrite inputs.
-#include <unistd.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <filesystem>
 #include <fstream>
@@ -11,39 +9,15 @@
 
 #include "thermodec/mesh/io.h"
 
+#include "cli_run.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
+using namespace thermodec::test;
+
 const fs::path kData = THERMODEC_TEST_DATA_DIR;
-
-struct CliRun {
-  int exit_code;
-  std::string out, err;
-};
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-fs::path temp_dir(const std::string& name) {
-  auto d = fs::temp_directory_path() / ("thermodec_test_cli_io_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-CliRun run_cli(const std::string& args, const fs::path& dir) {
-  const std::string cmd = std::string("'") + THERMODEC_CLI + "' " + args + " >'" + (dir / "stdout").string() +
-                          "' 2>'" + (dir / "stderr").string() + "'";
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(dir / "stdout"), read_text(dir / "stderr")};
-}
-
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 
 int lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 

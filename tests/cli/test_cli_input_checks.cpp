@@ -1,52 +1,21 @@
 // Bad inputs and bad output paths are refused by name, before any work, with exit code 1;
 // inputs are never overwritten; a reduce folder holds only its own outputs.
-#include <unistd.h>
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include "cli_run.h"
+
 namespace fs = std::filesystem;
 
 namespace {
 
+using namespace thermodec::test;
+
 const fs::path kData = THERMODEC_TEST_DATA_DIR;
-
-struct CliRun {
-  int exit_code;
-  std::string out, err;
-};
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-}
-
-fs::path temp_dir(const std::string& name) {
-  auto d = fs::temp_directory_path() / ("thermodec_test_cli_checks_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-CliRun run_cli(const std::string& args, const fs::path& dir) {
-  const std::string cmd = std::string("'") + THERMODEC_CLI + "' " + args + " >'" + (dir / "stdout").string() +
-                          "' 2>'" + (dir / "stderr").string() + "'";
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(dir / "stdout"), read_text(dir / "stderr")};
-}
-
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 
 // The 12-face example model with `extra` spliced in as further top-level keys.
 fs::path model_with(const fs::path& d, const std::string& extra, const std::string& name = "model.json") {
@@ -56,8 +25,6 @@ fs::path model_with(const fs::path& d, const std::string& extra, const std::stri
   write_text(d / name, text);
   return d / name;
 }
-
-bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
 
 }  // namespace
 

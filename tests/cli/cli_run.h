@@ -1,0 +1,54 @@
+#pragma once
+// Running the thermodec CLI from a test: exit code, stdout and stderr, in a fresh folder per test.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace thermodec::test {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int exit_code;
+  std::string out, err;
+};
+
+inline std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+inline void write_text(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+}
+
+// An empty folder under the system's temporary directory, unique to this process and `name`.
+inline fs::path temp_dir(const std::string& name) {
+  auto d = fs::temp_directory_path() / ("thermodec_test_cli_" + std::to_string(::getpid()) + "_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// Runs `thermodec ARGS` with stdout and stderr captured in `dir`; `prefix` goes before the CLI
+// (e.g. "timeout 4").
+inline CliRun run_cli(const std::string& args, const fs::path& dir, const std::string& prefix = "") {
+  const std::string cmd = prefix + " '" + THERMODEC_CLI + "' " + args + " >'" + (dir / "stdout").string() + "' 2>'" +
+                          (dir / "stderr").string() + "'";
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(dir / "stdout"), read_text(dir / "stderr")};
+}
+
+inline std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+inline bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+}  // namespace thermodec::test
