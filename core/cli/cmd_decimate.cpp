@@ -160,6 +160,10 @@ void add_decimate(CLI::App& app) {
                "place collapsed vertices where volume is preserved (Lindstrom-Turk) instead of where the "
                "node's area is (the default: area is what radiation sees; volumes still stay within "
                "--max-volume-change)");
+  sub->add_flag("--tube-sections", args->options.collapse_tube_sections,
+               "on thin tubes (struts, ribs, cables) remove whole cross-sections at once: reaches much "
+               "further on bent thin tubes, keeps their area and volume (off by default, and in `reduce`: "
+               "measured to move thin ribs' temperatures more than single collapses; docs/decimation.md)");
   sub->add_option("--contour-deviation", args->options.max_contour_deviation,
                   "max deviation of a removed interface vertex, relative to the new segment")
       ->capture_default_str()

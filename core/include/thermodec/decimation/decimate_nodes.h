@@ -18,7 +18,8 @@
 //!    coplanar faces: `free_exact_contour_collapses`);
 //!  - vertices where >= 3 regions (or a region and an open boundary and another region) meet,
 //!    non-manifold vertices and the ends of non-manifold edges never move or disappear;
-//!  - on thin tubes a whole cross-section loop collapses at once (collapse_tube_sections);
+//!  - optionally, on thin tubes a whole cross-section loop collapses at once
+//!    (collapse_tube_sections);
 //!  - the link condition (Dey-Edelsbrunner) keeps the topology, a normal-deviation test
 //!    forbids face flips, and every node's area and every closed component's enclosed volume
 //!    stay within the stated relative tolerances of their input values.
@@ -70,9 +71,12 @@ struct DecimationOptions {
   //! onto the next loop along the tube and the 2n faces between them disappear. A single edge
   //! collapse there would drag one corner a whole segment along a curved tube and tilt the
   //! tube's thin side faces past max_normal_deviation_deg, so curved thin tubes could not be
-  //! coarsened at all. The kept loop is scaled about its centroid so that the node's area is
-  //! kept (a chord is shorter than the arc it replaces). Same constraints as any collapse.
-  bool collapse_tube_sections = true;
+  //! coarsened at all. The kept loop moves out of the bend so that the collapse keeps the
+  //! node's area and the closed part's volume (a chord is shorter than the arc it replaces).
+  //! Same constraints as any collapse. Off by default: on tdrs' dish ribs it reaches much
+  //! further, but each removed cross-section moved the ribs' temperatures 2-5x more than the
+  //! single collapses it replaces (docs/decimation.md), so `reduce` does not use it.
+  bool collapse_tube_sections = false;
   //! "Thin" for collapse_tube_sections: every cross-section edge is shorter than this fraction
   //! of the collapsed edge along the tube.
   double tube_section_ratio = 0.5;
