@@ -203,6 +203,10 @@ TEST(DecimateCli, writes_a_model_that_loads_and_reports_every_node) {
   ASSERT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --node-ratios \"" + (dir / "ratios.json").string() +
                         "\" -o \"" + (dir / "boom.obj").string() + "\"", out), 0) << out;
   EXPECT_TRUE(fs::exists(dir / "boom.json"));
+  // Whole cross-sections of thin tubes on request: same contract (the sample has few thin tubes).
+  ASSERT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --ratio 0.5 --tube-sections -o \"" +
+                        (dir / "sections.json").string() + "\"", out), 0) << out;
+  EXPECT_EQ(load_model(dir / "sections.json").nodes.size(), full.nodes.size());
   // Errors exit 1 with a message: unknown node, missing ratio, overwriting the input.
   std::ofstream(dir / "bad.json") << "{\"no_such_node\": 0.5}";
   EXPECT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --node-ratios \"" + (dir / "bad.json").string() +
