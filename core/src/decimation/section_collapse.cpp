@@ -138,12 +138,7 @@ bool NodeCollapse::section_topology_ok(Context& c) const {
       if (on_kept == 0) return false;  // a cap
       // Between the loops: after the merge two corners must coincide, else it would survive as
       // a face of the kept loop alone.
-      int merged[3];
-      for (int j = 0; j < 3; ++j) {
-        const int g = index_in(s.gone, n, f->V(j));
-        merged[j] = g >= 0 ? g : index_in(s.kept, n, f->V(j));
-      }
-      if (merged[0] != merged[1] && merged[1] != merged[2] && merged[0] != merged[2]) return false;
+      if (!section_removes(f)) return false;
       ++removed;
     }
   }
@@ -239,13 +234,7 @@ Vec3 NodeCollapse::section_restoring_shift(const Context& c) const {
 bool NodeCollapse::section_keeps_volume(const Context& c, const Vec3& shift) const {
   const int comp = c.face_component[c.fi(c.star.front())];
   if (!c.comp_closed[comp]) return true;
-  double delta = 0;  // change of the closed part's volume [m^3]
-  for (const VFace* f : c.star) {
-    const Vec3 p0 = to_eigen(f->cP(0)), p1 = to_eigen(f->cP(1)), p2 = to_eigen(f->cP(2));
-    const Vec3 q0 = section_position(f->cV(0), shift), q1 = section_position(f->cV(1), shift),
-               q2 = section_position(f->cV(2), shift);
-    delta += (q0.dot(q1.cross(q2)) - p0.dot(p1.cross(p2))) / 6.0;
-  }
+  const double delta = section_measures(c, shift).volume_change_m3;  // [m^3]
   return std::abs(c.comp_volume[comp] + delta - c.comp_volume0[comp]) <=
          c.opt.max_relative_volume_change * std::abs(c.comp_volume0[comp]);
 }
