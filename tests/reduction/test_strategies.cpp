@@ -289,3 +289,38 @@ TEST(InformedReduction, leave_one_out_is_bounded_to_the_most_suspect_nodes) {
     }
   }
 }
+
+TEST(InformedReduction, pushes_the_superposition_rules_out_are_not_tried) {
+  // Uncoupled nodes whose trials carry their difference field (one cell): the superposition of
+  // the single-node fields is the combined difference wherever the curves were sampled.
+  struct WithField : Synthetic {
+    TrialResult operator()(const Eigen::VectorXd& r) const {
+      TrialResult t = Synthetic::operator()(r);
+      t.dT_K = Eigen::MatrixXd::Constant(1, 1, t.max_abs_dT_K);
+      return t;
+    }
+  };
+  WithField s;
+  static_cast<Synthetic&>(s) = three_nodes(0.0);
+  const auto curves = sensitivity_analysis(3, s, SensitivityOptions{});
+  std::vector<int> trials, rejected_pushes;
+  std::vector<ReductionOutcome> out;
+  for (bool screen : {false, true}) {
+    int calls = 0;
+    auto counted = [&](const Eigen::VectorXd& r) { ++calls; return s(r); };
+    InformedOptions io;
+    io.tolerance_K = 0.5;
+    io.parallel = false;
+    io.screen_by_superposition = screen;
+    out.push_back(informed_reduction(curves, 3, counted, s, io));
+    trials.push_back(calls);
+    int rejected = 0;
+    for (const auto& h : out.back().history) rejected += h.action.find("rejected") != std::string::npos;
+    rejected_pushes.push_back(rejected);
+  }
+  ASSERT_GT(rejected_pushes[0], 0) << "the unscreened push must meet failing steps for this test";
+  EXPECT_LT(trials[1], trials[0]);
+  EXPECT_LT(rejected_pushes[1], rejected_pushes[0]);
+  for (const auto& o : out) EXPECT_LE(o.verified.max_abs_dT_K, 0.5);
+  EXPECT_EQ(out[1].verified.faces_after, out[0].verified.faces_after);  // the same model, 8 -> 5 trials here
+}

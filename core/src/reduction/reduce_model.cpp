@@ -117,12 +117,13 @@ struct Searcher {
 // Statistical verification of the candidate `ratios` in every load case (fresh seeds).
 VerificationStatistics verify_ratios(const std::vector<std::unique_ptr<ReductionReference>>& refs,
                                      const Eigen::VectorXd& ratios, const ReduceSettings& settings,
-                                     std::uint64_t search_seed) {
+                                     std::uint64_t search_seed, VerificationOriginals& originals) {
   std::vector<Candidate> cands;
   for (const auto& r : refs) cands.push_back(r->candidate(ratios, true));
   std::vector<VerificationCase> cases;
   for (std::size_t c = 0; c < refs.size(); ++c) cases.push_back({&refs[c]->model(), &cands[c].model});
-  return verify_statistically(cases, settings.reference.simulation, settings.verification_replicates, search_seed);
+  return verify_statistically(cases, settings.reference.simulation, settings.verification_replicates, search_seed,
+                              &originals);
 }
 
 // The search aims below the tolerance by a margin from the measured noise, so that the
@@ -138,6 +139,7 @@ void verified_search(ReductionRun& run, const Searcher& search,
   const int R = settings.verification_replicates;
   double margin = student_t_975(R - 1) * run.noise_floor_K / 3.0 / std::sqrt(double(R));
   bool accepted = false;
+  VerificationOriginals originals;  // the original's runs serve every attempt
   for (int attempt = 0; attempt < settings.verification_attempts && !accepted && margin < tol; ++attempt) {
     run.search_tolerance_K = tol - margin;
     try {
@@ -148,7 +150,7 @@ void verified_search(ReductionRun& run, const Searcher& search,
     }
     const auto tv = Clock::now();
     say(fmt("verification: %.0f replicate pairs with fresh seeds", R));
-    run.verification = verify_ratios(refs, run.outcome.ratio_per_node, settings, search_seed);
+    run.verification = verify_ratios(refs, run.outcome.ratio_per_node, settings, search_seed, originals);
     run.seconds_verification += since(tv);
     say(fmt("verification: max |dT| = %.4f +- %.4f K (upper bound %.4f K at 97.5 %%)", run.verification.max_abs_dT_K,
             run.verification.standard_error_K, run.verification.upper_bound_K));
@@ -164,7 +166,7 @@ void verified_search(ReductionRun& run, const Searcher& search,
   keep.history = run.outcome.history;
   run.outcome = keep;
   const auto tv = Clock::now();
-  run.verification = verify_ratios(refs, keep.ratio_per_node, settings, search_seed);
+  run.verification = verify_ratios(refs, keep.ratio_per_node, settings, search_seed, originals);
   run.seconds_verification += since(tv);
   if (!run.verification.accepts(tol))
     throw SolverError(fmt("even the unreduced model's upper bound (%.4g K at 97.5 %%) exceeds the tolerance %.4g K: "

@@ -54,7 +54,7 @@ std::vector<std::uint64_t> verification_seeds(std::uint64_t search_seed, int rep
   // An odd 64-bit offset (golden ratio) far from the search's seed + small integers.
   std::vector<std::uint64_t> out;
   const std::uint64_t base = search_seed + 0x9E3779B97F4A7C15ull;
-  for (int k = 0; k < 2 * replicates; ++k) out.push_back(base + static_cast<std::uint64_t>(k));
+  for (int k = 0; k < replicates; ++k) out.push_back(base + static_cast<std::uint64_t>(k));
   return out;
 }
 
@@ -64,23 +64,31 @@ namespace thermodec {
 
 VerificationStatistics verify_statistically(const std::vector<VerificationCase>& cases,
                                             const ModelSimulationSettings& settings, int replicates,
-                                            std::uint64_t search_seed) {
+                                            std::uint64_t search_seed, VerificationOriginals* originals) {
   if (replicates < 2) throw InvalidInput("verification needs at least 2 replicate pairs");
   const std::vector<std::uint64_t> seeds = verification_seeds(search_seed, replicates);
+  VerificationOriginals local;
+  VerificationOriginals& kept = originals ? *originals : local;
+  if (kept.per_case.size() < cases.size()) kept.per_case.resize(cases.size());
   // Each case bounded alone (cases may have other times); the max over cases of the bounds
   // bounds the max over cases, by the same argument as over nodes.
   VerificationStatistics s;
   double estimate = 0.0;
-  for (const VerificationCase& c : cases) {
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    std::vector<SimulationResult>& ra = kept.per_case[c];
     std::vector<Eigen::MatrixXd> d;
     for (int j = 0; j < replicates; ++j) {
-      ThermalModel a = *c.original, b = *c.candidate;
-      a.radiation.seed = seeds[2 * j];
-      b.radiation.seed = seeds[2 * j + 1];
-      const SimulationResult ra = simulate_model(a, settings), rb = simulate_model(b, settings);
-      compare_results(ra, rb);  // throws if nodes or times do not line up
-      if (ra.nodes != rb.nodes) throw InvalidInput("verification: the candidate's nodes are in another order");
-      d.push_back(rb.temperature_K - ra.temperature_K);
+      if (static_cast<int>(ra.size()) <= j) {
+        ThermalModel a = *cases[c].original;
+        a.radiation.seed = seeds[j];
+        ra.push_back(simulate_model(a, settings));
+      }
+      ThermalModel b = *cases[c].candidate;
+      b.radiation.seed = seeds[j];
+      const SimulationResult rb = simulate_model(b, settings);
+      compare_results(ra[j], rb);  // throws if nodes or times do not line up
+      if (ra[j].nodes != rb.nodes) throw InvalidInput("verification: the candidate's nodes are in another order");
+      d.push_back(rb.temperature_K - ra[j].temperature_K);
     }
     const VerificationStatistics sc = difference_upper_bound(d);
     if (!(sc.upper_bound_K <= s.upper_bound_K)) s = sc;  // NaN wins

@@ -3,9 +3,12 @@
 //! original, bounded from above at a stated confidence from replicate simulations with seeds
 //! that no step of the search used.
 //!
-//! Estimator (docs/reduction.md, "Verification"). R replicate pairs j: the original simulated
-//! with seed a_j, the candidate with seed b_j (every seed fresh). Per node i and time k, the
-//! pair differences d_j(i, k) are independent draws around the true difference D(i, k); their
+//! Estimator (docs/reduction.md, "Verification"). R replicate pairs j: the original and the
+//! candidate both simulated with seed s_j (every seed fresh, one per pair), so faces the
+//! decimation left alone trace the same rays in both (correlated sampling, as in the search) and
+//! the pair's difference carries only the noise of what changed. The pairs are independent of
+//! each other: per node i and time k, the differences d_j(i, k) are independent draws whose
+//! mean is the true difference D(i, k) = E[T_candidate] - E[T_original]; their
 //! mean m and standard error se = sd / sqrt(R) give the one-sided Student-t bound
 //! |m| + t(conf, R - 1) se, which exceeds |D(i, k)| with probability >= conf. The bound on
 //! max_{i,k} |D| is the max over (i, k) of those bounds: at the cell (i*, k*) where the true
@@ -28,7 +31,7 @@ struct VerificationStatistics {
   double upper_bound_K = 0.0;     //!< max over nodes/times of |mean| + t se
   double confidence = kVerificationConfidence;
   int replicates = 0;             //!< pairs R
-  std::vector<std::uint64_t> seeds;  //!< a_0, b_0, a_1, b_1, ... (original, candidate)
+  std::vector<std::uint64_t> seeds;  //!< s_0, s_1, ...: pair j simulates both models with s_j
   int node = -1;                  //!< row of the upper bound's cell (of the stacked matrices)
   int time_index = -1;            //!< its column
   bool accepts(double tolerance_K) const { return upper_bound_K <= tolerance_K; }  //!< NaN fails
@@ -43,8 +46,8 @@ double student_t_975(int dof);
 //! \throw InvalidInput if fewer than 2 replicates or shapes differ.
 VerificationStatistics difference_upper_bound(const std::vector<Eigen::MatrixXd>& replicate_dT_K);
 
-//! Seeds of R verification pairs, disjoint from `search_seed` + [0, 2^20) (the reference, its
-//! noise-floor runs and every trial salt are derived from the search seed that way).
+//! Seeds of R verification pairs (one per pair), disjoint from `search_seed` + [0, 2^20) (the
+//! reference, its noise-floor runs and every trial salt are derived from the search seed that way).
 std::vector<std::uint64_t> verification_seeds(std::uint64_t search_seed, int replicates);
 
 }  // namespace thermodec
@@ -60,13 +63,20 @@ struct VerificationCase {
   const ThermalModel* candidate = nullptr;
 };
 
-//! Simulates every case's original with seed a_j and candidate with seed b_j for j < replicates
-//! (verification_seeds(search_seed, replicates)), full simulations (nothing reused), and bounds
-//! the max |dT| over cases, nodes and times (difference_upper_bound, cases stacked as rows).
-//! Cost: 2 x replicates simulations per case.
+//! The original's verification runs, kept between verifications of several candidates of one
+//! reduction: per case, the results for seeds s_0, s_1, ... (filled on first use).
+struct VerificationOriginals {
+  std::vector<std::vector<SimulationResult>> per_case;
+};
+
+//! Simulates every case's original and candidate with seed s_j for j < replicates
+//! (verification_seeds(search_seed, replicates)), full simulations (nothing reused between
+//! runs), and bounds the max |dT| over cases, nodes and times (difference_upper_bound, cases
+//! stacked as rows). Cost: 2 x replicates simulations per case, replicates when `originals`
+//! already holds the original's runs (a later candidate of the same reduction).
 //! \throw InvalidInput if replicates < 2 or a case's results do not line up.
 VerificationStatistics verify_statistically(const std::vector<VerificationCase>& cases,
                                             const ModelSimulationSettings& settings, int replicates,
-                                            std::uint64_t search_seed);
+                                            std::uint64_t search_seed, VerificationOriginals* originals = nullptr);
 
 }  // namespace thermodec
