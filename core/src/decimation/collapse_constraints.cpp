@@ -35,18 +35,10 @@ bool NodeCollapse::IsFeasible(vcg::BaseParameterClass* pp) {
   if (!paid) return false;
   for (const auto& d : removed_per_region_)
     if (c.region_faces[d.key] - static_cast<int>(d.value) < 1) return false;
-  for (const auto& d : area_delta_) {
-    const double after = c.node_area[d.key] + d.value;
-    if (std::abs(after - c.node_area0[d.key]) > c.opt.max_relative_area_change * c.node_area0[d.key])
-      return false;
-  }
-  for (const auto& d : volume_delta_) {
-    if (!c.comp_closed[d.key]) continue;
-    const double after = c.comp_volume[d.key] + d.value;
-    if (std::abs(after - c.comp_volume0[d.key]) >
-        c.opt.max_relative_volume_change * std::abs(c.comp_volume0[d.key]))
-      return false;
-  }
+  for (const auto& d : area_delta_)
+    if (!c.area_within_bound(d.key, d.value)) return false;
+  for (const auto& d : volume_delta_)
+    if (!c.volume_within_bound(d.key, d.value)) return false;
   // A section collapse checked its topology when it was evaluated (section_collapse.cpp).
   return section_.n > 0 || link_condition(c);
 }

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -62,6 +63,17 @@ struct Context : vcg::BaseParameterClass {
   // vcg's stopping face count (sum of the targets); free removals lower it by what they took,
   // since they do not bring any node closer to its target.
   int* target_simplices = nullptr;
+
+  // The per-node area bound and the closed-part volume bound (open parts have none), for a
+  // collapse that changes node `node`'s area by delta_m2 [m^2] or part `comp`'s volume by
+  // delta_m3 [m^3] on top of what earlier collapses changed.
+  bool area_within_bound(int node, double delta_m2) const {
+    return std::abs(node_area[node] + delta_m2 - node_area0[node]) <= opt.max_relative_area_change * node_area0[node];
+  }
+  bool volume_within_bound(int comp, double delta_m3) const {
+    return !comp_closed[comp] || std::abs(comp_volume[comp] + delta_m3 - comp_volume0[comp]) <=
+                                     opt.max_relative_volume_change * std::abs(comp_volume0[comp]);
+  }
 
   int vi(const VVertex* v) const { return static_cast<int>(v - &m->vert[0]); }
   int fi(const VFace* f) const { return static_cast<int>(f - &m->face[0]); }

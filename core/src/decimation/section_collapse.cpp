@@ -234,9 +234,7 @@ Vec3 NodeCollapse::section_restoring_shift(const Context& c) const {
 bool NodeCollapse::section_keeps_volume(const Context& c, const Vec3& shift) const {
   const int comp = c.face_component[c.fi(c.star.front())];
   if (!c.comp_closed[comp]) return true;
-  const double delta = section_measures(c, shift).volume_change_m3;  // [m^3]
-  return std::abs(c.comp_volume[comp] + delta - c.comp_volume0[comp]) <=
-         c.opt.max_relative_volume_change * std::abs(c.comp_volume0[comp]);
+  return c.volume_within_bound(comp, section_measures(c, shift).volume_change_m3);
 }
 
 bool NodeCollapse::evaluate_section(Context& c, VVertex* gone, VVertex* kept) {

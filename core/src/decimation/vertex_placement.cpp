@@ -136,8 +136,7 @@ bool NodeCollapse::keeps_closed_volume(const Context& c, const Vec3& x) const {
     delta -= p0.dot(p1.cross(p2)) / 6.0;
     if (moved == 1) delta += q[0].dot(q[1].cross(q[2])) / 6.0;
   }
-  return std::abs(c.comp_volume[comp] + delta - c.comp_volume0[comp]) <=
-         c.opt.max_relative_volume_change * std::abs(c.comp_volume0[comp]);
+  return c.volume_within_bound(comp, delta);
 }
 
 }  // namespace thermodec::collapse
