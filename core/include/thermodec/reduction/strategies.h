@@ -73,9 +73,10 @@ struct InformedOptions {
   //! Superposition start: re-allocations after a predicted candidate measured over the
   //! tolerance, each with the target scaled by tolerance / measured (then back-off as above).
   int max_corrections = 2;
-  //! Skip the push and scale-back trials the superposition rules out: predicted max |dT| plus
-  //! the least prediction error (measured - predicted) seen so far in the search still over
-  //! the tolerance. They count as failed steps. Needs curves with difference fields.
+  //! Skip the push and scale-back trials the superposition rules out: predicted max |dT|
+  //! still over the tolerance after the most favourable error measured so far in the search,
+  //! taken both as an offset and as a factor (strategies.cpp). They count as failed steps.
+  //! Needs curves with difference fields.
   bool screen_by_superposition = true;
   bool parallel = true;       //!< leave-one-out contributions measured concurrently
   std::function<void(const std::string&)> log;
