@@ -178,17 +178,17 @@ void push_remaining_slack(const std::vector<const SensitivityCurve*>& curve_of, 
     cand[pick] = step_for(pick);
     const std::string name = "push " + node_name(o, pick) + " to " + fmt_ratio(cand[pick]);
     const std::string ruled_out = screen.rules_out(cand, tol);
-    if (!ruled_out.empty()) {  // as a measured failure, without the trial
+    bool passed = false;  // a step the superposition rules out counts as failed, without a trial
+    if (ruled_out.empty()) {
+      const TrialResult r = trial(cand);
+      ++evaluations;
+      passed = within(r, tol);
+      // A push over the tolerance is kept in the history, marked as rejected.
+      record(cand, r, name + (passed ? "" : " (rejected: over the tolerance)"));
+    } else {
       log(name + ": skipped, " + ruled_out);
-      if (failed_at[pick] < 0) failed_at[pick] = cand[pick];
-      else saturated[pick] = true;
-      continue;
     }
-    const TrialResult r = trial(cand);
-    ++evaluations;
-    // A push over the tolerance is kept in the history, marked as rejected.
-    record(cand, r, name + (within(r, tol) ? "" : " (rejected: over the tolerance)"));
-    if (within(r, tol)) {
+    if (passed) {
       current = cand;
       pushed = true;
       if (failed_at[pick] >= 0) saturated[pick] = true;  // bisected once: good enough
@@ -238,7 +238,7 @@ Eigen::VectorXd scale_back(const std::vector<const SensitivityCurve*>& curve_of,
     const Eigen::VectorXd r = scaled(mid);
     const std::string name = "scale back: each node's share of the tolerance x" + std::to_string(mid);
     const std::string ruled_out = screen.rules_out(r, tol);
-    if (!ruled_out.empty()) {  // as a measured failure, without the trial
+    if (!ruled_out.empty()) {  // counts as failed, without a trial
       if (o.log) o.log(name + ": skipped, " + ruled_out);
       hi = mid;
       continue;
