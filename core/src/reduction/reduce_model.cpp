@@ -96,7 +96,8 @@ struct Searcher {
   }
 
   // Predicted vs real (paper Fig. 11): for several targets, the curves' prediction and the
-  // simulated difference of all nodes reduced together.
+  // simulated difference of all nodes reduced together. `tol` is the search tolerance: the
+  // 1.0 target's candidate is then the search's first, taken from the trial memo.
   void predictions(ReductionRun& run, double tol) const {
     run.prediction.resize(settings.prediction_targets.size());
     tbb::parallel_for(size_t(0), settings.prediction_targets.size(), [&](size_t i) {
@@ -134,12 +135,12 @@ VerificationStatistics verify_ratios(const std::vector<std::unique_ptr<Reduction
 // by the bound's excess over the tolerance; after the last attempt the unreduced model is kept.
 void verified_search(ReductionRun& run, const Searcher& search,
                      const std::vector<std::unique_ptr<ReductionReference>>& refs, const ReduceSettings& settings,
-                     std::uint64_t search_seed, const std::function<void(const std::string&)>& say) {
+                     std::uint64_t search_seed, VerificationOriginals& originals,
+                     const std::function<void(const std::string&)>& say) {
   const double tol = settings.tolerance_K;
   const int R = settings.verification_replicates;
   double margin = student_t_975(R - 1) * run.noise_floor_K / 3.0 / std::sqrt(double(R));
   bool accepted = false;
-  VerificationOriginals originals;  // the original's runs serve every attempt
   for (int attempt = 0; attempt < settings.verification_attempts && !accepted && margin < tol; ++attempt) {
     run.search_tolerance_K = tol - margin;
     try {
@@ -288,12 +289,21 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   for (const LoadCase& c : settings.extra_cases) cases.push_back(c);
   const bool several = cases.size() > 1;
   std::vector<std::unique_ptr<ReductionReference>> refs;
+  // The original's runs with the verification seeds serve every verification attempt; the
+  // noise floor's runs are the first of them (its seeds are the verification pairs' first
+  // seeds: one full simulation per case less). The search sees those runs only through the
+  // noise floor, one scalar that sets its margin.
+  VerificationOriginals originals;
+  originals.per_case.resize(cases.size());
+  const std::vector<std::uint64_t> noise_seeds = verification_seeds(model.radiation.seed, settings.noise_runs - 1);
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const std::string tag = several ? "case " + cases[c].name + ": " : "";
     say(tag + "reference: simulating and keeping reusable rays and samples");
     refs.push_back(std::make_unique<ReductionReference>(with_case(model, cases[c]), settings.reference));
     say(tag + "noise floor: simulating the reference with " + std::to_string(settings.noise_runs - 1) + " other seed(s)");
-    const NoiseFloor noise = noise_floor(refs[c]->model(), settings.noise_runs, settings.reference.simulation, &refs[c]->result());
+    NoiseFloor noise = noise_floor(refs[c]->model(), settings.noise_runs, settings.reference.simulation,
+                                   &refs[c]->result(), noise_seeds);
+    originals.per_case[c] = std::move(noise.others);
     CaseResult cr;
     cr.name = cases[c].name;
     cr.noise_floor_K = noise.worst.max_abs_K;
@@ -370,8 +380,9 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
     search.sweep(run);
     if (run.sweep_only) return run;  // an MPI rank other than 0: its curves went to rank 0
   }
-  verified_search(run, search, refs, settings, model.radiation.seed, say);
-  if (settings.strategy == ReductionStrategy::informed) search.predictions(run, tol);
+  verified_search(run, search, refs, settings, model.radiation.seed, originals, say);
+  if (settings.strategy == ReductionStrategy::informed)
+    search.predictions(run, run.search_tolerance_K > 0.0 ? run.search_tolerance_K : tol);
   run.seconds_search = since(t_search) - run.seconds_verification;
 
   rebuild_and_report(run, refs, cases, model);

@@ -64,7 +64,9 @@ struct ReduceSettings {
   //! a little further (a tighter bound cuts the decimator's reach on CAD nodes), but on tdrs
   //! the drift of 34 reduced nodes adds up (combined prediction 1.20 K instead of 0.55 K).
   double area_error_fraction = 0.1;
-  //! Extra trials for the predicted-vs-real plot: targets as multiples of the tolerance.
+  //! Extra trials for the predicted-vs-real plot: targets as multiples of the search tolerance
+  //! (the tolerance less the verification margin), so that the 1.0 point is the informed
+  //! search's first candidate, already simulated.
   std::vector<double> prediction_targets{0.1, 0.25, 0.5, 1.0, 2.0};
   //! Further load cases the reduced model must also meet (hot and cold cases, ...): the
   //! model's own environment is the first case; each extra one gets its own reference,
