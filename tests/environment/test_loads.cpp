@@ -286,10 +286,12 @@ struct ReuseCase {
   Eigen::AlignedBox3d changed;
   LoadSamples reference;
 };
-ReuseCase reuse_case(const std::string& name, const ExternalLoadSettings& s, Attitude attitude = Attitude::nadir) {
+ReuseCase reuse_case(const std::string& name, const ExternalLoadSettings& s, Attitude attitude = Attitude::nadir,
+                     AnalysisType analysis = AnalysisType::transient_orbit) {
   ReuseCase c;
   c.model = load_model(fs_sample());
   c.model.environment.attitude = attitude;
+  c.model.analysis.type = analysis;
   {
     const RayScene scene(c.model.mesh);
     external_loads(c.model, scene, surface_sides(c.model), nullptr, s, {}, &c.reference);
@@ -590,4 +592,61 @@ TEST(LoadReuse, a_grazing_shadow_ray_traced_again_meets_what_a_full_run_meets) {
   EXPECT_EQ(r.incremental.solar_W, r.full.solar_W);
   EXPECT_GT(r.reuse.reused_sun_rays, 0);
   EXPECT_GT(r.reuse.traced_sun_rays, 0);
+}
+
+// A steady analysis of an orbit uses the orbit mean of the loads: each shadow pass draws its own
+// points, 1/D of them (external_loads.h).
+TEST(SteadyShadowPasses, division_is_the_two_thirds_power_of_the_passes_and_keeps_small_counts) {
+  EXPECT_EQ(shadow_pass_division(0), 1);
+  EXPECT_EQ(shadow_pass_division(1), 1);
+  EXPECT_EQ(shadow_pass_division(43), 12);  // 72 positions, 43 sunlit (the NASA meshes' orbit)
+  EXPECT_EQ(shadow_pass_division(72), 17);
+  const Eigen::VectorXi rays = (Eigen::VectorXi(4) << 256, 1003, 20, 8).finished();
+  EXPECT_EQ(shadow_rays_per_pass(rays, 12), (Eigen::VectorXi(4) << 22, 84, 16, 8).finished());
+  EXPECT_EQ(shadow_rays_per_pass(rays, 1), rays);
+}
+
+namespace {
+std::int64_t recorded_sun_rays(const LoadSamples& samples) {
+  std::int64_t n = 0;
+  for (const RayRecords& r : samples.sun_records)
+    if (!r.empty()) n += r.ray_begin.back();
+  return n;
+}
+}  // namespace
+
+TEST(SteadyShadowPasses, orbit_mean_matches_shared_points_within_the_error_with_far_fewer_rays) {
+  ThermalModel model = load_model(fs_sample());
+  model.analysis.type = AnalysisType::steady;
+  ExternalLoadSettings own = small_budgets(), shared = small_budgets();
+  own.sun_rays_per_face = shared.sun_rays_per_face = 1024;
+  own.sun_pilot_rays = shared.sun_pilot_rays = 1024;
+  shared.steady_shadow_passes = false;
+  const RayScene scene(model.mesh);
+  const SurfaceSides sides = surface_sides(model);
+  LoadSamples with_own, with_shared;
+  const Loads a = external_loads(model, scene, sides, nullptr, own, {}, &with_own);
+  const Loads b = external_loads(model, scene, sides, nullptr, shared, {}, &with_shared);
+  ASSERT_TRUE(with_own.per_ray && with_shared.per_ray);
+  // The sample's nadir orbit has 36 sunlit positions of 60: D = 11, 94 of 1024 points a pass.
+  EXPECT_LT(recorded_sun_rays(with_own) * 8, recorded_sun_rays(with_shared));
+  const Eigen::VectorXd mean_a = a.solar_W.rowwise().mean(), mean_b = b.solar_W.rowwise().mean();
+  ASSERT_EQ(a.orbit_mean_standard_error_W.size(), mean_a.size());
+  for (Eigen::Index n = 0; n < mean_a.size(); ++n) {
+    const double se = std::hypot(a.orbit_mean_standard_error_W[n], b.orbit_mean_standard_error_W[n]);
+    EXPECT_LE(std::abs(mean_a[n] - mean_b[n]), 4.0 * se + 1e-9 * std::abs(mean_b[n])) << model.nodes[n].name;
+  }
+  // The orbit mean's error estimate is not much larger than with every point at every pass.
+  EXPECT_LE(a.orbit_mean_standard_error_W.maxCoeff(), 2.0 * b.orbit_mean_standard_error_W.maxCoeff());
+}
+
+TEST(SteadyShadowPasses, a_trial_reusing_the_reference_equals_a_full_recompute) {
+  const ExternalLoadSettings s = small_budgets();
+  ReuseCase c = reuse_case("boom", s, Attitude::nadir, AnalysisType::steady);
+  ASSERT_GE(c.node, 0);
+  const FullAndReused r = full_and_reused(c.trial, c.reference, c.changed, s);
+  EXPECT_EQ(r.incremental.solar_W, r.full.solar_W);
+  EXPECT_EQ(r.incremental.sampling_standard_error_W, r.full.sampling_standard_error_W);
+  EXPECT_EQ(r.incremental.orbit_mean_standard_error_W, r.full.orbit_mean_standard_error_W);
+  EXPECT_GT(r.reuse.reused_sun, 0);
 }

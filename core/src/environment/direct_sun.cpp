@@ -113,7 +113,7 @@ void direct_sun_loads(LoadRun& run) {
   LoadSamples* samples = run.samples;
   const std::vector<Side>& geo = run.geo;
   const SurfaceSides& sides = run.sides;
-  const Eigen::VectorXi& sun_rays = run.sun_rays;
+  const Eigen::VectorXi& sun_rays = run.sun_rays_per_pass;
   const Eigen::VectorXd& alpha = run.alpha;
   const std::vector<int>& ref_of = run.ref_of;
   Eigen::MatrixXd& incident_direct = run.incident_direct;
@@ -122,7 +122,10 @@ void direct_sun_loads(LoadRun& run) {
   if (progress) progress("direct sun: " + std::to_string(steps) + " step(s)");
   Eigen::Vector3d last_dir = Eigen::Vector3d::Zero();
   Eigen::VectorXd lit;
-  std::vector<std::vector<std::array<float, 3>>> sun_points(ns);  // per side, for every step
+  // Sample points per side: the same at every pass, or (shadow_division > 1: a steady orbit,
+  // external_loads.h) each pass's own, from its own scramble seed.
+  std::vector<std::vector<std::array<float, 3>>> sun_points(ns);
+  const bool own_points = run.shadow_division > 1;
   std::vector<char> todo(ns, 1);
   for (int k = 0; k < steps; ++k) {
     const OrbitState& st = states[k];
@@ -139,11 +142,15 @@ void direct_sun_loads(LoadRun& run) {
         reuse->reused_sun += reused_here;
         reuse->total_sun += ns;
       }
+      if (own_points)
+        for (auto& p : sun_points) p.clear();
+      const std::uint64_t pass_seed =
+          own_points ? sampling::hash_combine(run.settings.seed, 0x5a55ull + std::uint64_t(k)) : run.settings.seed;
       const PassContext pass =
           run.make_pass(ref && static_cast<int>(ref->sun_records.size()) == steps ? &ref->sun_records[k] : nullptr,
                         &run.reused_sun_rays, &run.traced_sun_rays);
       lit = sunlit_fraction(run.scene, geo, sides, st.sun_direction_body, sun_rays, run.settings.sun_pilot_rays,
-                            run.settings.seed, run.sobol(), run.occ, pass, sun_points, ref ? &todo : nullptr);
+                            pass_seed, run.sobol(), run.occ, pass, sun_points, ref ? &todo : nullptr);
       if (pass.recording() && run.recorder.active()) samples->sun_records[k] = pack_records(run.recorded);
       if (ref)
         for (int s = 0; s < ns; ++s)
@@ -159,10 +166,10 @@ void direct_sun_loads(LoadRun& run) {
       // each an error of at most 1/N: sigma_p ~ sqrt(p (1 - p)) N^-3/4 (Owen's N^-3/4 for
       // such indicators), not the binomial sqrt(p (1 - p) / N), which overstated the measured
       // seed-to-seed differences ~16x (docs/thermal.md). Variances are summed per node here
-      // and rooted by the driver (external_loads.cpp), with the Earth rays' terms.
+      // and combined with the Earth rays' by the driver (external_loads.cpp).
       const int node = sides.node[s];
       if (lit[s] > 0.0 && lit[s] < 1.0 && node >= 0 && node < num_nodes && sun_rays[s] > 0)
-        loads.sampling_standard_error_W(node, k) +=
+        run.sun_variance(node, k) +=
             std::pow(alpha[s] * full * std::sqrt(lit[s] * (1.0 - lit[s])) * std::pow(double(sun_rays[s]), -0.75), 2);
     }
   }

@@ -20,7 +20,8 @@ namespace thermodec::load_rays {
 // sides; only sides where the pilot disagrees trace all `rays`. note: a shadow that slips
 // between all P pilot points is missed; it then covers well under 1/P of the face (measured on
 // the sample: P = 16 left 0.6 W seed-to-seed differences on single nodes, P = 64 < 0.2 W).
-// `origins` (per side, filled on first use): the sample points, the same at every step.
+// `origins` (per side, filled on first use): the sample points, kept for the next pass unless
+// the caller clears them (a pass with its own seed draws its own points).
 Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
                                 const Eigen::Vector3d& toward, const Eigen::VectorXi& side_rays, int pilot_rays,
                                 std::uint64_t seed, const tracing::SobolTable& sobol, const Occluders& occ,

@@ -8,6 +8,7 @@
 #include "thermodec/environment/external_loads.h"
 
 #include <algorithm>
+#include <cmath>
 #include <unordered_map>
 
 #include "load_run.h"
@@ -56,8 +57,20 @@ LoadRun::LoadRun(const ThermalModel& model_in, const RayScene& scene_in, const S
   ref_of.assign(ns, -1);
   sun_rays = rays_per_side_of_node(sides, settings.sun_rays_per_face, settings.sun_min_rays_per_node, sides.load_boost);
   earth_rays = rays_per_side_of_node(sides, settings.earth_rays_per_face, settings.earth_min_rays_per_node, sides.load_boost);
+  if (orbit && settings.steady_shadow_passes && model.analysis.type == AnalysisType::steady && flux > 0.0) {
+    int passes = 0;  // as direct_sun_loads counts them: sunlit steps with a new sun direction
+    const OrbitState* last = nullptr;
+    for (const OrbitState& st : states) {
+      if (st.in_shadow) continue;
+      if (!last || !same_direction(st.sun_direction_body, last->sun_direction_body)) ++passes;
+      last = &st;
+    }
+    shadow_division = shadow_pass_division(passes);
+  }
+  sun_rays_per_pass = shadow_rays_per_pass(sun_rays, shadow_division);
+  sun_variance = Eigen::MatrixXd::Zero(num_nodes, steps);
   // One Sobol table for every pass (the largest count any side or pilot draws).
-  int max_rays = std::max({settings.sun_pilot_rays, settings.earth_pilot_rays, settings.earth_rays_per_face, 1});
+  int max_rays = std::max({settings.sun_pilot_rays, settings.earth_pilot_rays, settings.earth_rays_per_face, 1});  // (>= per pass)
   if (ns > 0) max_rays = std::max({max_rays, sun_rays.maxCoeff(), earth_rays.maxCoeff()});
   table = tracing::shared_sobol_table(max_rays);
   occ = occluders(geo, sides);
@@ -152,7 +165,16 @@ void finish_run(LoadRun& run) {
     return true;
   }();
 
-  loads.sampling_standard_error_W = loads.sampling_standard_error_W.cwiseSqrt();  // variances summed above
+  // Variances summed above: the Earth rays' in the loads, the shadow samples' in run.sun_variance.
+  const Eigen::MatrixXd earth_sd = loads.sampling_standard_error_W.cwiseSqrt();
+  loads.sampling_standard_error_W = (loads.sampling_standard_error_W + run.sun_variance).cwiseSqrt();
+  // The orbit mean's: the Earth rays are the same at every step (their errors add as standard
+  // deviations); shadow passes with their own points are independent (variances add).
+  if (run.shadow_division > 1)
+    loads.orbit_mean_standard_error_W =
+        (run.sun_variance.rowwise().sum() / double(steps * steps) + earth_sd.rowwise().mean().cwiseAbs2()).cwiseSqrt();
+  else
+    loads.orbit_mean_standard_error_W = loads.sampling_standard_error_W.rowwise().mean();
   for (int s = 0; s < ns; ++s) {
     const int node = run.sides.node[s];
     if (node < 0 || node >= num_nodes) continue;
@@ -163,6 +185,18 @@ void finish_run(LoadRun& run) {
 
 }  // namespace
 }  // namespace load_rays
+
+int shadow_pass_division(int shadow_passes) {
+  return shadow_passes <= 1 ? 1 : std::max(1, static_cast<int>(std::lround(std::pow(double(shadow_passes), 2.0 / 3.0))));
+}
+
+Eigen::VectorXi shadow_rays_per_pass(const Eigen::VectorXi& rays, int division) {
+  if (division <= 1) return rays;
+  Eigen::VectorXi out(rays.size());
+  for (Eigen::Index s = 0; s < rays.size(); ++s)
+    out[s] = std::max(std::min(rays[s], 16), (rays[s] + division - 1) / division);
+  return out;
+}
 
 Loads external_loads(const ThermalModel& model, const RayScene& scene, const SurfaceSides& sides,
                      const FaceViewFactors* view_factors, const ExternalLoadSettings& settings,

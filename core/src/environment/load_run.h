@@ -43,6 +43,12 @@ struct LoadRun {
   // Sample counts per side (small nodes get more): a side whose count differs from its
   // reference twin's (its node gained or lost faces) draws other samples and is not reused.
   Eigen::VectorXi sun_rays, earth_rays;
+  // Steady orbit with the sun moving in body axes (ExternalLoadSettings::steady_shadow_passes):
+  // each shadow pass draws its own points, sun_rays_per_pass of them (sun_rays / division);
+  // else division 1 and every pass draws the same sun_rays points.
+  int shadow_division = 1;
+  Eigen::VectorXi sun_rays_per_pass;
+  Eigen::MatrixXd sun_variance;  // #nodes x steps: variance [W^2] of the direct sun's shadow samples
   std::vector<int> ref_of;  // per side: its twin (same key) in the reference, -1 if none
   std::shared_ptr<const tracing::SobolTable> table;  // one Sobol table for every pass
   Occluders occ;
@@ -71,8 +77,8 @@ struct LoadRun {
   PassContext make_pass(const RayRecords* ref_records, std::atomic<long>* reused_rays, std::atomic<long>* traced_rays);
 };
 
-//! Direct sun with self-shadowing: fills run.incident_direct, run.loads.in_shadow and the
-//! shadow samples' share of run.loads.sampling_standard_error_W (variances).
+//! Direct sun with self-shadowing: fills run.incident_direct, run.loads.in_shadow and
+//! run.sun_variance.
 void direct_sun_loads(LoadRun& run);
 
 //! Earth IR and albedo (orbit only): fills run.loads.earth_ir_W, run.incident_albedo and the

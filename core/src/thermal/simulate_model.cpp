@@ -107,10 +107,11 @@ SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimu
   const ThermalNetwork net = thermal_network(model, couplings);
   const Eigen::MatrixXd& T = out.unboosted.temperature_K;
   out.ir_standard_error_K = temperature_standard_error_K(net, couplings, T);
-  // Steady runs solve the orbit-averaged loads at one time: average their errors alike (the
-  // errors of one side at different steps come from the same samples).
+  // Steady runs solve the orbit-averaged loads at one time: the orbit mean's error (Loads).
   Eigen::MatrixXd load_se = out.unboosted.loads.sampling_standard_error_W;
-  if (load_se.cols() != T.cols() && T.cols() == 1 && load_se.cols() > 0) load_se = load_se.rowwise().mean().eval();
+  const Eigen::VectorXd& mean_se = out.unboosted.loads.orbit_mean_standard_error_W;
+  if (load_se.cols() != T.cols() && T.cols() == 1 && load_se.cols() > 0)
+    load_se = mean_se.size() == load_se.rows() ? Eigen::MatrixXd(mean_se) : Eigen::MatrixXd(load_se.rowwise().mean());
   out.load_standard_error_K = load_se.rows() == T.rows() && load_se.cols() == T.cols()
                                   ? temperature_standard_error_from_loads_K(net, T, load_se)
                                   : Eigen::VectorXd::Zero(T.rows());

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "thermodec/environment/external_loads.h"
 #include "thermodec/environment/orbit.h"
 #include "thermodec/radiation/face_view_factors.h"
 #include "thermodec/rays/surface_sides.h"
@@ -87,7 +88,13 @@ void add_loads(SimulationCost& c, const ThermalModel& model, const ModelSimulati
       rays_per_side_of_node(sides, ls.earth_rays_per_face, ls.earth_min_rays_per_node, sides.load_boost);
   const OrbitPasses passes = orbit_passes(model, c.load_positions);
   c.shadow_passes = passes.shadow;
-  c.sun_rays = double(passes.shadow) * std::max(sum(sun), double(ls.sun_pilot_rays) * sides.size());
+  // A steady orbit analysis draws 1/D of the points at each pass (external_loads.h).
+  const bool own_points = ls.steady_shadow_passes && model.analysis.type == AnalysisType::steady &&
+                          model.environment.type == EnvironmentType::orbit;
+  const Eigen::VectorXi sun_per_pass = shadow_rays_per_pass(sun, own_points ? shadow_pass_division(passes.shadow) : 1);
+  const int most_per_pass = sides.size() > 0 ? sun_per_pass.maxCoeff() : 0;
+  c.sun_rays = double(passes.shadow) *
+               std::max(sum(sun_per_pass), double(std::min(ls.sun_pilot_rays, most_per_pass)) * sides.size());
   const bool orbit = model.environment.type == EnvironmentType::orbit;
   double escaping_bytes = 0.0;
   if (orbit && passes.earth_fixed) {

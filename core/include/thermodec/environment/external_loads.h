@@ -61,6 +61,10 @@ struct ExternalLoadSettings {
   //! side (no pilot), with the same per-node minimum and noise-targeted boosts.
   int earth_min_rays_per_node = 200000;
   int steps_per_orbit = 0;        //!< orbit samples; 0 = model.analysis.steps_per_orbit
+  //! Steady analysis of an orbit whose sun moves in body axes: each shadow pass draws its own
+  //! sample points, fewer of them (shadow_pass_division). false: every pass traces the same
+  //! points, all of them (what a transient analysis always does).
+  bool steady_shadow_passes = true;
   std::uint64_t seed = 1;         //!< sampling seed (combined with each side's identity)
   bool solar_reflections = true;  //!< solar-band diffuse reflections between faces
   //! Memory cap [bytes] for the per-ray records of LoadSamples (what each sun and Earth ray
@@ -74,6 +78,21 @@ struct ExternalLoadSettings {
   //! are kept and trials generate them (the same results, slower).
   std::size_t earth_ray_geometry_budget_bytes = std::size_t(512) << 20;
 };
+
+//! Shadow sample division of a steady orbit analysis with `shadow_passes` distinct sun
+//! directions in body axes (sunlit positions): D = round(S^(2/3)), 1 for S <= 1.
+//! A steady analysis uses the orbit mean of the loads only. When every pass draws its own
+//! points (its own scramble) and N / D of them, the shadow errors of the passes are independent
+//! and the orbit mean's error for a side lit in L of S passes is about sqrt(L) sigma(N / D) / S;
+//! with one set of N points shared by every pass it is up to L sigma(N) / S (the passes' errors
+//! then come from the same points). With Owen's sigma(N) ~ N^-3/4, D = S^(2/3) makes the two
+//! equal for a side lit on every pass, at 1/D of the shadow rays. Seed-to-seed noise and
+//! time, measured on CAD meshes: docs/benchmarks.md ("Thermal: shadow passes of a steady orbit").
+int shadow_pass_division(int shadow_passes);
+
+//! Shadow sample points per side and pass: `rays` per side divided by `division`, rounded up,
+//! and at least min(rays, 16) (a scrambled net's first strata).
+Eigen::VectorXi shadow_rays_per_pass(const Eigen::VectorXi& rays, int division);
 
 //! View factor from each side to the Earth, F_side->Earth = (1/pi) int cos(theta) V dw over
 //! the Earth's cone, V = 0 where the spacecraft blocks the view, for an Earth centre at
