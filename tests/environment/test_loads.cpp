@@ -599,10 +599,10 @@ TEST(LoadReuse, a_grazing_shadow_ray_traced_again_meets_what_a_full_run_meets) {
 TEST(SteadyShadowPasses, division_is_the_two_thirds_power_of_the_passes_and_keeps_small_counts) {
   EXPECT_EQ(shadow_pass_division(0), 1);
   EXPECT_EQ(shadow_pass_division(1), 1);
-  EXPECT_EQ(shadow_pass_division(43), 8);  // 72 positions, 43 sunlit (the NASA meshes' orbit)
-  EXPECT_EQ(shadow_pass_division(72), 11);
+  EXPECT_EQ(shadow_pass_division(43), 12);  // 72 positions, 43 sunlit (the NASA meshes' orbit)
+  EXPECT_EQ(shadow_pass_division(72), 17);
   const Eigen::VectorXi rays = (Eigen::VectorXi(4) << 256, 1003, 20, 8).finished();
-  EXPECT_EQ(shadow_rays_per_pass(rays, 8), (Eigen::VectorXi(4) << 32, 126, 16, 8).finished());
+  EXPECT_EQ(shadow_rays_per_pass(rays, 12), (Eigen::VectorXi(4) << 22, 84, 16, 8).finished());
   EXPECT_EQ(shadow_rays_per_pass(rays, 1), rays);
 }
 
@@ -628,8 +628,8 @@ TEST(SteadyShadowPasses, orbit_mean_matches_shared_points_within_the_error_with_
   const Loads a = external_loads(model, scene, sides, nullptr, own, {}, &with_own);
   const Loads b = external_loads(model, scene, sides, nullptr, shared, {}, &with_shared);
   ASSERT_TRUE(with_own.per_ray && with_shared.per_ray);
-  // The sample's nadir orbit has 36 sunlit positions of 60: D = 7, 147 of 1024 points a pass.
-  EXPECT_LT(recorded_sun_rays(with_own) * 5, recorded_sun_rays(with_shared));
+  // The sample's nadir orbit has 36 sunlit positions of 60: D = 11, 94 of 1024 points a pass.
+  EXPECT_LT(recorded_sun_rays(with_own) * 8, recorded_sun_rays(with_shared));
   const Eigen::VectorXd mean_a = a.solar_W.rowwise().mean(), mean_b = b.solar_W.rowwise().mean();
   ASSERT_EQ(a.orbit_mean_standard_error_W.size(), mean_a.size());
   for (Eigen::Index n = 0; n < mean_a.size(); ++n) {

@@ -17,7 +17,6 @@
 #include "thermodec/rays/surface_sides.h"
 #include "thermodec/reduction/record_budget.h"
 #include "thermodec/reduction/reduce_model.h"
-#include "thermodec/reduction/statistical_verification.h"
 #include "thermodec/report/reduction_report.h"
 #include "thermodec/thermal/simulate_model.h"
 
@@ -173,35 +172,6 @@ TEST(ReductionReference, trial_noise_floor_redraws_one_node_at_a_time_as_a_full_
   salted.nodes[k].sampling_salt = 7;
   const double full = compare_results(ref.result(), simulate_model(salted, rs.simulation)).max_abs_K;
   EXPECT_NEAR(tn.node_max_abs_dT_K[k], full, 1e-6);
-}
-
-// reduce's noise floor runs with the first verification seed and hands that run over as the
-// original's run of verification pair 0: the statistics must not change by the reuse.
-TEST(StatisticalVerification, the_noise_floor_run_serves_as_the_originals_first_verification_run) {
-  const ThermalModel model = small_model();
-  ModelSimulationSettings ss;
-  ss.loads.earth_rays_per_face = 16;
-  ss.loads.sun_rays_per_face = 256;
-  const std::vector<std::uint64_t> seeds = verification_seeds(model.radiation.seed, 1);
-  const NoiseFloor nf = noise_floor(model, 2, ss, nullptr, seeds);
-  ASSERT_EQ(nf.seeds.size(), 2u);
-  EXPECT_EQ(nf.seeds[1], seeds[0]);
-  ASSERT_EQ(nf.others.size(), 1u);
-  ThermalModel at_s0 = model;
-  at_s0.radiation.seed = seeds[0];
-  EXPECT_EQ(nf.others[0].temperature_K, simulate_model(at_s0, ss).temperature_K);
-
-  DecimationOptions dec;
-  ThermalModel reduced = model;
-  reduced.mesh = decimate_to_global_ratio(model.mesh, 0.3, dec).mesh;
-  const std::vector<VerificationCase> cases{{&model, &reduced}};
-  VerificationOriginals kept;
-  kept.per_case = {nf.others};
-  const VerificationStatistics reused = verify_statistically(cases, ss, 2, model.radiation.seed, &kept);
-  const VerificationStatistics fresh = verify_statistically(cases, ss, 2, model.radiation.seed);
-  EXPECT_EQ(reused.upper_bound_K, fresh.upper_bound_K);
-  EXPECT_EQ(reused.max_abs_dT_K, fresh.max_abs_dT_K);
-  EXPECT_EQ(kept.per_case[0].size(), 2u);
 }
 
 TEST(SurfaceSides, sampling_salt_changes_the_identity_of_its_node_sides_only) {

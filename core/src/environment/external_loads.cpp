@@ -187,7 +187,7 @@ void finish_run(LoadRun& run) {
 }  // namespace load_rays
 
 int shadow_pass_division(int shadow_passes) {
-  return shadow_passes <= 1 ? 1 : std::max(1, static_cast<int>(std::lround(std::pow(0.5 * shadow_passes, 2.0 / 3.0))));
+  return shadow_passes <= 1 ? 1 : std::max(1, static_cast<int>(std::lround(std::pow(double(shadow_passes), 2.0 / 3.0))));
 }
 
 Eigen::VectorXi shadow_rays_per_pass(const Eigen::VectorXi& rays, int division) {

@@ -289,21 +289,13 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   for (const LoadCase& c : settings.extra_cases) cases.push_back(c);
   const bool several = cases.size() > 1;
   std::vector<std::unique_ptr<ReductionReference>> refs;
-  // The original's runs with the verification seeds serve every verification attempt; the
-  // noise floor's runs are the first of them (its seeds are the verification pairs' first
-  // seeds: one full simulation per case less). The search sees those runs only through the
-  // noise floor, one scalar that sets its margin.
-  VerificationOriginals originals;
-  originals.per_case.resize(cases.size());
-  const std::vector<std::uint64_t> noise_seeds = verification_seeds(model.radiation.seed, settings.noise_runs - 1);
+  VerificationOriginals originals;  // the original's verification runs serve every attempt
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const std::string tag = several ? "case " + cases[c].name + ": " : "";
     say(tag + "reference: simulating and keeping reusable rays and samples");
     refs.push_back(std::make_unique<ReductionReference>(with_case(model, cases[c]), settings.reference));
     say(tag + "noise floor: simulating the reference with " + std::to_string(settings.noise_runs - 1) + " other seed(s)");
-    NoiseFloor noise = noise_floor(refs[c]->model(), settings.noise_runs, settings.reference.simulation,
-                                   &refs[c]->result(), noise_seeds);
-    originals.per_case[c] = std::move(noise.others);
+    const NoiseFloor noise = noise_floor(refs[c]->model(), settings.noise_runs, settings.reference.simulation, &refs[c]->result());
     CaseResult cr;
     cr.name = cases[c].name;
     cr.noise_floor_K = noise.worst.max_abs_K;

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <iterator>
 
 #include "thermodec/common/errors.h"
 #include "thermodec/radiation/face_view_factors.h"
@@ -165,16 +164,13 @@ void apply_bare_mesh_ray_budgets(ThermalModel& model, ModelSimulationSettings& s
 }
 
 NoiseFloor noise_floor(const ThermalModel& model, int runs, const ModelSimulationSettings& settings,
-                       const SimulationResult* first, const std::vector<std::uint64_t>& other_seeds) {
+                       const SimulationResult* first) {
   if (runs < 2) throw InvalidInput("noise floor needs at least 2 runs");
-  if (!other_seeds.empty() && static_cast<int>(other_seeds.size()) < runs - 1)
-    throw InvalidInput("noise floor: fewer seeds than runs");
   NoiseFloor out;
   ThermalModel m = model;
   std::vector<SimulationResult> results;
   for (int k = 0; k < runs; ++k) {
-    m.radiation.seed = k == 0 || other_seeds.empty() ? model.radiation.seed + static_cast<std::uint64_t>(k)
-                                                     : other_seeds[k - 1];
+    m.radiation.seed = model.radiation.seed + static_cast<std::uint64_t>(k);
     out.seeds.push_back(m.radiation.seed);
     if (k == 0 && first) {
       results.push_back(*first);
@@ -198,7 +194,6 @@ NoiseFloor noise_floor(const ThermalModel& model, int runs, const ModelSimulatio
   std::sort(v.begin(), v.end());
   out.median_abs_K = v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
   out.first = std::move(results.front());
-  out.others.assign(std::make_move_iterator(results.begin() + 1), std::make_move_iterator(results.end()));
   return out;
 }
 

@@ -80,15 +80,13 @@ struct ExternalLoadSettings {
 };
 
 //! Shadow sample division of a steady orbit analysis with `shadow_passes` distinct sun
-//! directions in body axes (sunlit positions): D = round((S / 2)^(2/3)), 1 for S <= 1.
+//! directions in body axes (sunlit positions): D = round(S^(2/3)), 1 for S <= 1.
 //! A steady analysis uses the orbit mean of the loads only. When every pass draws its own
 //! points (its own scramble) and N / D of them, the shadow errors of the passes are independent
 //! and the orbit mean's error for a side lit in L of S passes is about sqrt(L) sigma(N / D) / S;
 //! with one set of N points shared by every pass it is up to L sigma(N) / S (the passes' errors
-//! then come from the same points). With Owen's sigma(N) ~ N^-3/4, D = (S / 2)^(2/3) makes the
-//! two equal for a side lit on half the passes (smaller for sides lit longer), at 1/D of the
-//! shadow rays. (D = S^(2/3), equal for a side lit on every pass, measured the same seed-to-seed
-//! noise, but its larger error estimate raised the noise-targeted boosts' common target on Juno.) Seed-to-seed noise and
+//! then come from the same points). With Owen's sigma(N) ~ N^-3/4, D = S^(2/3) makes the two
+//! equal for a side lit on every pass, at 1/D of the shadow rays. Seed-to-seed noise and
 //! time, measured on CAD meshes: docs/benchmarks.md ("Thermal: shadow passes of a steady orbit").
 int shadow_pass_division(int shadow_passes);
 

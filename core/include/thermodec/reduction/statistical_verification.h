@@ -47,8 +47,7 @@ double student_t_975(int dof);
 VerificationStatistics difference_upper_bound(const std::vector<Eigen::MatrixXd>& replicate_dT_K);
 
 //! Seeds of R verification pairs (one per pair), disjoint from `search_seed` + [0, 2^20) (the
-//! reference and every trial salt are derived from the search seed that way; reduce's
-//! noise-floor runs use the first of these seeds and serve as the original's runs of those pairs).
+//! reference, its noise-floor runs and every trial salt are derived from the search seed that way).
 std::vector<std::uint64_t> verification_seeds(std::uint64_t search_seed, int replicates);
 
 }  // namespace thermodec

@@ -84,15 +84,12 @@ struct NoiseFloor {
   double median_abs_K = 0.0;                       //!< median over pairs of max |dT| [K]
   std::vector<double> run_time_s;                  //!< wall time of each run [s]
   SimulationResult first;                          //!< the first run's result
-  std::vector<SimulationResult> others;            //!< the results of runs 2..runs
 };
 
 //! `first`, if given, is the first run's result (simulate_model(model, settings), e.g. a
-//! reference already simulated): only runs 2..runs are simulated (and timed). `other_seeds`,
-//! if not empty, are the seeds of runs 2..runs (at least runs - 1 of them) instead of
-//! seed + 1, seed + 2, ... (reduce: the original's first verification runs, kept for it).
-//! \throw InvalidInput if runs < 2 or fewer other seeds than runs - 1 are given.
+//! reference already simulated): only runs 2..runs are simulated (and timed).
+//! \throw InvalidInput if runs < 2.
 NoiseFloor noise_floor(const ThermalModel& model, int runs = 3, const ModelSimulationSettings& settings = {},
-                       const SimulationResult* first = nullptr, const std::vector<std::uint64_t>& other_seeds = {});
+                       const SimulationResult* first = nullptr);
 
 }  // namespace thermodec
