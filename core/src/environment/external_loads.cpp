@@ -70,7 +70,7 @@ LoadRun::LoadRun(const ThermalModel& model_in, const RayScene& scene_in, const S
   sun_rays_per_pass = shadow_rays_per_pass(sun_rays, shadow_division);
   sun_variance = Eigen::MatrixXd::Zero(num_nodes, steps);
   // One Sobol table for every pass (the largest count any side or pilot draws).
-  int max_rays = std::max({settings.sun_pilot_rays, settings.earth_pilot_rays, settings.earth_rays_per_face, 1});  // (>= per pass)
+  int max_rays = std::max({settings.sun_pilot_rays, settings.earth_pilot_rays, settings.earth_rays_per_face, 1});
   if (ns > 0) max_rays = std::max({max_rays, sun_rays.maxCoeff(), earth_rays.maxCoeff()});
   table = tracing::shared_sobol_table(max_rays);
   occ = occluders(geo, sides);

@@ -135,12 +135,12 @@ VerificationStatistics verify_ratios(const std::vector<std::unique_ptr<Reduction
 // by the bound's excess over the tolerance; after the last attempt the unreduced model is kept.
 void verified_search(ReductionRun& run, const Searcher& search,
                      const std::vector<std::unique_ptr<ReductionReference>>& refs, const ReduceSettings& settings,
-                     std::uint64_t search_seed, VerificationOriginals& originals,
-                     const std::function<void(const std::string&)>& say) {
+                     std::uint64_t search_seed, const std::function<void(const std::string&)>& say) {
   const double tol = settings.tolerance_K;
   const int R = settings.verification_replicates;
   double margin = student_t_975(R - 1) * run.noise_floor_K / 3.0 / std::sqrt(double(R));
   bool accepted = false;
+  VerificationOriginals originals;  // the original's runs serve every attempt
   for (int attempt = 0; attempt < settings.verification_attempts && !accepted && margin < tol; ++attempt) {
     run.search_tolerance_K = tol - margin;
     try {
@@ -289,7 +289,6 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   for (const LoadCase& c : settings.extra_cases) cases.push_back(c);
   const bool several = cases.size() > 1;
   std::vector<std::unique_ptr<ReductionReference>> refs;
-  VerificationOriginals originals;  // the original's verification runs serve every attempt
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const std::string tag = several ? "case " + cases[c].name + ": " : "";
     say(tag + "reference: simulating and keeping reusable rays and samples");
@@ -372,7 +371,7 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
     search.sweep(run);
     if (run.sweep_only) return run;  // an MPI rank other than 0: its curves went to rank 0
   }
-  verified_search(run, search, refs, settings, model.radiation.seed, originals, say);
+  verified_search(run, search, refs, settings, model.radiation.seed, say);
   if (settings.strategy == ReductionStrategy::informed)
     search.predictions(run, run.search_tolerance_K > 0.0 ? run.search_tolerance_K : tol);
   run.seconds_search = since(t_search) - run.seconds_verification;
