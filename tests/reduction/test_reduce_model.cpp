@@ -138,14 +138,18 @@ TEST(ReductionReference, incremental_trials_match_full_recompute) {
 TEST(ReductionReference, trials_do_not_depend_on_the_ray_record_budget) {
   // Without room for records, trials re-trace every ray near the change: slower, same numbers.
   const RecordBudget split = split_record_budget(default_record_budget_bytes());
-  EXPECT_LE(split.ir_bytes + split.load_bytes + split.earth_geometry_bytes, default_record_budget_bytes());
-  EXPECT_EQ(split_record_budget(std::size_t(17) << 28).load_bytes, std::size_t(2) << 30);
+  EXPECT_LE(split.records_bytes + split.earth_geometry_bytes, default_record_budget_bytes());
+  EXPECT_LE(split.ir_max_bytes, split.records_bytes);
+  const RecordBudget standard = split_record_budget(std::size_t(17) << 28);  // 4.25 GiB
+  EXPECT_EQ(standard.earth_geometry_bytes, std::size_t(1) << 29);
+  EXPECT_EQ(standard.load_bytes(0), standard.records_bytes);  // IR records left out: all to sun/Earth
+  EXPECT_GE(standard.load_bytes(standard.ir_max_bytes), standard.records_bytes / 4);
   const ThermalModel model = small_model();
   ReductionReferenceSettings rs;
   rs.simulation.loads.earth_rays_per_face = 16;
   rs.simulation.loads.sun_rays_per_face = 256;
   ReductionReferenceSettings starved = rs;
-  starved.record_budget_bytes = 17;  // one byte per share: no record fits
+  starved.record_budget_bytes = 17;  // a few bytes: no record fits
   ReductionReference with(model, rs), without(model, starved);
   Eigen::VectorXd r = Eigen::VectorXd::Zero(7);
   r[6] = 0.8;

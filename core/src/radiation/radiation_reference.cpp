@@ -28,6 +28,10 @@ const RadiationSettings& RadiationReference::settings() const { return impl_->se
 const FaceViewFactors& RadiationReference::face_view_factors() const { return impl_->vf; }
 const GebhartFactors& RadiationReference::gebhart() const { return impl_->gebhart; }
 const NodeCouplings& RadiationReference::couplings() const { return impl_->couplings; }
+std::size_t RadiationReference::record_bytes() const {
+  return impl_->records.empty() ? 0 : impl_->records.size() * detail::kRecordBytesPerRay;
+}
+std::size_t RadiationReference::record_bytes_needed() const { return impl_->record_bytes_needed; }
 
 namespace detail {
 
@@ -149,8 +153,8 @@ RadiationReference prepare_radiation(const ThermalModel& reference, const Radiat
   const int N = static_cast<int>(reference.nodes.size());
   const SurfaceSides sides = surface_sides(impl->model);
   const Eigen::VectorXi rays = side_ray_counts(sides, settings);
-  const bool keep = double(rays.cast<double>().sum()) * (sizeof(tracing::RayRecord) + 3 * sizeof(std::uint32_t)) <=
-                    double(max_record_bytes);
+  impl->record_bytes_needed = static_cast<std::size_t>(rays.cast<double>().sum()) * kRecordBytesPerRay;
+  const bool keep = impl->record_bytes_needed <= max_record_bytes;
   impl->vf = detail::trace_all(impl->scene, sides, settings, keep ? &impl->records : nullptr, &impl->record_begin);
   if (keep) {
     // Directions, compressed, so that a candidate can skip most rays without generating them.

@@ -41,12 +41,16 @@ struct RadiationReference::Impl {
   std::vector<std::uint32_t> record_origin;
   std::vector<std::uint32_t> ray_order;
   std::vector<std::int32_t> cell_begin;
+  std::size_t record_bytes_needed = 0;      // what the records above take when kept
   tracing::PrimTable prims;                 // hit classification in the reference scene
   std::vector<char> coincident_side;        // per side: in a coincident group (tracing.h)
   Impl(const ThermalModel& m, const RadiationSettings& s) : model(m), settings(s), scene(m.mesh) {}
 };
 
 namespace detail {
+
+// Bytes a recorded ray takes: its record, direction, origin and place in cell order.
+constexpr std::size_t kRecordBytesPerRay = sizeof(tracing::RayRecord) + 3 * sizeof(std::uint32_t);
 
 // Barycentric weights in [0, 1] <-> 2 x 16 bits, to within kOriginStep / 2 each.
 constexpr float kOriginStep = 1.0f / 65535.0f;

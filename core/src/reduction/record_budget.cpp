@@ -13,11 +13,10 @@ std::size_t default_record_budget_bytes() {
 }
 
 RecordBudget split_record_budget(std::size_t total_bytes) {
-  const std::size_t share = total_bytes / 17;
   RecordBudget b;
-  b.ir_bytes = 7 * share;
-  b.load_bytes = 8 * share;
-  b.earth_geometry_bytes = 2 * share;
+  b.earth_geometry_bytes = total_bytes / 17 * 2;
+  b.records_bytes = total_bytes - b.earth_geometry_bytes;
+  b.ir_max_bytes = b.records_bytes / 4 * 3;
   return b;
 }
 

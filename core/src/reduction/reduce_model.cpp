@@ -24,6 +24,18 @@ std::string fmt(const char* f, double a, double b = 0, double c = 0) {
   std::snprintf(buf, sizeof buf, f, a, b, c);
   return buf;
 }
+
+// One progress line on the reference's ray records: kept, or left out and why.
+std::string describe_records(const RecordUse& u) {
+  constexpr double GiB = 1073741824.0;
+  std::string s = u.ir_bytes > 0 ? fmt("ray records: IR %.2f GiB", u.ir_bytes / GiB)
+                                 : fmt("ray records: IR left out (%.2f GiB over its %.2f GiB)", u.ir_needed_bytes / GiB,
+                                       u.ir_budget_bytes / GiB);
+  s += u.loads_kept ? fmt(", sun/Earth %.2f GiB", u.load_bytes / GiB)
+                    : fmt(", sun/Earth left out (over %.2f GiB)", u.load_budget_bytes / GiB);
+  if (u.ir_bytes == 0 || !u.loads_kept) s += ": trials trace more rays (--record-memory raises the budget)";
+  return s;
+}
 }  // namespace
 
 void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& settings) {
@@ -293,6 +305,7 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
     const std::string tag = several ? "case " + cases[c].name + ": " : "";
     say(tag + "reference: simulating and keeping reusable rays and samples");
     refs.push_back(std::make_unique<ReductionReference>(with_case(model, cases[c]), settings.reference));
+    say(tag + describe_records(refs.back()->record_use()));
     say(tag + "noise floor: simulating the reference with " + std::to_string(settings.noise_runs - 1) + " other seed(s)");
     const NoiseFloor noise = noise_floor(refs[c]->model(), settings.noise_runs, settings.reference.simulation, &refs[c]->result());
     CaseResult cr;

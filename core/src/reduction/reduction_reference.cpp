@@ -24,6 +24,7 @@ struct ReductionReference::Impl {
   Eigen::VectorXi faces_per_node;
   std::unique_ptr<RadiationReference> radiation;
   LoadSamples load_samples;  //!< the reference's load sampling, reused by trials
+  RecordUse records;
   mutable std::mutex cache_mutex;
   mutable std::map<std::vector<double>, TrialResult> cache;
   // Fully verified candidates, so that the driver's final rebuild of the verified model does
@@ -75,9 +76,9 @@ ReductionReference::ReductionReference(const ThermalModel& model, const Reductio
       throw InvalidInput("node '" + model.nodes[k].name + "' has no faces in the mesh");
   const RecordBudget budget = split_record_budget(
       settings.record_budget_bytes > 0 ? settings.record_budget_bytes : default_record_budget_bytes());
-  impl_->settings.simulation.loads.ray_record_budget_bytes = budget.load_bytes;
+  impl_->radiation = std::make_unique<RadiationReference>(prepare_radiation(model, model.radiation, budget.ir_max_bytes));
+  impl_->settings.simulation.loads.ray_record_budget_bytes = budget.load_bytes(impl_->radiation->record_bytes());
   impl_->settings.simulation.loads.earth_ray_geometry_budget_bytes = budget.earth_geometry_bytes;
-  impl_->radiation = std::make_unique<RadiationReference>(prepare_radiation(model, model.radiation, budget.ir_bytes));
   // The reference's loads, recording their samples so that trials re-sample only what a
   // change can reach; with the prepared couplings they make the reference simulation itself
   // (the same rays, samples and solve as simulate_model).
@@ -86,6 +87,14 @@ ReductionReference::ReductionReference(const ThermalModel& model, const Reductio
   ExternalLoadSettings ls = impl_->settings.simulation.loads;
   ls.seed = model.radiation.seed;
   const Loads loads = external_loads(model, scene, vf.sides, ls.solar_reflections ? &vf : nullptr, ls, {}, &impl_->load_samples);
+  RecordUse& use = impl_->records;
+  use.ir_bytes = impl_->radiation->record_bytes();
+  use.ir_needed_bytes = impl_->radiation->record_bytes_needed();
+  use.ir_budget_bytes = budget.ir_max_bytes;
+  use.load_budget_bytes = impl_->settings.simulation.loads.ray_record_budget_bytes;
+  use.loads_kept = impl_->load_samples.per_ray;
+  for (const auto& r : impl_->load_samples.sun_records) use.load_bytes += r.bytes();
+  use.load_bytes += impl_->load_samples.earth_records.bytes();
   impl_->result = reference_result ? *reference_result
                                    : simulate(model, impl_->radiation->couplings(), loads, settings.simulation.solver);
 }
@@ -96,6 +105,7 @@ const ThermalModel& ReductionReference::model() const { return impl_->model; }
 const SimulationResult& ReductionReference::result() const { return impl_->result; }
 const Eigen::VectorXi& ReductionReference::faces_per_node() const { return impl_->faces_per_node; }
 int ReductionReference::trials_evaluated() const { return impl_->evaluated; }
+const RecordUse& ReductionReference::record_use() const { return impl_->records; }
 const DecimationOptions& ReductionReference::decimation_options() const { return impl_->settings.decimation; }
 
 void ReductionReference::set_decimation_options(const DecimationOptions& options) {

@@ -37,6 +37,10 @@ class RadiationReference {
   const FaceViewFactors& face_view_factors() const;
   const GebhartFactors& gebhart() const;  //!< IR, groups = node_groups(sides, #nodes)
   const NodeCouplings& couplings() const;
+  //! Bytes of the per-ray records kept (0 if they did not fit their budget), and what all
+  //! of them take (20 bytes a ray, see prepare_radiation).
+  std::size_t record_bytes() const;
+  std::size_t record_bytes_needed() const;
 
   struct Impl;
   const Impl& impl() const { return *impl_; }

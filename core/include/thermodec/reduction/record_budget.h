@@ -10,18 +10,30 @@
 
 namespace thermodec {
 
+//! One pool for the IR and the sun/Earth records, filled by need in the order they are made:
+//! the IR records first (their size is known before tracing: 20 bytes a ray), up to
+//! `ir_max_bytes`; the sun/Earth records then get what the IR records left of `records_bytes`.
+//! The Earth cone ray geometry has a budget of its own.
 struct RecordBudget {
-  std::size_t ir_bytes = 0;              //!< IR ray records (prepare_radiation)
-  std::size_t load_bytes = 0;            //!< sun/Earth ray records (ExternalLoadSettings)
+  std::size_t records_bytes = 0;         //!< IR and sun/Earth records together
+  std::size_t ir_max_bytes = 0;          //!< IR records at most (prepare_radiation)
   std::size_t earth_geometry_bytes = 0;  //!< Earth cone ray origins and directions
+
+  //! The sun/Earth records' budget (ExternalLoadSettings) once the IR records took `ir_kept_bytes`.
+  std::size_t load_bytes(std::size_t ir_kept_bytes) const {
+    return ir_kept_bytes < records_bytes ? records_bytes - ir_kept_bytes : 0;
+  }
 };
 
 //! The budget used when none is given [bytes]: 4.25 GiB, or a quarter of the machine's
 //! physical memory if that is less (a laptop keeps room for the mesh, the solver and the OS).
 std::size_t default_record_budget_bytes();
 
-//! `total_bytes` shared 7 : 8 : 2 between IR, load and Earth-geometry records (the split
-//! that the NASA meshes needed: 1.75 / 2 / 0.5 GiB of the default 4.25 GiB).
+//! `total_bytes` split: 2/17 for the Earth ray geometry, the rest for the records, of which
+//! the IR records may take up to 3/4 (the sun/Earth records keep at least 1/4). With the
+//! default 4.25 GiB: Earth geometry 0.5 GiB, records 3.75 GiB, IR at most 2.81 GiB. The NASA
+//! meshes' sun/Earth records take 0.4-0.5 GiB and their IR records 1.4-1.9 GiB (a fixed
+//! 1.75 GiB IR share left Juno's out).
 RecordBudget split_record_budget(std::size_t total_bytes);
 
 }  // namespace thermodec

@@ -42,6 +42,17 @@ struct TrialNoiseFloor {
   int worst_resampled_node = -1;      //!< whose samples were redrawn in `worst`
 };
 
+//! The reusable ray records a reference kept (record_budget.h) [bytes]. Records left out make
+//! trials slower, never different.
+struct RecordUse {
+  std::size_t ir_bytes = 0;         //!< IR records kept (0: over their budget)
+  std::size_t ir_needed_bytes = 0;  //!< what all IR records take
+  std::size_t ir_budget_bytes = 0;
+  std::size_t load_bytes = 0;       //!< sun and Earth records kept (0: over their budget)
+  std::size_t load_budget_bytes = 0;
+  bool loads_kept = false;
+};
+
 class ReductionReference {
  public:
   //! Simulates `model` fully (the reference) and prepares the reusable radiative state, in
@@ -85,6 +96,7 @@ class ReductionReference {
   //! Trials evaluated so far (memoised repeats not counted: the same ratios, or other ratios
   //! that decimate to the same mesh) and their wall time [s].
   int trials_evaluated() const;
+  const RecordUse& record_use() const;
 
  private:
   //! Simulates an already decimated candidate (decimation_s: the time it took).
