@@ -8,7 +8,7 @@
 namespace thermodec {
 
 struct GebhartSettings {
-  double tolerance = 1e-10;  //!< stop when no entry of B changes by more than this [-]
+  double tolerance = 1e-10;  //!< bound on the error of any entry of B [-]
   int max_iterations = 10000;
   //! With max(rho) > 0.6, start from a BiCGSTAB solve per column (false: the sweeps alone,
   //! from the warm start or the direct term; for checking one against the other).
@@ -23,18 +23,22 @@ struct GebhartFactors {
   //! reflected) that is finally absorbed by group g after any number of diffuse reflections;
   //! the last column (g = G) is the fraction lost to space. Rows sum to 1 (closure).
   RowMatrixXd B;
-  int iterations = 0;
-  double max_change = 0.0;      //!< last iteration's largest change (<= tolerance on success)
+  int iterations = 0;           //!< rounds (see gebhart_factors)
+  double max_change = 0.0;      //!< largest residual entry at the end (<= tolerance x (1 - max rho))
   double max_closure_error = 0.0;  //!< max_s |sum_g B(s, g) - 1|
 };
 
 //! Solves B = F diag(a) P + F diag(1 - a) B, i.e. (I - F diag(rho)) B = F diag(a) P with
-//! P(t, g) = [group_of_side(t) == g], plus the space column, by a parallel Jacobi (Neumann
-//! series) iteration over sparse F: each sweep absorbs one more reflection, so the error after
-//! k sweeps is at most max(rho)^k; it stops when no entry changes by more than
-//! tolerance x (1 - max rho). When max(rho) > 0.6, a BiCGSTAB solve per column (Eigen,
-//! diagonal preconditioner; from the warm start if one is given) provides the start and the
-//! sweeps only polish and certify it. Deterministic for any thread count.
+//! P(t, g) = [group_of_side(t) == g], plus the space column, by rounds of the reflection
+//! (Neumann) series driven by the residual R = F diag(a) P + F diag(rho) X - X: each round,
+//! every side whose residual row exceeds tolerance x (1 - max rho) passes it on (X_s += R_s,
+//! and the rows that see s receive F(t, s) rho_s R_s), the others wait. From scratch every row
+//! takes part and a round is a Jacobi sweep (error after k rounds at most max(rho)^k); from a
+//! warm start that differs near a few nodes only those rows do, so a round costs a fraction of
+//! a sweep. It stops when no residual entry exceeds the threshold, certified by a residual
+//! computed afresh. When max(rho) > 0.6, a BiCGSTAB solve per column (Eigen, diagonal
+//! preconditioner; from the warm start if one is given) provides the start and the rounds only
+//! polish and certify it. Deterministic for any thread count.
 //!
 //! IR: absorptivity = side emissivity; GR between groups I, J = sum_{s in I} A_s eps_s B(s, J).
 //! Solar: a side receiving direct flux Q_s [W] makes group g absorb
