@@ -176,7 +176,8 @@ void add_reduce(CLI::App& app) {
   sub->add_option("--record-memory", o->record_memory_GiB,
                   "memory for the reference's reusable ray records [GiB]: 2/17 for Earth ray geometry, the rest "
                   "filled by need, IR records first (up to 3/4), then sun/Earth records; beyond it trials re-trace "
-                  "instead (same results, slower). Default: 4.25 GiB or a quarter of the machine's memory if less")
+                  "instead (same results, slower); with --case, the cases' references share it equally. Default: 4.25 GiB "
+                  "or a quarter of the machine's memory if less")
       ->check(CLI::Range(0.01, 1024.0));
   sub->add_option("--case", o->case_files,
                   "another load case the reduced model must also meet (repeatable): a JSON file "

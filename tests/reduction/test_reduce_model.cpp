@@ -308,6 +308,12 @@ TEST(ReduceModel, extra_load_cases_are_all_verified_and_the_worst_one_is_reporte
     worst = std::max(worst, c.max_temperature_difference_K);
   }
   EXPECT_EQ(run.max_temperature_difference_K, worst);
+  // The record budget is the run's: the two references share it.
+  for (const auto& c : run.cases) {
+    EXPECT_EQ(c.ray_record_budget_bytes, default_record_budget_bytes() / 2) << c.name;
+    EXPECT_GT(c.ray_record_bytes, 0u) << c.name;
+    EXPECT_LE(c.ray_record_bytes, c.ray_record_budget_bytes) << c.name;
+  }
   // independent check in both environments: plain simulations, nothing shared with the driver
   ModelSimulationSettings ss;
   ss.loads.earth_rays_per_face = 16;

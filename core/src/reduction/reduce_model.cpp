@@ -10,6 +10,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/decimation/global_ratio.h"
 #include "thermodec/reduction/prediction.h"
+#include "thermodec/reduction/record_budget.h"
 #include "thermodec/reduction/statistical_verification.h"
 #include "thermodec/thermal/simulate_model.h"
 
@@ -301,16 +302,25 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   for (const LoadCase& c : settings.extra_cases) cases.push_back(c);
   const bool several = cases.size() > 1;
   std::vector<std::unique_ptr<ReductionReference>> refs;
+  // The record budget is the run's: every case's reference keeps its records at once, so each
+  // gets an equal share.
+  ReductionReferenceSettings per_case = settings.reference;
+  const std::size_t record_budget =
+      settings.reference.record_budget_bytes > 0 ? settings.reference.record_budget_bytes : default_record_budget_bytes();
+  per_case.record_budget_bytes = record_budget / cases.size();
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const std::string tag = several ? "case " + cases[c].name + ": " : "";
     say(tag + "reference: simulating and keeping reusable rays and samples");
-    refs.push_back(std::make_unique<ReductionReference>(with_case(model, cases[c]), settings.reference));
+    refs.push_back(std::make_unique<ReductionReference>(with_case(model, cases[c]), per_case));
     say(tag + describe_records(refs.back()->record_use()));
     say(tag + "noise floor: simulating the reference with " + std::to_string(settings.noise_runs - 1) + " other seed(s)");
     const NoiseFloor noise = noise_floor(refs[c]->model(), settings.noise_runs, settings.reference.simulation, &refs[c]->result());
     CaseResult cr;
     cr.name = cases[c].name;
     cr.noise_floor_K = noise.worst.max_abs_K;
+    const RecordUse use = refs[c]->record_use();
+    cr.ray_record_bytes = use.ir_bytes + use.load_bytes;
+    cr.ray_record_budget_bytes = per_case.record_budget_bytes;
     run.cases.push_back(cr);
     run.noise_floor_K = std::max(run.noise_floor_K, cr.noise_floor_K);
     say(tag + fmt("noise floor %.4f K (%.1f s per simulation)", cr.noise_floor_K,
