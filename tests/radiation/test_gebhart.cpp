@@ -57,6 +57,11 @@ TEST(Gebhart, finite_plates_with_uniform_radiosity_match_closed_form) {
   EXPECT_NEAR(gb.B(0, 1), f * e2 / (1 - (1 - e1) * (1 - e2) * f * f), 1e-10);
   EXPECT_NEAR(gb.B(0, 0), f * (1 - e2) * f * e1 / (1 - (1 - e1) * (1 - e2) * f * f), 1e-10);
   EXPECT_NEAR(gb.B.row(0).sum(), 1.0, 1e-10);
+  // The same factors from F in uncompressed storage (as Eigen leaves it after insert()).
+  FaceViewFactors loose = vf;
+  loose.F.uncompress();
+  ASSERT_FALSE(loose.F.isCompressed());
+  EXPECT_EQ(gebhart_factors(loose, Eigen::Vector2d(e1, e2), node_groups(vf.sides, 2), 3).B, gb.B);
 }
 
 TEST(Gebhart, concentric_grey_spheres_match_two_surface_enclosure) {

@@ -134,6 +134,7 @@ struct RowsOfF {
   const int *outer, *cols;
   const double* vals;
   explicit RowsOfF(const SparseRows& F) : copy(F.isCompressed() ? SparseRows() : F) {
+    copy.makeCompressed();
     const SparseRows& f = F.isCompressed() ? F : copy;
     outer = f.outerIndexPtr();
     cols = f.innerIndexPtr();
