@@ -109,3 +109,29 @@ TEST(Attitude, sun_pointing_holds_the_sun_on_plus_x_and_inertial_is_eci) {
   EXPECT_NEAR((s.sun_direction_body - sun_direction_eci(200)).norm(), 0.0, 1e-12);
   EXPECT_NEAR((s.earth_direction_body + s.position_eci_m.normalized()).norm(), 0.0, 1e-12);
 }
+
+TEST(Attitude, shadow_passes_and_a_fixed_earth_follow_the_attitude) {
+  // 24 steps of an orbit with an eclipse: nadir pointing sees the sun move in body axes (one
+  // pass per sunlit step) and the Earth stay on +Z; sun pointing holds the sun (one pass) and
+  // sees the Earth move; no step at all, no pass.
+  Environment env = leo(51.6, 30.0, 80);
+  const double period = orbit_period_s(env.altitude_km);
+  auto states_of = [&](Attitude a) {
+    env.attitude = a;
+    std::vector<OrbitState> states;
+    for (int k = 0; k < 24; ++k) states.push_back(orbit_state(env, period * k / 24));
+    return states;
+  };
+  const std::vector<OrbitState> nadir = states_of(Attitude::nadir);
+  int lit = 0;
+  for (const OrbitState& s : nadir) lit += !s.in_shadow;
+  ASSERT_GT(lit, 0);
+  ASSERT_LT(lit, 24);
+  EXPECT_EQ(sun_passes(nadir), lit);
+  EXPECT_TRUE(earth_fixed_in_body(nadir));
+  const std::vector<OrbitState> sun = states_of(Attitude::sun);
+  EXPECT_EQ(sun_passes(sun), 1);
+  EXPECT_FALSE(earth_fixed_in_body(sun));
+  EXPECT_EQ(sun_passes({}), 0);
+  EXPECT_TRUE(earth_fixed_in_body({}));
+}

@@ -118,7 +118,7 @@ void direct_sun_loads(LoadRun& run) {
   const std::vector<int>& ref_of = run.ref_of;
   Eigen::MatrixXd& incident_direct = run.incident_direct;
   // One shadow computation per distinct sun direction in body axes (a single one
-  // for sun-pointing and inertial attitudes or a fixed sun).
+  // for sun-pointing and inertial attitudes or a fixed sun): the passes sun_passes() counts.
   if (progress) progress("direct sun: " + std::to_string(steps) + " step(s)");
   Eigen::Vector3d last_dir = Eigen::Vector3d::Zero();
   Eigen::VectorXd lit;

@@ -55,7 +55,7 @@ EarthSampling sample_earth(LoadRun& run) {
   e.distance = orbit_radius_m(env.altitude_km);
   const double distance = e.distance;
   bool& earth_fixed = e.earth_fixed;
-  for (int k = 1; k < steps; ++k) earth_fixed &= same_direction(states[k].earth_direction_body, states[0].earth_direction_body);
+  earth_fixed = earth_fixed_in_body(states);
   if (ref && ref->earth_fixed != earth_fixed)
     throw InvalidInput("external loads: reference samples are for another attitude");
   const double half_angle = std::asin(kEarthRadius_m / distance);

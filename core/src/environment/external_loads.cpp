@@ -58,14 +58,7 @@ LoadRun::LoadRun(const ThermalModel& model_in, const RayScene& scene_in, const S
   sun_rays = rays_per_side_of_node(sides, settings.sun_rays_per_face, settings.sun_min_rays_per_node, sides.load_boost);
   earth_rays = rays_per_side_of_node(sides, settings.earth_rays_per_face, settings.earth_min_rays_per_node, sides.load_boost);
   if (orbit && settings.steady_shadow_passes && model.analysis.type == AnalysisType::steady && flux > 0.0) {
-    int passes = 0;  // as direct_sun_loads counts them: sunlit steps with a new sun direction
-    const OrbitState* last = nullptr;
-    for (const OrbitState& st : states) {
-      if (st.in_shadow) continue;
-      if (!last || !same_direction(st.sun_direction_body, last->sun_direction_body)) ++passes;
-      last = &st;
-    }
-    shadow_division = shadow_pass_division(passes);
+    shadow_division = shadow_pass_division(sun_passes(states));
   }
   sun_rays_per_pass = shadow_rays_per_pass(sun_rays, shadow_division);
   sun_variance = Eigen::MatrixXd::Zero(num_nodes, steps);
@@ -159,11 +152,7 @@ void finish_run(LoadRun& run) {
       samples->earth_records = RayRecords{};
     }
   }
-  if (samples) samples->earth_fixed = !run.orbit || [&] {
-    for (int k = 1; k < steps; ++k)
-      if (!same_direction(states[k].earth_direction_body, states[0].earth_direction_body)) return false;
-    return true;
-  }();
+  if (samples) samples->earth_fixed = !run.orbit || earth_fixed_in_body(states);
 
   // Variances summed above: the Earth rays' in the loads, the shadow samples' in run.sun_variance.
   const Eigen::MatrixXd earth_sd = loads.sampling_standard_error_W.cwiseSqrt();

@@ -16,6 +16,7 @@
 #include <limits>
 #include <vector>
 
+#include "thermodec/environment/orbit.h"
 #include "thermodec/mesh/mesh.h"
 #include "thermodec/rays/sampling.h"
 #include "thermodec/rays/surface_sides.h"
@@ -65,8 +66,6 @@ inline void orthonormal_frame(const Eigen::Vector3d& n, Eigen::Vector3d& t, Eige
   t = (std::abs(n.x()) > 0.9 ? Eigen::Vector3d::UnitY() : Eigen::Vector3d::UnitX()).cross(n).normalized();
   u = n.cross(t);
 }
-
-inline bool same_direction(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).norm() < 1e-12; }
 
 // Pilot size of a side drawing `rays` samples: at least `pilot_rays`, doubled until it is 1/32
 // of the side's samples. What a pilot can miss (a shadow or a blocked view between all its

@@ -134,4 +134,23 @@ double eclipse_fraction(const Environment& env) {
   return std::acos(std::clamp(c, -1.0, 1.0)) / kPi;
 }
 
+int sun_passes(const std::vector<OrbitState>& states) {
+  int passes = 0;
+  const OrbitState* last_pass = nullptr;
+  for (const OrbitState& st : states) {
+    if (st.in_shadow) continue;
+    if (!last_pass || !same_direction(st.sun_direction_body, last_pass->sun_direction_body)) {
+      ++passes;
+      last_pass = &st;
+    }
+  }
+  return passes;
+}
+
+bool earth_fixed_in_body(const std::vector<OrbitState>& states) {
+  for (std::size_t k = 1; k < states.size(); ++k)
+    if (!same_direction(states[k].earth_direction_body, states[0].earth_direction_body)) return false;
+  return true;
+}
+
 }  // namespace thermodec

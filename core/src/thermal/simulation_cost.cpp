@@ -37,8 +37,8 @@ int load_positions(const ThermalModel& model, const ModelSimulationSettings& set
   return settings.loads.steps_per_orbit > 0 ? settings.loads.steps_per_orbit : model.analysis.steps_per_orbit;
 }
 
-// Shadow passes (lit positions whose sun direction in body axes differs from the last pass's,
-// as direct_sun.cpp decides) and whether the Earth stays put in body axes (earth_loads.cpp).
+// Shadow passes of the direct sun and whether the Earth stays put in body axes, counted as the
+// loads count them (orbit.h).
 struct OrbitPasses {
   int shadow = 0;
   bool earth_fixed = true;
@@ -52,17 +52,10 @@ OrbitPasses orbit_passes(const ThermalModel& model, int positions) {
     return out;
   }
   const double period_s = orbit_period_s(env.altitude_km);
-  Eigen::Vector3d last_sun = Eigen::Vector3d::Zero(), first_earth = Eigen::Vector3d::Zero();
-  bool any_lit = false;
-  for (int k = 0; k < positions; ++k) {
-    const OrbitState st = orbit_state(env, period_s * k / positions);
-    if (k == 0) first_earth = st.earth_direction_body;
-    else if ((st.earth_direction_body - first_earth).norm() >= 1e-12) out.earth_fixed = false;
-    if (st.in_shadow) continue;
-    if (!any_lit || (st.sun_direction_body - last_sun).norm() >= 1e-12) ++out.shadow;
-    any_lit = true;
-    last_sun = st.sun_direction_body;
-  }
+  std::vector<OrbitState> states;
+  for (int k = 0; k < positions; ++k) states.push_back(orbit_state(env, period_s * k / positions));
+  out.shadow = sun_passes(states);
+  out.earth_fixed = earth_fixed_in_body(states);
   return out;
 }
 

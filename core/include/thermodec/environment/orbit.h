@@ -11,6 +11,7 @@
 //!  - inertial: body axes = ECI axes.
 //! Time t = 0 is the ascending node crossing. The sun is held fixed over one orbit.
 #include <Eigen/Core>
+#include <vector>
 
 #include "thermodec/nodes/thermal_model.h"
 
@@ -56,6 +57,19 @@ struct OrbitState {
 //! State at time `time_s` [s] after the ascending node for an orbit environment.
 //! \throw InvalidInput on impossible elements (altitude <= 0, day outside 1..366).
 OrbitState orbit_state(const Environment& environment, double time_s);
+
+//! Two unit directions the loads treat as one (|a - b| < 1e-12).
+inline bool same_direction(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).norm() < 1e-12; }
+
+//! Shadow passes of the direct sun over the time steps `states`: a sunlit step whose sun
+//! direction in body axes differs from the last pass's starts a new one (one for a sun-pointing
+//! or inertial attitude; one per sunlit step for a nadir-pointing orbit). The loads trace one
+//! shadow computation per pass; the cost estimate counts them the same way.
+int sun_passes(const std::vector<OrbitState>& states);
+
+//! Whether the Earth direction in body axes is the same in every state (a nadir-pointing
+//! attitude): the Earth rays are then traced once for all steps.
+bool earth_fixed_in_body(const std::vector<OrbitState>& states);
 
 //! True if `position_eci_m` lies in the cylindrical shadow of an Earth of radius
 //! kEarthRadius_m cast along `sun_direction` (unit).
