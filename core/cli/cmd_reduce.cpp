@@ -114,7 +114,7 @@ void run_reduce(const ReduceCliOptions& o) {
   for (const auto& w : warnings) std::cerr << "reduce: warning: plot not written: " << w << "\n";
   std::cout << reduction_summary(run);
   char mem[160];
-  const std::size_t records = s.reference.record_budget_bytes > 0 ? s.reference.record_budget_bytes : default_record_budget_bytes();
+  const std::size_t records = record_budget_bytes(s.reference.record_budget_bytes);
   std::snprintf(mem, sizeof mem, "peak memory: %.0f MiB (ray records allowed up to %.2f GiB)", run.peak_memory_bytes / 1048576.0,
                 records / 1073741824.0);
   std::cout << mem;

@@ -305,9 +305,7 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   // The record budget is the run's: every case's reference keeps its records at once, so each
   // gets an equal share.
   ReductionReferenceSettings per_case = settings.reference;
-  const std::size_t record_budget =
-      settings.reference.record_budget_bytes > 0 ? settings.reference.record_budget_bytes : default_record_budget_bytes();
-  per_case.record_budget_bytes = record_budget / cases.size();
+  per_case.record_budget_bytes = record_budget_bytes(settings.reference.record_budget_bytes) / cases.size();
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const std::string tag = several ? "case " + cases[c].name + ": " : "";
     say(tag + "reference: simulating and keeping reusable rays and samples");

@@ -74,8 +74,7 @@ ReductionReference::ReductionReference(const ThermalModel& model, const Reductio
   for (int k = 0; k < n; ++k)
     if (impl_->faces_per_node[k] == 0)
       throw InvalidInput("node '" + model.nodes[k].name + "' has no faces in the mesh");
-  const RecordBudget budget = split_record_budget(
-      settings.record_budget_bytes > 0 ? settings.record_budget_bytes : default_record_budget_bytes());
+  const RecordBudget budget = split_record_budget(record_budget_bytes(settings.record_budget_bytes));
   impl_->radiation = std::make_unique<RadiationReference>(prepare_radiation(model, model.radiation, budget.ir_max_bytes));
   impl_->settings.simulation.loads.ray_record_budget_bytes = budget.load_bytes(impl_->radiation->record_bytes());
   impl_->settings.simulation.loads.earth_ray_geometry_budget_bytes = budget.earth_geometry_bytes;

@@ -29,6 +29,11 @@ struct RecordBudget {
 //! physical memory if that is less (a laptop keeps room for the mesh, the solver and the OS).
 std::size_t default_record_budget_bytes();
 
+//! `asked_bytes` (a --record-memory), or the default if it is 0.
+inline std::size_t record_budget_bytes(std::size_t asked_bytes) {
+  return asked_bytes > 0 ? asked_bytes : default_record_budget_bytes();
+}
+
 //! `total_bytes` split: 2/17 for the Earth ray geometry, the rest for the records, of which
 //! the IR records may take up to 3/4 (the sun/Earth records keep at least 1/4). With the
 //! default 4.25 GiB: Earth geometry 0.5 GiB, records 3.75 GiB, IR at most 2.81 GiB. The NASA
