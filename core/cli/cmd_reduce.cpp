@@ -34,6 +34,7 @@ struct ReduceCliOptions {
   bool raw_mesh = false;
   bool max_evaluations_set = false;
   double noise_target_fraction = 0.05;
+  bool no_thinning = false;
   double max_area_change = -1.0;  // < 0: the default
   double record_memory_GiB = 0.0;  // 0: the default (record_budget.h)
   std::vector<std::string> case_files;
@@ -78,6 +79,7 @@ void run_reduce(const ReduceCliOptions& o) {
   s.informed.start_by_superposition = o.prediction == "superposition";
   s.sensitivity_cap_factor = o.cap_factor;
   s.noise_target_fraction = o.noise_target_fraction;
+  s.thin_oversampling = !o.no_thinning;
   if (o.max_area_change >= 0.0) {  // as given: not lowered from the tolerance
     s.reference.decimation.max_relative_area_change = o.max_area_change;
     s.area_error_fraction = 0.0;
@@ -166,9 +168,13 @@ void add_reduce(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   sub->add_option("--noise-target", o->noise_target_fraction,
                   "noise-targeted sampling: nodes whose estimated Monte Carlo temperature noise exceeds this "
-                  "fraction of the tolerance get more samples (0 = off; boosts already in the model file are kept)")
+                  "fraction of the tolerance get more samples (0 = off; boosts already in the model file are kept); "
+                  "a model whose every node lies far under it is thinned: its IR rays or sun/Earth samples divided "
+                  "by a common power of two (4 to 64) in every simulation of the reduction and in the reduced model")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  sub->add_flag("--no-thinning", o->no_thinning,
+                "noise-targeted sampling only adds samples: an oversampled model keeps its sample counts");
   sub->add_option("--max-area-change", o->max_area_change,
                   "bound on each node's relative area change by the decimator, used as given (default: from the "
                   "tolerance, so that area drift dT = T dA/4A costs at most 10 % of it at the hottest node)")

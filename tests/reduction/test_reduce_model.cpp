@@ -7,6 +7,7 @@
 #include <unistd.h>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <nlohmann/json.hpp>
 
@@ -19,6 +20,7 @@
 #include "thermodec/reduction/reduce_model.h"
 #include "thermodec/report/reduction_report.h"
 #include "thermodec/thermal/simulate_model.h"
+#include "thermodec/thermal/temperature_noise.h"
 
 using namespace thermodec;
 namespace fs = std::filesystem;
@@ -205,7 +207,13 @@ TEST(SurfaceSides, sampling_boost_multiplies_its_node_sides_samples_only) {
       EXPECT_EQ(c[s], a[s]) << "side " << s;
     }
   }
-  model.nodes[6].sampling_boost.loads = 0.5;
+  // a multiplier below 1 divides them (thinning), down to 1/64
+  model.nodes[6].sampling_boost = {0.25, 0.5};
+  const SurfaceSides thin = surface_sides(model);
+  const Eigen::VectorXi d = rays_per_side_of_node(thin, 100, 5000, thin.ir_boost);
+  for (int s = 0; s < thin.size(); ++s)
+    if (thin.node[s] == 6) EXPECT_EQ(d[s], (a[s] + 3) / 4) << "side " << s;
+  model.nodes[6].sampling_boost.loads = 1.0 / 128.0;
   EXPECT_THROW(surface_sides(model), InvalidInput);
 }
 
@@ -241,10 +249,10 @@ TEST(SamplingBoosts, noisy_nodes_are_boosted_within_the_extra_ray_cap_and_kept_b
   save_model(model, dir / "m.json", dir / "m.obj");
   const ThermalModel back = load_model(dir / "m.json");
   for (std::size_t k = 0; k < b.boost.size(); ++k) EXPECT_TRUE(back.nodes[k].sampling_boost == b.boost[k]) << k;
-  // a boost below 1 in a model file is refused with the key named
+  // a boost below 1/64 in a model file is refused with the key named
   std::ifstream in(dir / "m.json");
   nlohmann::json j = nlohmann::json::parse(in);
-  j["nodes"]["px"]["sampling_boost"] = {{"ir", 0.5}};
+  j["nodes"]["px"]["sampling_boost"] = {{"ir", 1.0 / 128.0}};
   std::ofstream(dir / "bad.json") << j.dump();
   try {
     load_model(dir / "bad.json");
@@ -253,6 +261,28 @@ TEST(SamplingBoosts, noisy_nodes_are_boosted_within_the_extra_ray_cap_and_kept_b
     EXPECT_NE(std::string(e.what()).find("sampling_boost"), std::string::npos) << e.what();
   }
   fs::remove_all(dir);
+}
+
+TEST(SamplingBoosts, a_model_far_under_the_target_is_thinned_by_one_common_factor_per_kind) {
+  ThermalModel model = small_model();
+  ModelSimulationSettings ss;
+  ss.loads.earth_rays_per_face = 16;
+  const double inf = std::numeric_limits<double>::infinity();
+  // simulate's call (min_boost 1) never thins; reduce's (1/64) does, one factor per kind
+  const SamplingBoosts kept = decide_sampling_boosts(model, ss, 1.0, 2.0, inf);
+  EXPECT_FALSE(kept.any());
+  const SamplingBoosts thin = decide_sampling_boosts(model, ss, 1.0, 2.0, inf, Node::SamplingBoost::kMin);
+  ASSERT_TRUE(thin.any());
+  const double ir = thin.boost.front().ir, loads = thin.boost.front().loads;
+  EXPECT_LT(std::min(ir, loads), 1.0);
+  for (const auto& b : thin.boost) EXPECT_TRUE((b == Node::SamplingBoost{ir, loads}));
+  EXPECT_EQ(ir, noise_targeted_thinning(thin.ir_standard_error_K, 1.0));
+  EXPECT_EQ(loads, noise_targeted_thinning(thin.load_standard_error_K, 1.0));
+  EXPECT_NEAR(thin.extra_ir_rays, ir - 1.0, 1e-12);  // every node thinned alike
+  EXPECT_NE(thin.describe(model.nodes).find("every node"), std::string::npos) << thin.describe(model.nodes);
+  // a node above the target is boosted, and then its kind is not thinned
+  const SamplingBoosts tight = decide_sampling_boosts(model, ss, 1e-4, 2.0, inf, Node::SamplingBoost::kMin);
+  for (const auto& b : tight.boost) EXPECT_GE(std::min(b.ir, b.loads), 1.0);
 }
 
 TEST(ReduceModel, informed_result_is_verified_within_tolerance_by_an_independent_simulation) {

@@ -75,3 +75,22 @@ TEST(TemperatureNoise, boosts_are_powers_of_two_that_reach_the_target_within_the
   EXPECT_THROW(noise_targeted_sampling_boosts(s, 0.0), InvalidInput);
   EXPECT_THROW(noise_targeted_sampling_boosts(s, std::nan("")), InvalidInput);
 }
+
+TEST(TemperatureNoise, an_oversampled_model_is_thinned_by_one_power_of_two_that_keeps_every_node_under_target) {
+  Eigen::VectorXd s(3);
+  s << 0.001, 0.002, 0.0;  // the noisiest node sets the factor; a noiseless (fixed) node none
+  // (0.01 / 0.002)^(4/3) = 8.55 -> 8: every node's error x 8^(3/4) = 4.76 stays under target
+  EXPECT_EQ(noise_targeted_thinning(s, 0.01), 1.0 / 8.0);
+  EXPECT_LE(0.002 * std::pow(8.0, 0.75), 0.01);
+  EXPECT_EQ(noise_targeted_thinning(s, 0.01, 1.0 / 4.0), 1.0 / 4.0);  // at most min_boost
+  EXPECT_EQ(noise_targeted_thinning(s, 0.1), 1.0 / 64.0);             // 470x of room: the floor
+  EXPECT_EQ(noise_targeted_thinning(s, 0.004), 1.0);                  // room 2.5 -> 2 < 4: kept
+  EXPECT_EQ(noise_targeted_thinning(s, 0.004, 1.0 / 64.0, 2.0), 0.5);
+  EXPECT_EQ(noise_targeted_thinning(s, 0.0015), 1.0);                 // a node above target
+  EXPECT_EQ(noise_targeted_thinning(Eigen::VectorXd::Zero(2), 0.01), 1.0);  // nothing to go by
+  EXPECT_EQ(noise_targeted_thinning(s, 0.01, 1.0), 1.0);              // min_boost 1: never
+  EXPECT_THROW(noise_targeted_thinning(s, 0.0), InvalidInput);
+  EXPECT_THROW(noise_targeted_thinning(s, 0.01, 0.0), InvalidInput);
+  s[2] = std::nan("");
+  EXPECT_THROW(noise_targeted_thinning(s, 0.01), InvalidInput);
+}

@@ -76,8 +76,9 @@ SurfaceSides surface_sides(const ThermalModel& model) {
     if (s.node[i] >= 0) {
       const Node& nd = model.nodes[s.node[i]];
       for (double b : {nd.sampling_boost.ir, nd.sampling_boost.loads})
-        if (!(b >= 1.0 && b <= 1e4))
-          throw InvalidInput("node '" + nd.name + "': sampling_boost " + std::to_string(b) + " is outside [1, 10000]");
+        if (!(b >= Node::SamplingBoost::kMin && b <= Node::SamplingBoost::kMax))
+          throw InvalidInput("node '" + nd.name + "': sampling_boost " + std::to_string(b) +
+                             " is outside [1/64, 10000]");
       s.ir_boost[i] = nd.sampling_boost.ir;
       s.load_boost[i] = nd.sampling_boost.loads;
     }

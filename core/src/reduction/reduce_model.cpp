@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <tbb/parallel_for.h>
 
@@ -188,6 +189,20 @@ void verified_search(ReductionRun& run, const Searcher& search,
                           run.verification.upper_bound_K, tol));
 }
 
+// A kind of samples thinned on some nodes but not on all (load cases that disagree) is not
+// thinned at all: thinning is one factor common to every node (noise_targeted_thinning).
+void keep_thinning_common(std::vector<Node>& nodes) {
+  bool ir_mixed = false, loads_mixed = false;
+  for (const Node& n : nodes) {
+    ir_mixed = ir_mixed || (n.sampling_boost.ir < 1.0) != (nodes.front().sampling_boost.ir < 1.0);
+    loads_mixed = loads_mixed || (n.sampling_boost.loads < 1.0) != (nodes.front().sampling_boost.loads < 1.0);
+  }
+  for (Node& n : nodes) {
+    if (ir_mixed) n.sampling_boost.ir = std::max(1.0, n.sampling_boost.ir);
+    if (loads_mixed) n.sampling_boost.loads = std::max(1.0, n.sampling_boost.loads);
+  }
+}
+
 // Noise-targeted sampling: decides the boosts of every load case into `boosted`; false if off.
 bool boost_sampling(const ThermalModel& model_in, const ReduceSettings& settings,
                     const std::function<void(const std::string&)>& say, ThermalModel& boosted) {
@@ -197,16 +212,19 @@ bool boost_sampling(const ThermalModel& model_in, const ReduceSettings& settings
   const bool boost = settings.noise_target_fraction > 0.0 && !has_sampling_boosts(model_in);
   if (boost) {
     say(fmt("sampling: estimating each node's Monte Carlo noise (target %.3g K)", settings.noise_target_fraction * tol));
-    const SamplingBoosts b =
-        decide_sampling_boosts(model_in, settings.reference.simulation, settings.noise_target_fraction * tol);
+    const double min_boost = settings.thin_oversampling ? Node::SamplingBoost::kMin : 1.0;
+    const double inf = std::numeric_limits<double>::infinity();
+    const SamplingBoosts b = decide_sampling_boosts(model_in, settings.reference.simulation,
+                                                    settings.noise_target_fraction * tol, 2.0, inf, min_boost);
     boosted = model_in;
     for (std::size_t k = 0; k < b.boost.size(); ++k) boosted.nodes[k].sampling_boost = b.boost[k];
     say(b.describe(model_in.nodes));
     // Every load case decides too (another attitude samples the Earth differently, another
-    // date shadows other nodes); a node keeps the largest boost any case asks for.
+    // date shadows other nodes); a node keeps the largest boost any case asks for, and a kind
+    // stays thinned only where every case thins it (one common factor, or none).
     for (const LoadCase& c : settings.extra_cases) {
       const SamplingBoosts bc = decide_sampling_boosts(with_case(model_in, c), settings.reference.simulation,
-                                                       settings.noise_target_fraction * tol);
+                                                       settings.noise_target_fraction * tol, 2.0, inf, min_boost);
       for (std::size_t k = 0; k < bc.boost.size(); ++k) {
         auto& nb = boosted.nodes[k].sampling_boost;
         nb.ir = std::max(nb.ir, bc.boost[k].ir);
@@ -214,6 +232,7 @@ bool boost_sampling(const ThermalModel& model_in, const ReduceSettings& settings
       }
       say("case " + c.name + ": " + bc.describe(model_in.nodes));
     }
+    keep_thinning_common(boosted.nodes);
   }
   return boost;
 }

@@ -78,26 +78,59 @@ bool SamplingBoosts::any() const {
 std::string SamplingBoosts::summary(const std::vector<Node>& nodes) const {
   std::string out;
   char buf[64];
+  // A thinned kind carries the same multiplier < 1 on every node: said once, not per node.
+  const double ir_thin = !boost.empty() && boost.front().ir < 1.0 ? boost.front().ir : 1.0;
+  const double loads_thin = !boost.empty() && boost.front().loads < 1.0 ? boost.front().loads : 1.0;
   for (std::size_t k = 0; k < boost.size() && k < nodes.size(); ++k) {
-    if (boost[k] == Node::SamplingBoost{}) continue;
+    const bool ir = boost[k].ir != 1.0 && ir_thin == 1.0, loads = boost[k].loads != 1.0 && loads_thin == 1.0;
+    if (!ir && !loads) continue;
     out += (out.empty() ? "" : ", ") + nodes[k].name;
-    if (boost[k].ir != 1.0) out += (std::snprintf(buf, sizeof buf, " IR x%g", boost[k].ir), buf);
-    if (boost[k].loads != 1.0) out += (std::snprintf(buf, sizeof buf, " loads x%g", boost[k].loads), buf);
+    if (ir) out += (std::snprintf(buf, sizeof buf, " IR x%g", boost[k].ir), buf);
+    if (loads) out += (std::snprintf(buf, sizeof buf, " loads x%g", boost[k].loads), buf);
   }
+  if (ir_thin != 1.0) out += (std::snprintf(buf, sizeof buf, "%severy node IR x%g", out.empty() ? "" : ", ", ir_thin), buf);
+  if (loads_thin != 1.0)
+    out += (std::snprintf(buf, sizeof buf, "%severy node loads x%g", out.empty() ? "" : ", ", loads_thin), buf);
   return out;
 }
 
 std::string SamplingBoosts::describe(const std::vector<Node>& nodes) const {
   if (!any()) return "sampling: no node needs more samples";
   char buf[200];
-  std::snprintf(buf, sizeof buf, "sampling: target %.3g K, +%.0f %% IR rays (%.3g), +%.0f %% sun/Earth samples (%.3g): ",
+  std::snprintf(buf, sizeof buf, "sampling: target %.3g K, %+.0f %% IR rays (%+.3g), %+.0f %% sun/Earth samples (%+.3g): ",
                 target_K, 100.0 * extra_ir_rays, extra_ir_rays * ir_rays, 100.0 * extra_load_samples,
                 extra_load_samples * load_samples);
   return buf + summary(nodes);
 }
 
+namespace {
+// A kind (IR rays, sun and Earth samples) none of whose nodes needs a boost is divided by its
+// common thinning factor (noise_targeted_thinning) when `min_boost` < 1 allows it.
+void thin_oversampled_kinds(SamplingBoosts& out, double min_boost, const std::vector<double>& ir_rays,
+                            const std::vector<double>& load_samples) {
+  if (!(min_boost < 1.0)) return;
+  bool ir_boosted = false, loads_boosted = false;
+  for (const auto& b : out.boost) {
+    ir_boosted = ir_boosted || b.ir != 1.0;
+    loads_boosted = loads_boosted || b.loads != 1.0;
+  }
+  const double ir = ir_boosted ? 1.0 : noise_targeted_thinning(out.ir_standard_error_K, out.target_K, min_boost);
+  const double loads =
+      loads_boosted ? 1.0 : noise_targeted_thinning(out.load_standard_error_K, out.target_K, min_boost);
+  double extra_ir = 0.0, extra_load = 0.0;
+  for (std::size_t i = 0; i < out.boost.size(); ++i) {
+    if (ir != 1.0) out.boost[i].ir = ir;
+    if (loads != 1.0) out.boost[i].loads = loads;
+    extra_ir += ir_rays[i] * (out.boost[i].ir - 1.0);
+    extra_load += load_samples[i] * (out.boost[i].loads - 1.0);
+  }
+  out.extra_ir_rays = out.ir_rays > 0.0 ? extra_ir / out.ir_rays : 0.0;
+  out.extra_load_samples = out.load_samples > 0.0 ? extra_load / out.load_samples : 0.0;
+}
+}  // namespace
+
 SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimulationSettings& settings,
-                                      double target_K, double max_extra, double max_extra_samples) {
+                                      double target_K, double max_extra, double max_extra_samples, double min_boost) {
   if (!(target_K > 0.0)) throw InvalidInput("noise target must be > 0 K");
   if (!(max_extra >= 0.0) || !(max_extra_samples >= 0.0)) throw InvalidInput("noise budget must be >= 0");
   SamplingBoosts out;
@@ -151,6 +184,7 @@ SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimu
     out.extra_load_samples = load_total > 0.0 ? extra_load / load_total : 0.0;
     if (out.extra_ir_rays <= ir_cap && out.extra_load_samples <= load_cap) break;
   }
+  thin_oversampled_kinds(out, min_boost, ir_rays, load_samples);
   return out;
 }
 

@@ -73,4 +73,18 @@ std::vector<double> noise_targeted_sampling_boosts(const Eigen::VectorXd& sigma,
   return boost;
 }
 
+double noise_targeted_thinning(const Eigen::VectorXd& sigma, double target_K, double min_boost, double min_thinning) {
+  if (!(target_K > 0.0)) throw InvalidInput("noise_targeted_thinning: target must be > 0 K");
+  if (!(min_boost > 0.0 && min_boost <= 1.0) || !(min_thinning >= 1.0))
+    throw InvalidInput("noise_targeted_thinning: min_boost must lie in (0, 1] and min_thinning be >= 1");
+  double largest = 0.0;
+  for (int i = 0; i < sigma.size(); ++i) {
+    if (!(sigma[i] >= 0.0)) throw InvalidInput("noise_targeted_thinning: a standard error is negative or NaN");
+    largest = std::max(largest, sigma[i]);
+  }
+  if (!(largest > 0.0) || largest >= target_K) return 1.0;
+  const double f = std::exp2(std::floor(std::log2(std::pow(target_K / largest, 4.0 / 3.0)) + 1e-9));
+  return f >= min_thinning ? std::max(min_boost, 1.0 / f) : 1.0;
+}
+
 }  // namespace thermodec

@@ -33,12 +33,15 @@ struct Node {
   //! how the trial noise floor (reduction/reduction_reference.h) measures the Monte Carlo
   //! noise a reduction trial sees. Not stored in model files.
   std::uint64_t sampling_salt = 0;
-  //! Multipliers (>= 1) of the Monte Carlo samples of the node's faces, per face and per node
-  //! budgets alike: `ir` for the IR view-factor rays, `loads` for the sun points and Earth rays.
-  //! Set by noise-targeted sampling (thermal/simulate_model.h, decide_sampling_boosts) for the
-  //! nodes whose temperature the sampling noise moves most; 1 otherwise. Stored in model files
-  //! as "sampling_boost": {"ir": .., "loads": ..}.
+  //! Multipliers (in [kMin, kMax]) of the Monte Carlo samples of the node's faces, per face and
+  //! per node budgets alike: `ir` for the IR view-factor rays, `loads` for the sun points and
+  //! Earth rays. Set by noise-targeted sampling (thermal/simulate_model.h,
+  //! decide_sampling_boosts): > 1 for the nodes whose temperature the sampling noise moves most,
+  //! < 1 on every node of a model `reduce` finds far oversampled; 1 otherwise. Stored in model
+  //! files as "sampling_boost": {"ir": .., "loads": ..}.
   struct SamplingBoost {
+    static constexpr double kMin = 1.0 / 64.0;
+    static constexpr double kMax = 1e4;
     double ir = 1.0;
     double loads = 1.0;
     bool operator==(const SamplingBoost& o) const { return ir == o.ir && loads == o.loads; }

@@ -55,6 +55,11 @@ struct ReduceSettings {
   //! decide_sampling_boosts): nodes whose estimated temperature noise exceeds this fraction of
   //! the tolerance get more samples. 0 = off; models that already carry boosts keep them.
   double noise_target_fraction = 0.05;
+  //! With noise-targeted sampling on, a kind of samples (IR rays; sun and Earth samples) that
+  //! every node has in far more than the target needs is divided by a common power of two (at
+  //! least 4, at most 64; noise_targeted_thinning): a 100k-face model meshed for 4000 rays per
+  //! face traces ~16x fewer rays in every simulation of the reduction. false = only boosts.
+  bool thin_oversampling = true;
   //! Area drift is a bias of every decimated node, not noise: a node that keeps its heat input
   //! and radiates it away (sigma eps A T^4 fixed) moves by dT = -T dA / (4 A). The decimator's
   //! area bound (reference.decimation.max_relative_area_change) is lowered, if needed, to

@@ -50,9 +50,13 @@ struct SamplingBoosts {
   //! One line for progress output: the target, the extra samples and the summary.
   std::string describe(const std::vector<Node>& nodes) const;
 };
+//! With min_boost < 1 (reduce: 1/64), a kind of samples no node needs more of is *thinned*
+//! when every node lies far under the target: all its nodes get the common multiplier
+//! noise_targeted_thinning (a power of two in [min_boost, 1/4]); extra_* are then negative.
 SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimulationSettings& settings,
                                       double target_K, double max_extra = 2.0,
-                                      double max_extra_samples = std::numeric_limits<double>::infinity());
+                                      double max_extra_samples = std::numeric_limits<double>::infinity(),
+                                      double min_boost = 1.0);
 
 //! Whether any node of `model` already has a sampling boost (e.g. from its model file).
 bool has_sampling_boosts(const ThermalModel& model);
