@@ -71,6 +71,7 @@ void run_reduce(const ReduceCliOptions& o) {
   ReduceSettings s;
   s.informed.max_evaluations = o.max_evaluations;
   apply_bare_mesh_reduction_budget(model, s);
+  apply_large_model_sweep(model, s);
   if (o.max_evaluations_set) s.informed.max_evaluations = o.max_evaluations;
   if (model.mesh_cleanup && root) std::cout << "bare mesh cleanup:\n" << model.mesh_cleanup->summary();
   if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;

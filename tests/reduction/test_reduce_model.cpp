@@ -285,6 +285,22 @@ TEST(SamplingBoosts, a_model_far_under_the_target_is_thinned_by_one_common_facto
   for (const auto& b : tight.boost) EXPECT_GE(std::min(b.ir, b.loads), 1.0);
 }
 
+TEST(ReduceSettings, large_model_files_sweep_on_halving_face_counts_and_small_ones_keep_the_grid) {
+  ThermalModel model = small_model();
+  ReduceSettings s;
+  const std::vector<double> grid = s.sensitivity.ratios;
+  apply_large_model_sweep(model, s);  // 312 faces: the fixed grid
+  EXPECT_EQ(s.sensitivity.ratios, grid);
+  model.mesh.F = Eigen::MatrixXi::Zero(kBareMeshCoarseSweepFaces + 1, 3);  // only the count is read
+  apply_large_model_sweep(model, s);
+  EXPECT_EQ(s.sensitivity.ratios,
+            (std::vector<double>{0.5, 0.75, 0.875, 0.9375, 0.96875, 0.984375, 0.9921875}));
+  ReduceSettings bare;
+  model.mesh_cleanup.emplace();  // a bare mesh keeps its own budget
+  apply_large_model_sweep(model, bare);
+  EXPECT_EQ(bare.sensitivity.ratios, grid);
+}
+
 TEST(ReduceModel, informed_result_is_verified_within_tolerance_by_an_independent_simulation) {
   const ThermalModel model = small_model();
   const double tol = 0.5;

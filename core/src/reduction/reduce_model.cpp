@@ -50,6 +50,12 @@ void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& setti
   }
 }
 
+void apply_large_model_sweep(const ThermalModel& model, ReduceSettings& settings) {
+  if (model.mesh_cleanup || model.mesh.num_faces() <= kBareMeshCoarseSweepFaces) return;
+  settings.sensitivity.ratios.clear();
+  for (int k = 1; k <= 7; ++k) settings.sensitivity.ratios.push_back(1.0 - std::exp2(-k));
+}
+
 namespace {
 
 // The strategy search over one set of references (one per load case), at a given tolerance.
