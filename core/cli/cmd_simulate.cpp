@@ -77,15 +77,17 @@ void run_simulate(const SimulateOptions& o) {
   if (o.noise_target_K > 0.0 && !has_sampling_boosts(model)) {
     if (settings.progress) settings.progress("sampling: estimating each node's Monte Carlo noise");
     const SamplingBoosts b = decide_sampling_boosts(model, settings, o.noise_target_K, o.noise_budget, o.noise_max_samples);
-    nlohmann::json boosts = nlohmann::json::object();
+    nlohmann::json boosts = nlohmann::json::object(), estimates = nlohmann::json::object();
     for (std::size_t k = 0; k < b.boost.size(); ++k) {
+      estimates[model.nodes[k].name] = {{"ir", b.ir_standard_error_K[k]}, {"loads", b.load_standard_error_K[k]}};
       model.nodes[k].sampling_boost = b.boost[k];
       if (b.boost[k] != Node::SamplingBoost{})
         boosts[model.nodes[k].name] = {{"ir", b.boost[k].ir}, {"loads", b.boost[k].loads}};
     }
     if (settings.progress) settings.progress(b.describe(model.nodes));
     extra["sampling"] = {{"noise_target_K", b.target_K}, {"extra_ir_rays", b.extra_ir_rays},
-                         {"extra_load_samples", b.extra_load_samples}, {"sampling_boost", boosts}};
+                         {"extra_load_samples", b.extra_load_samples}, {"sampling_boost", boosts},
+                         {"estimated_standard_error_K", estimates}};
   }
   SimulationResult result;
   if (o.noise_floor) {

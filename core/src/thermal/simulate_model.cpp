@@ -95,12 +95,23 @@ std::string SamplingBoosts::summary(const std::vector<Node>& nodes) const {
 }
 
 std::string SamplingBoosts::describe(const std::vector<Node>& nodes) const {
-  if (!any()) return "sampling: no node needs more samples";
+  // The largest estimate of each kind and its node: what decided the boosts or the thinning.
+  std::string largest;
   char buf[200];
+  for (const auto* kind : {&ir_standard_error_K, &load_standard_error_K}) {
+    Eigen::Index k = 0;
+    if (kind->size() == 0 || kind->size() > static_cast<Eigen::Index>(nodes.size())) continue;
+    const double v = kind->maxCoeff(&k);
+    std::snprintf(buf, sizeof buf, "%s %.2g K (%s)", kind == &ir_standard_error_K ? "IR" : ", loads", v,
+                  nodes[k].name.c_str());
+    largest += buf;
+  }
+  if (!largest.empty()) largest = "; largest estimated error " + largest;
+  if (!any()) return "sampling: no node needs more samples" + largest;
   std::snprintf(buf, sizeof buf, "sampling: target %.3g K, %+.0f %% IR rays (%+.3g), %+.0f %% sun/Earth samples (%+.3g): ",
                 target_K, 100.0 * extra_ir_rays, extra_ir_rays * ir_rays, 100.0 * extra_load_samples,
                 extra_load_samples * load_samples);
-  return buf + summary(nodes);
+  return buf + summary(nodes) + largest;
 }
 
 namespace {
