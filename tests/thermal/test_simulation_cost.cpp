@@ -58,6 +58,9 @@ TEST(SimulationCost, ir_rays_are_the_rays_the_view_factors_trace) {
   const SimulationCost cost = simulation_cost(model, {}, SimulationCostScope::view_factors);
   const NodeCouplings c = radiative_couplings(model, model.radiation);
   EXPECT_EQ(cost.ir_rays, double(c.diagnostics.rays_traced));
+  // the view-factor rows: at most one entry per ray and per side, 12 bytes each
+  EXPECT_LE(cost.view_factor_bytes_max, 12.0 * cost.ir_rays);
+  EXPECT_LE(cost.view_factor_bytes_max, 12.0 * double(cost.sides) * cost.sides);
   EXPECT_EQ(cost.sides, c.diagnostics.surface_sides);
   EXPECT_EQ(cost.sun_rays, 0.0);
   EXPECT_EQ(cost.solver_steps, 0.0);
@@ -87,6 +90,9 @@ TEST(SimulationCost, a_100k_face_model_at_default_settings_is_within_the_limits_
     EXPECT_EQ(simulation_cost_excess(cost, model), "") << cost.summary();
     EXPECT_GE(cost.ir_rays, 4000.0 * model.mesh.num_faces() * (two_sided ? 2 : 1)) << cost.summary();
     EXPECT_LT(cost.rays(), SimulationCostLimits{}.max_rays / 2.0) << cost.summary();
+    // every side's 4000 rays could hit as many distinct sides: 12 bytes each, shown not guarded
+    EXPECT_EQ(cost.view_factor_bytes_max, 12.0 * 4000.0 * cost.sides) << cost.summary();
+    EXPECT_NE(cost.summary().find("view-factor rows up to"), std::string::npos) << cost.summary();
   }
 }
 

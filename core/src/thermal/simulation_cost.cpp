@@ -136,6 +136,7 @@ SimulationCost simulation_cost(const ThermalModel& model, const ModelSimulationS
   const Eigen::VectorXi ir = side_ray_counts(sides, model.radiation);
   c.ir_rays = sum(ir);
   c.sobol_table_bytes = 16.0 * max_of(ir);
+  for (int s = 0; s < ir.size(); ++s) c.view_factor_bytes_max += 12.0 * std::min<double>(ir[s], c.sides);
   // Node couplings, their standard errors, view factors (radiation stage); the network, Jacobians,
   // sensitivity and its LU (thermal stage): about a dozen dense N x N matrices.
   c.node_matrix_bytes = 12.0 * 8.0 * double(c.nodes) * c.nodes;
@@ -161,7 +162,7 @@ std::string SimulationCost::summary() const {
   } else {
     s += ")";
   }
-  return s + "; memory " + bytes_text(memory_bytes());
+  return s + "; memory " + bytes_text(memory_bytes()) + " + view-factor rows up to " + bytes_text(view_factor_bytes_max);
 }
 
 std::string simulation_cost_excess(const SimulationCost& c, const ThermalModel& model,

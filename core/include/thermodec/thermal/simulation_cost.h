@@ -52,11 +52,16 @@ struct SimulationCost {
   double side_table_bytes = 0.0;    //!< per side and position loads, sun sample points, escaping rays, Gebhart rows
   double solver_bytes = 0.0;        //!< temperatures and loads on the finest time grid
   double node_matrix_bytes = 0.0;   //!< N x N couplings, Jacobians, sensitivities
+  //! The view-factor rows, at most: 12 bytes (column index and value) per distinct side a
+  //! side's rays hit, i.e. sum over sides of min(rays, sides). Geometry decides how far below
+  //! it they stay (a flat plate's rays all escape; the generated satellite at 100k faces and
+  //! 4000 rays per face peaks at 6 GiB against a bound of 9.6), so it is shown, not guarded.
+  double view_factor_bytes_max = 0.0;
 
   double rays() const { return ir_rays + sun_rays + earth_rays; }
   double memory_bytes() const { return sobol_table_bytes + side_table_bytes + solver_bytes + node_matrix_bytes; }
   //! One line, e.g. "3.1e+07 rays (IR 6.9e+06, sun 2.1e+07, Earth 3.5e+06); 4.6e+04 solver
-  //! steps x 13 nodes (work 1.9e+09); memory 45 MB".
+  //! steps x 13 nodes (work 1.9e+09); memory 45 MB + view-factor rows up to 40 MB".
   std::string summary() const;
 };
 
