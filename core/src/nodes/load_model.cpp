@@ -235,8 +235,9 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
         const std::string bk = key + ".sampling_boost";
         k.require_object(b, bk);
         k.only_keys(b, bk, {"ir", "loads"});
-        if (b.contains("ir")) node.sampling_boost.ir = k.number_in(b, bk, "ir", Node::SamplingBoost::kMin, Node::SamplingBoost::kMax, false, "");
-        if (b.contains("loads")) node.sampling_boost.loads = k.number_in(b, bk, "loads", Node::SamplingBoost::kMin, Node::SamplingBoost::kMax, false, "");
+        const double lo = Node::SamplingBoost::kMin, hi = Node::SamplingBoost::kMax;
+        if (b.contains("ir")) node.sampling_boost.ir = k.number_in(b, bk, "ir", lo, hi, false, "");
+        if (b.contains("loads")) node.sampling_boost.loads = k.number_in(b, bk, "loads", lo, hi, false, "");
       }
       if (v.contains("two_sided")) sides[n].two_sided = k.boolean(v, key, "two_sided");
       if (v.contains("back_material")) {
