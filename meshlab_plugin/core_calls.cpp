@@ -193,6 +193,7 @@ DocumentReduction reduce_document(const DocumentModelRequest& request, double to
   settings.strategy = informed ? thermodec::ReductionStrategy::informed : thermodec::ReductionStrategy::uniform;
   settings.progress = request.progress;
   settings.reference.simulation.progress = nullptr;
+  thermodec::apply_large_model_sweep(model, settings);  // as `thermodec reduce` does for this model
   for (const auto& f : case_files) settings.extra_cases.push_back(thermodec::load_case(f, model));
   const thermodec::ReductionRun run = thermodec::reduce_model(model, settings);
 

@@ -304,6 +304,8 @@ void bind_reduction(py::module_& m) {
       .def_readwrite("noise_runs", &ReduceSettings::noise_runs)
       .def_readwrite("sensitivity_cap_factor", &ReduceSettings::sensitivity_cap_factor)
       .def_readwrite("noise_target_fraction", &ReduceSettings::noise_target_fraction)
+      .def_readwrite("thin_oversampling", &ReduceSettings::thin_oversampling,
+                     "a model far under the noise target traces fewer samples (one common factor, 1/4 to 1/64)")
       .def_readwrite("area_error_fraction", &ReduceSettings::area_error_fraction,
                      "area drift may cost at most this fraction of the tolerance (sets the decimator's area bound)")
       .def_readwrite("prediction_targets", &ReduceSettings::prediction_targets)
@@ -440,6 +442,8 @@ void bind_functions(py::module_& m) {
   // reduction/reduce_model.h, report/reduction_report.h
   m.def("reduce_model", &reduce_model, py::arg("model"), py::arg("settings") = ReduceSettings{}, release{},
         "Simulation-driven reduction (`thermodec reduce`): as few faces as the temperature tolerance allows.");
+  m.def("apply_large_model_sweep", &apply_large_model_sweep, py::arg("model"), py::arg("settings"),
+        "Model files over 2000 faces: the sweep on halving face counts `thermodec reduce` uses (in place).");
   m.def("reduction_report", [](const ReductionRun& run) {
         return py::module_::import("json").attr("loads")(reduction_report_json(run).dump());
       }, py::arg("run"), "report.json content as Python objects");

@@ -276,6 +276,7 @@ def reduce(analysis, tolerance_K=None, json_path=None, plots=True, cases=()):
     _progress("reducing %s (tolerance %.3g K, %s)" % (json_path, settings.tolerance_K,
                                                       analysis.ReductionStrategy))
     model = td.load_model(json_path)
+    td.apply_large_model_sweep(model, settings)  # as `thermodec reduce` does for this model
     settings.extra_cases = [td.load_case(path, model) for path in cases]
     run = td.reduce_model(model, settings)
     folder = os.path.join(os.path.dirname(json_path), "reduced")
