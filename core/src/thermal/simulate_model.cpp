@@ -115,6 +115,19 @@ std::string SamplingBoosts::describe(const std::vector<Node>& nodes) const {
 }
 
 namespace {
+// extra_ir_rays / extra_load_samples of out.boost: the samples added (< 0: removed) over the
+// unboosted totals, from each node's unboosted IR rays and sun + Earth samples.
+void count_extra_samples(SamplingBoosts& out, const std::vector<double>& ir_rays,
+                         const std::vector<double>& load_samples) {
+  double extra_ir = 0.0, extra_load = 0.0;
+  for (std::size_t i = 0; i < out.boost.size(); ++i) {
+    extra_ir += ir_rays[i] * (out.boost[i].ir - 1.0);
+    extra_load += load_samples[i] * (out.boost[i].loads - 1.0);
+  }
+  out.extra_ir_rays = out.ir_rays > 0.0 ? extra_ir / out.ir_rays : 0.0;
+  out.extra_load_samples = out.load_samples > 0.0 ? extra_load / out.load_samples : 0.0;
+}
+
 // A kind (IR rays, sun and Earth samples) none of whose nodes needs a boost is divided by its
 // common thinning factor (noise_targeted_thinning) when `min_boost` < 1 allows it.
 void thin_oversampled_kinds(SamplingBoosts& out, double min_boost, const std::vector<double>& ir_rays,
@@ -128,15 +141,11 @@ void thin_oversampled_kinds(SamplingBoosts& out, double min_boost, const std::ve
   const double ir = ir_boosted ? 1.0 : noise_targeted_thinning(out.ir_standard_error_K, out.target_K, min_boost);
   const double loads =
       loads_boosted ? 1.0 : noise_targeted_thinning(out.load_standard_error_K, out.target_K, min_boost);
-  double extra_ir = 0.0, extra_load = 0.0;
-  for (std::size_t i = 0; i < out.boost.size(); ++i) {
-    if (ir != 1.0) out.boost[i].ir = ir;
-    if (loads != 1.0) out.boost[i].loads = loads;
-    extra_ir += ir_rays[i] * (out.boost[i].ir - 1.0);
-    extra_load += load_samples[i] * (out.boost[i].loads - 1.0);
+  for (auto& b : out.boost) {
+    if (ir != 1.0) b.ir = ir;
+    if (loads != 1.0) b.loads = loads;
   }
-  out.extra_ir_rays = out.ir_rays > 0.0 ? extra_ir / out.ir_rays : 0.0;
-  out.extra_load_samples = out.load_samples > 0.0 ? extra_load / out.load_samples : 0.0;
+  count_extra_samples(out, ir_rays, load_samples);
 }
 }  // namespace
 
@@ -184,15 +193,9 @@ SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimu
   for (int attempt = 0; attempt < 64; ++attempt, out.target_K *= std::sqrt(2.0)) {
     const std::vector<double> b_ir = noise_targeted_sampling_boosts(out.ir_standard_error_K, out.target_K);
     const std::vector<double> b_load = noise_targeted_sampling_boosts(out.load_standard_error_K, out.target_K);
-    double extra_ir = 0.0, extra_load = 0.0;
     out.boost.assign(n, {});
-    for (std::size_t i = 0; i < n; ++i) {
-      out.boost[i] = {b_ir[i], b_load[i]};
-      extra_ir += ir_rays[i] * (b_ir[i] - 1.0);
-      extra_load += load_samples[i] * (b_load[i] - 1.0);
-    }
-    out.extra_ir_rays = ir_total > 0.0 ? extra_ir / ir_total : 0.0;
-    out.extra_load_samples = load_total > 0.0 ? extra_load / load_total : 0.0;
+    for (std::size_t i = 0; i < n; ++i) out.boost[i] = {b_ir[i], b_load[i]};
+    count_extra_samples(out, ir_rays, load_samples);
     if (out.extra_ir_rays <= ir_cap && out.extra_load_samples <= load_cap) break;
   }
   thin_oversampled_kinds(out, min_boost, ir_rays, load_samples);
