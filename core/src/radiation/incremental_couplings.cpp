@@ -254,6 +254,16 @@ void retrace_both_scenes(const Incremental& x, const sampling::Emitter& e, int R
   });
 }
 
+// True if every reference hit of side `r` is on a side the candidate keeps. A side whose rays
+// cannot meet the change has no hit on a removed face; this checks it, so that a filter's miss
+// takes the counted path below (and its safety net) rather than a silent copy.
+bool hits_only_kept_sides(const Incremental& x, int r) {
+  const Eigen::SparseMatrix<double, Eigen::RowMajor>& F = x.ref.vf.F;
+  for (int e = F.outerIndexPtr()[r]; e < F.outerIndexPtr()[r + 1]; ++e)
+    if (x.cand_of_ref[F.innerIndexPtr()[e]] < 0) return false;
+  return true;
+}
+
 // Candidate side c's hit counts into `rows`: traced whole if new or changed, else its
 // reference counts corrected for the rays that can meet the change.
 void update_side(const Incremental& x, int c, tracing::Counter& cnt, std::vector<std::uint32_t>& subset,
@@ -281,13 +291,17 @@ void update_side(const Incremental& x, int c, tracing::Counter& cnt, std::vector
   }
   // Unchanged face: the reference counts, corrected for the rays that can meet the changed
   // region: minus their reference hit, plus their candidate hit.
+  Eigen::AlignedBox3f sbox;
+  const bool reaches = side_box(x, e, sbox);
+  if (!reaches && hits_only_kept_sides(x, r)) {  // the reference row as it is, copied at assembly
+    rows.keep_reference(c, r);
+    return;
+  }
   auto to_cand = [&](int ref_side) { return x.to_cand(cnt, ref_side); };
   for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(ref.vf.F, r); it; ++it)
     cnt.add(to_cand(static_cast<int>(it.col())), static_cast<int>(std::lround(it.value() * R)));
   cnt.add(-1, static_cast<int>(std::lround(ref.vf.to_space[r] * R)));
   back = ref.vf.back_hits_per_side[r];
-  Eigen::AlignedBox3f sbox;
-  const bool reaches = side_box(x, e, sbox);
   if (reaches && x.records) {
     retrace_recorded(x, e, r, sbox, cnt, back, traced, subset);
   } else if (reaches) {
@@ -374,7 +388,8 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
     retraced.fetch_add(traced);
   });
   st.sides_traced_whole = traced_whole.load();
-  FaceViewFactors vf = detail::assemble(sides, rows, settings.rays_per_face, rays);
+  const detail::ReferenceRows kept{ref.vf, cand_of_ref};
+  FaceViewFactors vf = detail::assemble(sides, rows, settings.rays_per_face, rays, &kept);
   st.rays_retraced = retraced.load();
   vf.rays_traced = st.rays_retraced;
 
