@@ -151,7 +151,7 @@ void direct_sun_loads(LoadRun& run) {
                         &run.reused_sun_rays, &run.traced_sun_rays);
       lit = sunlit_fraction(run.scene, geo, sides, st.sun_direction_body, sun_rays, run.settings.sun_pilot_rays,
                             pass_seed, run.sobol(), run.occ, pass, sun_points, ref ? &todo : nullptr);
-      if (pass.recording() && run.recorder.active()) samples->sun_records[k] = pack_records(run.recorded);
+      if (pass.recording() && run.recorder.active()) samples->sun_records[k] = run.take_records();
       if (ref)
         for (int s = 0; s < ns; ++s)
           if (!todo[s]) lit[s] = ref->sunlit(ref_of[s], k);

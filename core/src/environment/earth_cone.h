@@ -38,7 +38,9 @@ struct EarthHits {
   Eigen::VectorXf weights;
   std::vector<int> begin;
 
-  void flatten() {
+  //! Fills the flat arrays from `rays`, then moves `rays` into `keep_rays` (a reference run's
+  //! LoadSamples::earth), or frees them.
+  void flatten(std::vector<std::vector<std::pair<float, Eigen::Vector3f>>>* keep_rays = nullptr) {
     begin.assign(rays.size() + 1, 0);
     for (size_t s = 0; s < rays.size(); ++s) begin[s + 1] = begin[s] + static_cast<int>(rays[s].size());
     normals.resize(begin.back(), 3);
@@ -48,7 +50,8 @@ struct EarthHits {
         weights[begin[s] + k] = rays[s][k].first;
         normals.row(begin[s] + k) = rays[s][k].second.transpose();
       }
-    rays.clear();
+    if (keep_rays) *keep_rays = std::move(rays);
+    rays = {};
   }
   bool empty() const { return begin.empty(); }
 };

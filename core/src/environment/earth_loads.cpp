@@ -112,11 +112,10 @@ EarthSampling sample_earth(LoadRun& run) {
         replayed[s] = earth_todo[s] && hits.replayed[s] && ref_of[s] >= 0 &&
                       may_be_blocked[s] == ref->earth_may_be_blocked[ref_of[s]];
     if (samples) {
-      samples->earth = hits.rays;
       samples->earth_view_factor = hits.view_factor;
       samples->earth_relative_error = hits.relative_error;
     }
-    hits.flatten();
+    hits.flatten(samples ? &samples->earth : nullptr);
   } else {
     // The same per-side counts as the cone sampling of the nadir case (per-node budgets,
     // noise-targeted boosts): a sun-pointing or inertial craft's Earth loads are as noisy
@@ -135,7 +134,7 @@ EarthSampling sample_earth(LoadRun& run) {
     escaping = pack_escaping(dirs, earth_rays);
   }
   if (reuse) reuse->earth_sides_replayed_by_cells = replayed_by_cells.load();
-  if (pass.recording() && run.recorder.active()) samples->earth_records = pack_records(run.recorded);
+  if (pass.recording() && run.recorder.active()) samples->earth_records = run.take_records();
   return e;
 }
 

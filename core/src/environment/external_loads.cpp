@@ -96,6 +96,12 @@ bool LoadRun::same_counts(int s) const {
          ref->sun_rays[ref_of[s]] == sun_rays[s] && ref->earth_rays[ref_of[s]] == earth_rays[s];
 }
 
+RayRecords LoadRun::take_records() {
+  RayRecords r = pack_records(recorded);
+  std::vector<SideRays>().swap(recorded);
+  return r;
+}
+
 PassContext LoadRun::make_pass(const RayRecords* ref_records, std::atomic<long>* reused_rays,
                                std::atomic<long>* traced_rays) {
   PassContext pass;

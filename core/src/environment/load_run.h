@@ -73,6 +73,9 @@ struct LoadRun {
   const tracing::SobolTable& sobol() const { return *table; }
   //! Side s has a reference twin with the same sample counts.
   bool same_counts(int s) const;
+  //! The records of the pass that just ran, packed (pack_records); the per-side copies are
+  //! freed at once (on large models they take several times the packed size).
+  RayRecords take_records();
   //! The reuse and recording context of one ray pass reading `ref_records` (may be null).
   PassContext make_pass(const RayRecords* ref_records, std::atomic<long>* reused_rays, std::atomic<long>* traced_rays);
 };

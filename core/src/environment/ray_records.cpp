@@ -44,10 +44,11 @@ RayRecords pack_records(const std::vector<SideRays>& per_side) {
   }
   for (int s = 0; s < ns; ++s) {
     std::int64_t bit = r.ray_begin[s], hit = r.hit_begin[s];
+    std::size_t j = 0;  // (the kept copy's hit_m holds the blocked rays' distances only)
     for (std::size_t k = 0; k < per_side[s].blocked.size(); ++k, ++bit)
       if (per_side[s].blocked[k]) {
         r.blocked[bit >> 6] |= std::uint64_t(1) << (bit & 63);
-        r.hit_m[hit++] = per_side[s].hit_m[k];
+        r.hit_m[hit++] = per_side[s].hit_m[j++];
       }
   }
   return r;

@@ -86,7 +86,9 @@ struct ChangeBox {
 // Per-ray results of one side's rays, and the reference record to reuse them from.
 struct SideRays {
   std::vector<std::uint8_t> blocked;  // per ray
-  std::vector<float> hit_m;           // per ray: closest blocker [m] (recorded runs), +inf if open
+  // per ray: closest blocker [m] (recorded runs), +inf if open; in a Recorder's kept copy,
+  // per blocked ray only (what pack_records keeps)
+  std::vector<float> hit_m;
   std::vector<std::uint32_t> sample_index;  // Earth cone rays, recorded runs: see RayRecords
   std::vector<std::uint8_t> cell;
   std::vector<float> cos_theta;
@@ -280,7 +282,10 @@ struct Recorder {
       return;
     }
     per_side[s].blocked = rays.blocked;
-    per_side[s].hit_m = rays.hit_m;
+    per_side[s].hit_m.clear();
+    per_side[s].hit_m.reserve(blocked);
+    for (std::size_t k = 0; k < rays.blocked.size(); ++k)
+      if (rays.blocked[k]) per_side[s].hit_m.push_back(rays.hit_m[k]);
     per_side[s].sample_index = rays.sample_index;
     per_side[s].cell = rays.cell;
     per_side[s].cos_theta = rays.cos_theta;
