@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/common/release_free_memory.h"
 #include "thermodec/decimation/global_ratio.h"
 #include "thermodec/reduction/prediction.h"
 #include "thermodec/reduction/record_budget.h"
@@ -36,6 +37,7 @@ std::string describe_records(const RecordUse& u) {
   s += u.loads_kept ? fmt(", sun/Earth %.2f GiB", u.load_bytes / GiB)
                     : fmt(", sun/Earth left out (over %.2f GiB)", u.load_budget_bytes / GiB);
   if (u.ir_bytes == 0 || !u.loads_kept) s += ": trials trace more rays (--record-memory raises the budget)";
+  s += fmt("; beside them view factors %.2f GiB, Earth hits %.2f GiB", u.view_factor_bytes / GiB, u.earth_hit_bytes / GiB);
   return s;
 }
 }  // namespace
@@ -239,6 +241,7 @@ bool boost_sampling(const ThermalModel& model_in, const ReduceSettings& settings
       say("case " + c.name + ": " + bc.describe(model_in.nodes));
     }
     keep_thinning_common(boosted.nodes);
+    release_free_memory();  // (the pilot simulations' blocks)
   }
   return boost;
 }
@@ -335,9 +338,11 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
     const std::string tag = several ? "case " + cases[c].name + ": " : "";
     say(tag + "reference: simulating and keeping reusable rays and samples");
     refs.push_back(std::make_unique<ReductionReference>(with_case(model, cases[c]), per_case));
+    release_free_memory();  // (the reference's tracing and load sampling: every trial runs beside what is left)
     say(tag + describe_records(refs.back()->record_use()));
     say(tag + "noise floor: simulating the reference with " + std::to_string(settings.noise_runs - 1) + " other seed(s)");
     const NoiseFloor noise = noise_floor(refs[c]->model(), settings.noise_runs, settings.reference.simulation, &refs[c]->result());
+    release_free_memory();
     CaseResult cr;
     cr.name = cases[c].name;
     cr.noise_floor_K = noise.worst.max_abs_K;

@@ -94,6 +94,8 @@ ReductionReference::ReductionReference(const ThermalModel& model, const Reductio
   use.loads_kept = impl_->load_samples.per_ray;
   for (const auto& r : impl_->load_samples.sun_records) use.load_bytes += r.bytes();
   use.load_bytes += impl_->load_samples.earth_records.bytes();
+  use.view_factor_bytes = static_cast<std::size_t>(vf.F.nonZeros()) * (sizeof(double) + sizeof(int));
+  for (const auto& hits : impl_->load_samples.earth) use.earth_hit_bytes += hits.size() * sizeof(hits.front());
   impl_->result = reference_result ? *reference_result
                                    : simulate(model, impl_->radiation->couplings(), loads, settings.simulation.solver);
 }

@@ -51,6 +51,10 @@ struct RecordUse {
   std::size_t load_bytes = 0;       //!< sun and Earth records kept (0: over their budget)
   std::size_t load_budget_bytes = 0;
   bool loads_kept = false;
+  //! Kept outside the record budget, whatever it is: the face-level view factors (12 bytes a
+  //! non-zero entry) and the Earth rays' hits that light each side (16 bytes a hit).
+  std::size_t view_factor_bytes = 0;
+  std::size_t earth_hit_bytes = 0;
 };
 
 class ReductionReference {
