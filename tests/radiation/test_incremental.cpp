@@ -50,8 +50,17 @@ TEST(IncrementalCouplings, equal_a_full_recompute_of_the_candidate) {
   for (const std::size_t budget : {std::size_t(1) << 30, std::size_t(0)}) {
     const RadiationReference prepared = prepare_radiation(ref, ref.radiation, budget);
     IncrementalStats stats;
-    const NodeCouplings inc = radiative_couplings_incremental(prepared, cand, &stats);
+    FaceViewFactors inc_faces;
+    const NodeCouplings inc = radiative_couplings_incremental(prepared, cand, &stats, &inc_faces);
     EXPECT_EQ(inc.view_factors, full.view_factors) << "same rays, same hits: bit-identical; budget " << budget;
+    // Face level too, with rows kept from the reference (sides that cannot see the change)
+    // among them.
+    const FaceViewFactors full_faces = face_view_factors(RayScene(cand.mesh), surface_sides(cand), cand.radiation);
+    EXPECT_EQ(Eigen::MatrixXd(inc_faces.F), Eigen::MatrixXd(full_faces.F));
+    EXPECT_EQ(inc_faces.to_space, full_faces.to_space);
+    EXPECT_EQ(inc_faces.back_hits_per_side, full_faces.back_hits_per_side);
+    EXPECT_GT(stats.rows_kept, 0);
+    EXPECT_LT(stats.rows_kept, stats.reused_sides);
     EXPECT_EQ(inc.to_space, full.to_space);
     EXPECT_EQ(inc.view_factors_standard_error, full.view_factors_standard_error);
     EXPECT_LT((inc.radiative_couplings_m2 - full.radiative_couplings_m2).cwiseAbs().maxCoeff(), 1e-9);

@@ -388,6 +388,7 @@ NodeCouplings radiative_couplings_incremental(const RadiationReference& referenc
     retraced.fetch_add(traced);
   });
   st.sides_traced_whole = traced_whole.load();
+  st.rows_kept = static_cast<int>(std::count_if(rows.reference_row.begin(), rows.reference_row.end(), [](int r) { return r >= 0; }));
   const detail::ReferenceRows kept{ref.vf, cand_of_ref};
   FaceViewFactors vf = detail::assemble(sides, rows, settings.rays_per_face, rays, &kept);
   st.rays_retraced = retraced.load();

@@ -67,6 +67,8 @@ struct IncrementalStats {
   int changed_sides = 0;            //!< candidate sides without a twin in the reference (traced fully)
   int removed_sides = 0;            //!< reference sides without a twin in the candidate
   int reused_sides = 0;             //!< unchanged sides (reference counts reused)
+  //! of those, the sides none of whose rays can meet the change: their rows copied as they are
+  int rows_kept = 0;
   std::int64_t rays_retraced = 0;   //!< rays traced (both scenes counted)
   std::int64_t rays_total = 0;      //!< rays a full recompute would trace
   Eigen::AlignedBox3d changed_box;  //!< region whose geometry changed [m]
