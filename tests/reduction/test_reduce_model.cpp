@@ -359,6 +359,7 @@ TEST(ReduceModel, extra_load_cases_are_all_verified_and_the_worst_one_is_reporte
     EXPECT_EQ(c.ray_record_budget_bytes, default_record_budget_bytes() / 2) << c.name;
     EXPECT_GT(c.ray_record_bytes, 0u) << c.name;
     EXPECT_LE(c.ray_record_bytes, c.ray_record_budget_bytes) << c.name;
+    EXPECT_GT(c.view_factor_bytes, 0u) << c.name;  // (kept outside the budget)
   }
   // independent check in both environments: plain simulations, nothing shared with the driver
   ModelSimulationSettings ss;

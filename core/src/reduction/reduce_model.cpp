@@ -348,6 +348,8 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
     cr.noise_floor_K = noise.worst.max_abs_K;
     const RecordUse use = refs[c]->record_use();
     cr.ray_record_bytes = use.ir_bytes + use.load_bytes;
+    cr.view_factor_bytes = use.view_factor_bytes;
+    cr.earth_hit_bytes = use.earth_hit_bytes;
     cr.ray_record_budget_bytes = per_case.record_budget_bytes;
     run.cases.push_back(cr);
     run.noise_floor_K = std::max(run.noise_floor_K, cr.noise_floor_K);

@@ -65,6 +65,7 @@ json reduction_report_json(const ReductionRun& run) {
   for (const auto& c : run.cases)
     cases.push_back({{"name", c.name}, {"noise_floor_K", c.noise_floor_K},
                      {"ray_record_bytes", c.ray_record_bytes}, {"ray_record_budget_bytes", c.ray_record_budget_bytes},
+                     {"view_factor_bytes", c.view_factor_bytes}, {"earth_hit_bytes", c.earth_hit_bytes},
                      {"max_temperature_difference_K", c.max_temperature_difference_K},
                      {"max_temperature_difference_at", {{"node", c.max_difference_node}, {"time_s", c.max_difference_time_s}}}});
   j["load_cases"] = cases;

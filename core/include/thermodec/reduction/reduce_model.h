@@ -109,6 +109,9 @@ struct CaseResult {
   //! Ray records its reference kept (IR + sun/Earth) and its share of the record budget, which
   //! the cases split equally [bytes].
   std::size_t ray_record_bytes = 0, ray_record_budget_bytes = 0;
+  //! What its reference keeps outside the budget (RecordUse): face-level view factors and the
+  //! Earth rays' hits [bytes].
+  std::size_t view_factor_bytes = 0, earth_hit_bytes = 0;
   double max_temperature_difference_K = 0.0;  //!< reduced vs reference, full recompute [K]
   std::string max_difference_node;
   double max_difference_time_s = 0.0;
