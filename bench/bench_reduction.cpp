@@ -4,7 +4,10 @@
 // the total is representative of a sweep, not of a chosen node. Also prints the trial noise
 // floor (each node's samples redrawn in turn).
 //   bench_reduction [MODEL] [trials (default: number of nodes)] [--sweep] [--no-trial-noise] [--incremental-only]
-//                   [--reduce-sampling] [--gaps]
+//                   [--reduce-sampling] [--gaps] [--candidate REPORT.json]
+// --candidate times one combined candidate instead: every node at the ratio a `reduce` report
+// gave it (its nodes' "ratio", decimated under its "max_relative_area_change"), incremental
+// against the reference and then simulated from scratch, with the incremental trial's phases.
 // --reduce-sampling first multiplies the noisy nodes' samples as `reduce` does (its noise
 // target, decide_sampling_boosts), so the trials cost what they cost inside `reduce`.
 // MODEL is a model.json or a bare mesh; a bare mesh gets `reduce`'s size-aware ray budgets
@@ -21,6 +24,9 @@
 #include <algorithm>
 #include <string>
 #include <vector>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
 
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/reduction/reduce_model.h"
@@ -31,8 +37,37 @@
 using namespace thermodec;
 using Clock = std::chrono::steady_clock;
 
+// --candidate: one combined candidate of a reduce report, incremental then from scratch.
+static int time_candidate(ReductionReference& ref, const ThermalModel& model, const std::string& report_path) {
+  std::ifstream in(report_path);
+  const nlohmann::json report = nlohmann::json::parse(in);
+  DecimationOptions dec = ref.decimation_options();
+  dec.max_relative_area_change = report.at("max_relative_area_change").get<double>();
+  ref.set_decimation_options(dec);
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<int>(model.nodes.size()));
+  int reduced = 0;
+  for (std::size_t k = 0; k < model.nodes.size(); ++k) {
+    const auto it = report.at("nodes").find(model.nodes[k].name);
+    if (it != report.at("nodes").end()) r[k] = it->at("ratio").get<double>();
+    reduced += r[k] > 0.0;
+  }
+  auto t0 = Clock::now();
+  const TrialResult a = ref.trial(r);
+  const double ti = std::chrono::duration<double>(Clock::now() - t0).count();
+  t0 = Clock::now();
+  const TrialResult b = ref.verify(r);
+  const double tf = std::chrono::duration<double>(Clock::now() - t0).count();
+  std::printf("candidate of %s: %d nodes reduced, %d faces\n", report_path.c_str(), reduced, a.faces_after);
+  std::printf("incremental: max|dT| %.4f K in %.2f s (decimation %.2f s, couplings %.2f s, loads %.2f s, solve %.2f s; "
+              "couplings and loads overlap)\n",
+              a.max_abs_dT_K, ti, a.timing.decimation_s, a.timing.couplings_s, a.timing.loads_s, a.timing.solve_s);
+  std::printf("from scratch: max|dT| %.4f K in %.2f s: incremental %.2fx faster\n", b.max_abs_dT_K, tf, tf / ti);
+  return 0;
+}
+
 int main(int argc, char** argv) {
   std::vector<std::string> args;
+  std::string candidate_report;
   bool sweep = false, trial_noise = true, incremental_only = false, reduce_sampling = false, show_gaps = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -41,6 +76,7 @@ int main(int argc, char** argv) {
     else if (a == "--incremental-only") incremental_only = true;  // for profilers: no naive trials
     else if (a == "--reduce-sampling") reduce_sampling = true;
     else if (a == "--gaps") show_gaps = true;
+    else if (a == "--candidate" && i + 1 < argc) candidate_report = argv[++i];
     else args.push_back(a);
   }
   const std::string path = args.size() > 0 ? args[0] : THERMODEC_SOURCE_DIR "/sample_models/satellite/model.json";
@@ -57,10 +93,11 @@ int main(int argc, char** argv) {
   const int n = static_cast<int>(model.nodes.size());
   const int trials = args.size() > 1 ? std::stoi(args[1]) : n;
   auto t0 = Clock::now();
-  const ReductionReference ref(model, settings.reference);
+  ReductionReference ref(model, settings.reference);
   const double t_ref = std::chrono::duration<double>(Clock::now() - t0).count();
   std::printf("%s: %d faces, %d nodes; reference simulation + reusable state %.2f s\n", path.c_str(),
               model.mesh.num_faces(), n, t_ref);
+  if (!candidate_report.empty()) return time_candidate(ref, model, candidate_report);
   if (trial_noise) {
     t0 = Clock::now();
     const TrialNoiseFloor tn = ref.trial_noise_floor();

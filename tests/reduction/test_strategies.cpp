@@ -304,27 +304,59 @@ struct WithField : Synthetic {
 
 TEST(InformedReduction, a_stall_the_superposition_foresees_skips_the_leave_one_out_trials) {
   // Ten equal, mildly coupled nodes: together over the tolerance, none to blame alone; the
-  // superposition misses the coupling by a factor ~1.2, within its trusted range.
+  // superposition misses the coupling by a factor ~1.2, within its trusted range. Unscreened:
+  // one leave-one-out step, then the stall rule's scale-back; screened: the scale-back at once;
+  // screened with re-allocation (the default): the corrected superposition instead of both.
   WithField s;
   s.sensitivity_K = Eigen::VectorXd::Constant(10, 0.1);
   s.faces = Eigen::VectorXi::Constant(10, 100);
   s.coupling_K = 0.005;
   const auto curves = sensitivity_analysis(10, s, SensitivityOptions{});
-  for (bool screen : {false, true}) {
+  int calls[3] = {0, 0, 0}, faces[3] = {0, 0, 0};
+  for (int mode : {0, 1, 2}) {
+    auto counted = [&](const Eigen::VectorXd& r) { ++calls[mode]; return s(r); };
     InformedOptions io;
     io.tolerance_K = 0.5;
     io.parallel = false;
-    io.screen_by_superposition = screen;
-    const auto out = informed_reduction(curves, 10, s, s, io);
+    io.push = false;
+    io.screen_by_superposition = mode > 0;
+    io.reallocate_by_superposition = mode == 2;
+    const auto out = informed_reduction(curves, 10, counted, s, io);
     EXPECT_GT(s(out.predicted_ratio_per_node).max_abs_dT_K, 0.5);
     EXPECT_LE(out.verified.max_abs_dT_K, 0.5);
-    int back_offs = 0, scale_backs = 0;
+    EXPECT_GT(out.ratio_per_node.maxCoeff(), 0.0);
+    int back_offs = 0, scale_backs = 0, reallocations = 0;
     for (const auto& h : out.history) {
       back_offs += h.action.rfind("back off", 0) == 0;
       scale_backs += h.action.rfind("scale back", 0) == 0;
+      reallocations += h.action.rfind("re-allocated by superposition", 0) == 0;
     }
-    EXPECT_EQ(back_offs, screen ? 0 : 1) << "screen " << screen;  // unscreened: one step, then the stall rule
-    EXPECT_GT(scale_backs, 0);
+    EXPECT_EQ(back_offs, mode == 0 ? 1 : 0) << "mode " << mode;
+    EXPECT_EQ(scale_backs > 0, mode < 2) << "mode " << mode;
+    EXPECT_EQ(reallocations, mode == 2 ? 1 : 0) << "mode " << mode;
+    faces[mode] = out.verified.faces_after;
+  }
+  EXPECT_LT(calls[1], calls[0]);
+  EXPECT_LT(calls[2], calls[0]);
+  // The scale-back caps each node at a share of the tolerance (here 300 faces at 0.35 K); the
+  // corrected allocation lands near the tolerance (230 faces at 0.49 K, one trial more).
+  EXPECT_LT(faces[2], faces[1]);
+}
+
+TEST(InformedReduction, pushes_stop_at_their_trial_bound) {
+  WithField s;
+  static_cast<Synthetic&>(s) = three_nodes(0.0);
+  const auto curves = sensitivity_analysis(3, s, SensitivityOptions{});
+  for (int bound : {0, 1}) {
+    InformedOptions io;
+    io.tolerance_K = 0.5;
+    io.parallel = false;
+    io.max_push_trials = bound;
+    const auto out = informed_reduction(curves, 3, s, s, io);
+    int pushes = 0;
+    for (const auto& h : out.history) pushes += h.action.rfind("push", 0) == 0;
+    EXPECT_EQ(pushes, bound);
+    EXPECT_LE(out.verified.max_abs_dT_K, 0.5);
   }
 }
 

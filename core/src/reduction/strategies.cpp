@@ -112,6 +112,11 @@ struct SuperpositionScreen {
     return buf;
   }
 
+  // The superposition's max |dT| for `ratios` [K] (NaN when off).
+  double predicted(const Eigen::VectorXd& ratios) const {
+    return on ? superposed_max_abs_dT_K(curve_of, ratios) : std::numeric_limits<double>::quiet_NaN();
+  }
+
   // Before a leave-one-out step on the failing candidate `ratios` (measured `measured_K`): the
   // share of the excess over `tol` that the best single back-off among `reduced` removes, by
   // superposition scaled to the measurement; NaN where the superposition is not trusted (off,
@@ -157,7 +162,8 @@ Eigen::VectorXd push_remaining_slack(const std::vector<const SensitivityCurve*>&
     if (failed_at[k] < 0) return next_ratio(c, current[k]);
     return 0.5 * (current[k] + failed_at[k]);
   };
-  while (evaluations < o.max_evaluations) {
+  int pushes = 0;
+  while (evaluations < o.max_evaluations && pushes < o.max_push_trials) {
     int pick = -1;
     double pick_score = std::numeric_limits<double>::infinity();
     for (int k = 0; k < num_nodes; ++k) {
@@ -182,6 +188,7 @@ Eigen::VectorXd push_remaining_slack(const std::vector<const SensitivityCurve*>&
     if (ruled_out.empty()) {
       const TrialResult r = trial(cand);
       ++evaluations;
+      ++pushes;
       passed = within(r, tol);
       // A push over the tolerance is kept in the history, marked as rejected.
       record(cand, r, name + (passed ? "" : " (rejected: over the tolerance)"));
@@ -247,35 +254,111 @@ Eigen::VectorXd scale_back(const std::vector<const SensitivityCurve*>& curve_of,
   return scaled(lo);
 }
 
-// The informed strategy's first candidate, measured by `trial` into `res`. By superposition:
-// the superposition's allocation for the tolerance; while its trial measures over the
-// tolerance, the target is scaled by tolerance / measured (a proportional correction of the
-// superposition's error) and re-allocated, at most o.max_corrections times. Otherwise the
-// paper's per-node prediction. `first` receives the first prediction's ratios.
+// One back-off step: each reduced node (the o.max_leave_one_out most suspect ones) one sample
+// back in its own trial, and the largest measured contribution backed off into `ratios`/`res`.
+// True if that step removed under o.stall_fraction of the excess (no single node to blame).
+bool back_off_by_leave_one_out(const std::vector<const SensitivityCurve*>& curve_of, const TrialFunction& trial,
+                               const InformedOptions& o, std::vector<int> reduced, int& evaluations,
+                               const RecordFn& record, Eigen::VectorXd& ratios, TrialResult& res) {
+  auto log = [&](const std::string& s) { if (o.log) o.log(s); };
+  const double tol = o.tolerance_K;
+  const int num_nodes = static_cast<int>(ratios.size());
+  if (o.max_leave_one_out > 0 && static_cast<int>(reduced.size()) > o.max_leave_one_out) {
+    // Suspects first: what the node did alone on its curve at this ratio, or how far it
+    // moved itself in the failing candidate. Ties by index (deterministic).
+    Eigen::VectorXd suspicion = Eigen::VectorXd::Zero(num_nodes);
+    for (int k : reduced) {
+      const double alone = curve_of[k] ? predicted_difference_K(*curve_of[k], ratios[k]) : 0.0;
+      const double own = res.node_max_abs_dT_K.size() > k ? res.node_max_abs_dT_K[k] : 0.0;
+      suspicion[k] = std::isnan(alone) || std::isnan(own) ? std::numeric_limits<double>::infinity()  // NaN: most suspect
+                                                         : std::max(alone, own);
+    }
+    std::stable_sort(reduced.begin(), reduced.end(), [&](int a, int b) { return suspicion[a] > suspicion[b]; });
+    reduced.resize(o.max_leave_one_out);
+    std::sort(reduced.begin(), reduced.end());
+    log("back-off: leave-one-out on the " + std::to_string(reduced.size()) + " most suspect reduced nodes");
+  }
+  std::vector<TrialResult> loo(reduced.size());
+  std::vector<Eigen::VectorXd> cand(reduced.size(), ratios);
+  for (size_t i = 0; i < reduced.size(); ++i)
+    cand[i][reduced[i]] = curve_of[reduced[i]] ? previous_ratio(*curve_of[reduced[i]], ratios[reduced[i]]) : 0.0;
+  // One trial per reduced node: on a CAD model with 64 nodes that is the longest silent
+  // stretch of a reduction, so each finished trial is reported (from worker threads).
+  std::mutex log_mutex;
+  int done = 0;
+  auto run = [&](size_t i) {
+    loo[i] = trial(cand[i]);
+    std::lock_guard<std::mutex> lock(log_mutex);
+    ++done;
+    if (reduced.size() > 4)
+      log("back-off: leave-one-out " + std::to_string(done) + "/" + std::to_string(reduced.size()) +
+          " (" + node_name(o, reduced[i]) + " backed off: max|dT| " + std::to_string(loo[i].max_abs_dT_K) + " K)");
+  };
+  if (o.parallel) tbb::parallel_for(size_t(0), reduced.size(), run);
+  else for (size_t i = 0; i < reduced.size(); ++i) run(i);
+  evaluations += static_cast<int>(reduced.size());
+  size_t pick = 0;
+  for (size_t i = 1; i < reduced.size(); ++i)
+    if (loo[i].max_abs_dT_K < loo[pick].max_abs_dT_K) pick = i;  // largest contribution
+  const double before = res.max_abs_dT_K, excess_before = before - tol;
+  ratios = cand[pick];
+  res = loo[pick];
+  record(ratios, res, "back off " + node_name(o, reduced[pick]) + " (contribution " +
+                          std::to_string(before - res.max_abs_dT_K) + " K)");
+  if (!within(res, tol) && o.stall_fraction > 0.0 &&
+      excess_before - (res.max_abs_dT_K - tol) < o.stall_fraction * excess_before) {
+    log("back-off: the largest single contribution removed under " +
+        std::to_string(int(std::lround(100.0 * o.stall_fraction))) +
+        " % of the excess: many nodes add up, scaling their shares of the tolerance back");
+    return true;
+  }
+  return false;
+}
+
+// The superposition's allocation for `target_K`, measured by `trial` into `res`; while it measures
+// over the tolerance, the target is scaled by tolerance / measured (a proportional correction of
+// the superposition's error) and re-allocated, at most `corrections` times. The first trial is
+// recorded as `action`, the corrections as "corrected superposition (target ... K)".
+Eigen::VectorXd corrected_allocation(const std::vector<const SensitivityCurve*>& curve_of, const TrialFunction& trial,
+                                     double target_K, int corrections, const std::string& action, double tol,
+                                     int& evaluations, const RecordFn& record, TrialResult& res) {
+  const int num_nodes = static_cast<int>(curve_of.size());
+  Eigen::VectorXd ratios = superposed_allocation(curve_of, num_nodes, target_K);
+  res = trial(ratios);
+  ++evaluations;
+  record(ratios, res, action);
+  for (int c = 0; c < corrections && !within(res, tol) && res.max_abs_dT_K > 0.0; ++c) {
+    target_K *= tol / res.max_abs_dT_K;  // NaN measured: the loop ends on the next check
+    const Eigen::VectorXd next = superposed_allocation(curve_of, num_nodes, target_K);
+    if (next == ratios) break;
+    ratios = next;
+    res = trial(ratios);
+    ++evaluations;
+    record(ratios, res, "corrected superposition (target " + fmt_ratio(target_K) + " K)");
+  }
+  return ratios;
+}
+
+// The informed strategy's first candidate, measured by `trial` into `res`: by superposition,
+// the corrected allocation for the tolerance (corrected_allocation, o.max_corrections);
+// otherwise the paper's per-node prediction. `first` receives the first prediction's ratios.
 Eigen::VectorXd predicted_start(const std::vector<const SensitivityCurve*>& curve_of, const TrialFunction& trial,
                                 const InformedOptions& o, bool by_superposition, int& evaluations, const RecordFn& record,
                                 TrialResult& res, Eigen::VectorXd& first) {
   const double tol = o.tolerance_K;
   const int num_nodes = static_cast<int>(curve_of.size());
+  if (by_superposition) {
+    first = superposed_allocation(curve_of, num_nodes, tol);
+    return corrected_allocation(curve_of, trial, tol, o.max_corrections, "predicted by superposition", tol,
+                                evaluations, record, res);
+  }
   Eigen::VectorXd ratios = Eigen::VectorXd::Zero(num_nodes);
-  if (!by_superposition)
-    for (int k = 0; k < num_nodes; ++k)
-      if (curve_of[k]) ratios[k] = feasible_ratio(*curve_of[k], tol);
-  double target = tol;
-  if (by_superposition) ratios = superposed_allocation(curve_of, num_nodes, target);
+  for (int k = 0; k < num_nodes; ++k)
+    if (curve_of[k]) ratios[k] = feasible_ratio(*curve_of[k], tol);
   first = ratios;
   res = trial(ratios);
   ++evaluations;
-  record(ratios, res, by_superposition ? "predicted by superposition" : "predicted");
-  for (int c = 0; by_superposition && c < o.max_corrections && !within(res, tol) && res.max_abs_dT_K > 0.0; ++c) {
-    target *= tol / res.max_abs_dT_K;  // NaN measured: the loop ends on the next check
-    const Eigen::VectorXd next = superposed_allocation(curve_of, num_nodes, target);
-    if (next == ratios) break;
-    ratios = next;
-    res = trial(ratios);
-    ++evaluations;
-    record(ratios, res, "corrected superposition (target " + fmt_ratio(target) + " K)");
-  }
+  record(ratios, res, "predicted");
   return ratios;
 }
 
@@ -313,6 +396,7 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
   TrialResult best_verified;
   bool have_best = false;
   int scale_passes = 0;
+  bool reallocated = false;  // at most one re-allocation by superposition per reduction
   while (true) {
     bool stalled = false;  // a back-off step that barely helped: many small contributors
     while (!within(res, tol) && ratios.maxCoeff() > 0.0 && evaluations < o.max_evaluations && !stalled) {
@@ -322,61 +406,28 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       // A stall the superposition foresees needs no leave-one-out trials (tdrs: 8 trials of a
       // full simulation each, to learn that no single node is to blame).
       const double share = screen.predicted_best_back_off_share(ratios, reduced, res.max_abs_dT_K, tol);
+      if (o.reallocate_by_superposition && !reallocated && share < 1.0) {
+        // The trusted superposition says no single back-off suffices: many nodes add up. Its
+        // allocation, with the target corrected by what this candidate measured against its
+        // prediction, replaces the leave-one-out steps and the scale-back (tdrs at 0.5 K: one
+        // trial, 17289 faces at 0.337 K, instead of 8 leave-one-out, a back-off and 4
+        // scale-back trials for 18003 faces at 0.334 K).
+        reallocated = true;
+        const double target = tol * screen.predicted(ratios) / res.max_abs_dT_K;
+        log("back-off: by superposition the best single back-off removes " + std::to_string(int(std::lround(100.0 * share))) +
+            " % of the excess: re-allocating every node by superposition, target corrected to " + fmt_ratio(target) + " K");
+        ratios = corrected_allocation(curve_of, trial, target, o.max_corrections,
+                                      "re-allocated by superposition (target " + fmt_ratio(target) + " K)", tol,
+                                      evaluations, record, res);
+        continue;
+      }
       if (o.stall_fraction > 0.0 && share < o.stall_fraction) {
         log("back-off: by superposition the best single back-off removes " + std::to_string(int(std::lround(100.0 * share))) +
             " % of the excess: many nodes add up, scaling their shares of the tolerance back");
         stalled = true;
         continue;
       }
-      if (o.max_leave_one_out > 0 && static_cast<int>(reduced.size()) > o.max_leave_one_out) {
-        // Suspects first: what the node did alone on its curve at this ratio, or how far it
-        // moved itself in the failing candidate. Ties by index (deterministic).
-        Eigen::VectorXd suspicion = Eigen::VectorXd::Zero(num_nodes);
-        for (int k : reduced) {
-          const double alone = curve_of[k] ? predicted_difference_K(*curve_of[k], ratios[k]) : 0.0;
-          const double own = res.node_max_abs_dT_K.size() > k ? res.node_max_abs_dT_K[k] : 0.0;
-          suspicion[k] = std::isnan(alone) || std::isnan(own) ? std::numeric_limits<double>::infinity()  // NaN: most suspect
-                                                             : std::max(alone, own);
-        }
-        std::stable_sort(reduced.begin(), reduced.end(), [&](int a, int b) { return suspicion[a] > suspicion[b]; });
-        reduced.resize(o.max_leave_one_out);
-        std::sort(reduced.begin(), reduced.end());
-        log("back-off: leave-one-out on the " + std::to_string(reduced.size()) + " most suspect reduced nodes");
-      }
-      std::vector<TrialResult> loo(reduced.size());
-      std::vector<Eigen::VectorXd> cand(reduced.size(), ratios);
-      for (size_t i = 0; i < reduced.size(); ++i)
-        cand[i][reduced[i]] = curve_of[reduced[i]] ? previous_ratio(*curve_of[reduced[i]], ratios[reduced[i]]) : 0.0;
-      // One trial per reduced node: on a CAD model with 64 nodes that is the longest silent
-      // stretch of a reduction, so each finished trial is reported (from worker threads).
-      std::mutex log_mutex;
-      int done = 0;
-      auto run = [&](size_t i) {
-        loo[i] = trial(cand[i]);
-        std::lock_guard<std::mutex> lock(log_mutex);
-        ++done;
-        if (reduced.size() > 4)
-          log("back-off: leave-one-out " + std::to_string(done) + "/" + std::to_string(reduced.size()) +
-              " (" + node_name(o, reduced[i]) + " backed off: max|dT| " + std::to_string(loo[i].max_abs_dT_K) + " K)");
-      };
-      if (o.parallel) tbb::parallel_for(size_t(0), reduced.size(), run);
-      else for (size_t i = 0; i < reduced.size(); ++i) run(i);
-      evaluations += static_cast<int>(reduced.size());
-      size_t pick = 0;
-      for (size_t i = 1; i < reduced.size(); ++i)
-        if (loo[i].max_abs_dT_K < loo[pick].max_abs_dT_K) pick = i;  // largest contribution
-      const double excess_before = res.max_abs_dT_K - tol;
-      ratios = cand[pick];
-      res = loo[pick];
-      record(ratios, res, "back off " + node_name(o, reduced[pick]) + " (contribution " +
-                              std::to_string(out.history.back().result.max_abs_dT_K - res.max_abs_dT_K) + " K)");
-      if (!within(res, tol) && o.stall_fraction > 0.0 &&
-          excess_before - (res.max_abs_dT_K - tol) < o.stall_fraction * excess_before) {
-        log("back-off: the largest single contribution removed under " +
-            std::to_string(int(std::lround(100.0 * o.stall_fraction))) +
-            " % of the excess: many nodes add up, scaling their shares of the tolerance back");
-        stalled = true;
-      }
+      stalled = back_off_by_leave_one_out(curve_of, trial, o, reduced, evaluations, record, ratios, res);
     }
     if (!within(res, tol) && ratios.maxCoeff() > 0.0) {
       if (!stalled) log("evaluation budget spent while backing off; scaling every node's share of the tolerance back");
