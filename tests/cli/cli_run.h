@@ -9,6 +9,8 @@
 #include <sstream>
 #include <string>
 
+#include "common/scratch_dir.h"
+
 namespace thermodec::test {
 
 namespace fs = std::filesystem;
@@ -30,13 +32,9 @@ inline void write_text(const fs::path& p, const std::string& text) {
   out << text;
 }
 
-// An empty folder under the system's temporary directory, unique to this process and `name`.
-inline fs::path temp_dir(const std::string& name) {
-  auto d = fs::temp_directory_path() / ("thermodec_test_cli_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+// An empty folder under the system's temporary directory, unique to this process and `name`,
+// removed when the test process exits.
+inline fs::path temp_dir(const std::string& name) { return thermodec::test::scratch_dir("thermodec_test_cli", name); }
 
 // Runs `thermodec ARGS` with stdout and stderr captured in `dir`; `prefix` goes before the CLI
 // (e.g. "timeout 4").

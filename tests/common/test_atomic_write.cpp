@@ -1,10 +1,10 @@
-#include <unistd.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "common/scratch_dir.h"
 #include "thermodec/common/atomic_write.h"
 #include "thermodec/common/errors.h"
 
@@ -12,12 +12,7 @@ namespace fs = std::filesystem;
 using namespace thermodec;
 
 namespace {
-fs::path temp_dir(const char* name) {
-  fs::path d = fs::temp_directory_path() / ("thermodec_test_" + std::to_string(::getpid()) + "_" + std::string(name));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir(const char* name) { return thermodec::test::scratch_dir("thermodec_test", name); }
 std::string read(const fs::path& p) {
   std::ifstream in(p);
   std::stringstream s;

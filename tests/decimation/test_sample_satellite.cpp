@@ -14,6 +14,7 @@
 
 #include <Eigen/Geometry>
 
+#include "common/scratch_dir.h"
 #include "thermodec/decimation/decimate_nodes.h"
 #include "thermodec/mesh/io.h"
 #include "thermodec/mesh/repair.h"
@@ -92,7 +93,7 @@ void check_half_reduction(const fs::path& model_path) {
 
 int run_cli(const std::string& args, std::string& out) {
   // note: one log per process: CTest runs this binary's tests as concurrent processes.
-  const fs::path log = fs::temp_directory_path() / ("thermodec_test_decimation_cli_" + std::to_string(::getpid()) + ".txt");
+  const fs::path log = thermodec::test::scratch_dir("thermodec_test_decimation", "cli") / "log.txt";
   const std::string cmd = std::string("\"") + THERMODEC_CLI + "\" " + args + " > \"" + log.string() + "\" 2>&1";
   const int status = std::system(cmd.c_str());
   std::ifstream in(log);

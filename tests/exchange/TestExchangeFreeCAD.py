@@ -3,6 +3,7 @@
 FreeCAD's own reader (FemMesh::readNastran) must see every GRID and CTRIA3 with the same area."""
 import os
 import subprocess
+import shutil
 import tempfile
 import unittest
 
@@ -30,6 +31,7 @@ class ExchangeNastranInFreeCAD(unittest.TestCase):
     def test_fem_imports_the_bdf_with_every_grid_and_triangle_and_the_same_area(self):
         model = os.environ["THERMODEC_SAMPLE"]
         work = tempfile.mkdtemp(prefix="thermodec_fc_bdf_")
+        self.addCleanup(shutil.rmtree, work, True)
         bdf = os.path.join(work, "satellite.bdf")
         subprocess.run([os.environ["THERMODEC_CLI"], "export", model, "--format", "nastran", "-o", bdf, "-q"], check=True)
         doc = FreeCAD.newDocument("exchange")

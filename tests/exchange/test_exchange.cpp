@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 
+#include "common/scratch_dir.h"
 #include "network_readers.h"
 #include "thermodec/common/errors.h"
 #include "thermodec/exchange/exported_network.h"
@@ -28,12 +29,7 @@ namespace {
 const fs::path kSource = THERMODEC_SOURCE_DIR;
 const fs::path kSample = kSource / "sample_models/satellite/model.json";
 
-fs::path temp_dir(const std::string& name) {
-  auto d = fs::temp_directory_path() / ("thermodec_test_exchange_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir(const std::string& name) { return thermodec::test::scratch_dir("thermodec_test_exchange", name); }
 
 void write(const fs::path& p, const std::string& text) {
   std::ofstream out(p, std::ios::binary);

@@ -1,5 +1,7 @@
 #include "fuzz_harness.h"
 
+#include "common/scratch_dir.h"
+
 #include <unistd.h>
 
 #include <chrono>
@@ -250,10 +252,7 @@ fs::path work_dir(const std::string& name) {
   const fs::path base = (!tmpdir || !*tmpdir) && fs::is_directory("/dev/shm", ec) && ::access("/dev/shm", W_OK) == 0
                             ? fs::path("/dev/shm")
                             : fs::temp_directory_path();
-  const fs::path d = base / ("thermodec_fuzz_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return thermodec::test::scratch_dir_in(base, "thermodec_fuzz", name);
 }
 
 std::string read_bytes(const fs::path& path) {

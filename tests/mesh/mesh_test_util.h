@@ -1,20 +1,15 @@
 #pragma once
 // Small hand-built meshes and file helpers shared by the mesh tests.
-#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "common/scratch_dir.h"
 #include "thermodec/mesh/mesh.h"
 
 namespace thermodec::test {
 
-inline std::filesystem::path temp_dir(const std::string& name) {
-  auto d = std::filesystem::temp_directory_path() / ("thermodec_test_mesh_" + std::to_string(::getpid()) + "_" + name);
-  std::filesystem::remove_all(d);
-  std::filesystem::create_directories(d);
-  return d;
-}
+inline std::filesystem::path temp_dir(const std::string& name) { return scratch_dir("thermodec_test_mesh", name); }
 
 inline std::filesystem::path write_file(const std::filesystem::path& p, const std::string& bytes) {
   std::ofstream out(p, std::ios::binary);

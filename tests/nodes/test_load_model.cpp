@@ -1,4 +1,3 @@
-#include <unistd.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -6,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "common/scratch_dir.h"
 #include "thermodec/common/errors.h"
 #include "thermodec/mesh/io.h"
 #include "thermodec/mesh/mesh_stats.h"
@@ -19,12 +19,7 @@ namespace {
 
 const fs::path kData = THERMODEC_TEST_DATA_DIR;
 
-fs::path temp_dir(const std::string& name) {
-  auto d = fs::temp_directory_path() / ("thermodec_test_model_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir(const std::string& name) { return thermodec::test::scratch_dir("thermodec_test_model", name); }
 
 std::string read_text(const fs::path& p) {
   std::ifstream in(p);

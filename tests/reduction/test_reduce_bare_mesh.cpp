@@ -6,7 +6,6 @@
 // every simulation carries the per-node ray budgets).
 #include <gtest/gtest.h>
 
-#include <unistd.h>
 #include <Eigen/Geometry>
 #include <cstdlib>
 #include <filesystem>
@@ -15,6 +14,7 @@
 #include <sstream>
 #include <vector>
 
+#include "common/scratch_dir.h"
 #include "thermodec/nodes/load_model.h"
 
 using namespace thermodec;
@@ -53,9 +53,7 @@ std::string ascii_stl(const std::vector<Tri>& tris) {
 }  // namespace
 
 TEST(ReduceBareMesh, defective_stl_with_duplicates_and_an_open_sheet_reduces_with_a_verified_result) {
-  const fs::path dir = fs::temp_directory_path() / ("thermodec_test_reduce_bare_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = thermodec::test::scratch_dir("thermodec_test_reduce_bare", "mesh");
   std::vector<Tri> tris;
   const Eigen::Vector3d X(1, 0, 0), Y(0, 1, 0), Z(0, 0, 1), O(0, 0, 0);
   grid(tris, O, X, Y, 4);  // floor panel, facing +z

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <nlohmann/json.hpp>
 
+#include "common/scratch_dir.h"
 #include "thermodec/common/errors.h"
 #include "thermodec/decimation/decimate_nodes.h"
 #include "thermodec/nodes/load_case.h"
@@ -243,9 +244,7 @@ TEST(SamplingBoosts, noisy_nodes_are_boosted_within_the_extra_ray_cap_and_kept_b
   EXPECT_THROW(decide_sampling_boosts(model, ss, 1e-4, -1.0), InvalidInput);
   for (std::size_t k = 0; k < b.boost.size(); ++k) model.nodes[k].sampling_boost = b.boost[k];
   EXPECT_TRUE(has_sampling_boosts(model));
-  const fs::path dir = fs::temp_directory_path() / ("thermodec_test_boost_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = thermodec::test::scratch_dir("thermodec_test", "boost");
   save_model(model, dir / "m.json", dir / "m.obj");
   const ThermalModel back = load_model(dir / "m.json");
   for (std::size_t k = 0; k < b.boost.size(); ++k) EXPECT_TRUE(back.nodes[k].sampling_boost == b.boost[k]) << k;
@@ -375,9 +374,7 @@ TEST(ReduceModel, extra_load_cases_are_all_verified_and_the_worst_one_is_reporte
 }
 
 TEST(LoadCase, case_files_override_the_models_environment_and_name_their_bad_keys) {
-  const fs::path dir = fs::temp_directory_path() / ("thermodec_test_load_case_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = thermodec::test::scratch_dir("thermodec_test", "load_case");
   ThermalModel model = small_model();
   model.environment.type = EnvironmentType::orbit;
   model.environment.day_of_year = 172;
@@ -453,9 +450,7 @@ TEST(ReduceModel, impossible_tolerances_are_refused) {
 }
 
 TEST(ReduceCli, writes_loadable_model_and_report_with_required_keys) {
-  const fs::path dir = fs::temp_directory_path() / ("thermodec_test_reduce_cli_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = thermodec::test::scratch_dir("thermodec_test", "reduce_cli");
   ThermalModel model = small_model();
   save_model(model, dir / "in.json", dir / "in.obj");
   const fs::path out = dir / "out";
