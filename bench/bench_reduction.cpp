@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 #include <fstream>
+#include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
@@ -39,17 +40,23 @@ using Clock = std::chrono::steady_clock;
 
 // --candidate: one combined candidate of a reduce report, incremental then from scratch.
 static int time_candidate(ReductionReference& ref, const ThermalModel& model, const std::string& report_path) {
-  std::ifstream in(report_path);
-  const nlohmann::json report = nlohmann::json::parse(in);
-  DecimationOptions dec = ref.decimation_options();
-  dec.max_relative_area_change = report.at("max_relative_area_change").get<double>();
-  ref.set_decimation_options(dec);
   Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<int>(model.nodes.size()));
   int reduced = 0;
-  for (std::size_t k = 0; k < model.nodes.size(); ++k) {
-    const auto it = report.at("nodes").find(model.nodes[k].name);
-    if (it != report.at("nodes").end()) r[k] = it->at("ratio").get<double>();
-    reduced += r[k] > 0.0;
+  try {
+    std::ifstream in(report_path);
+    if (!in) throw std::runtime_error("cannot open it");
+    const nlohmann::json report = nlohmann::json::parse(in);
+    DecimationOptions dec = ref.decimation_options();
+    dec.max_relative_area_change = report.at("max_relative_area_change").get<double>();
+    ref.set_decimation_options(dec);
+    for (std::size_t k = 0; k < model.nodes.size(); ++k) {
+      const auto it = report.at("nodes").find(model.nodes[k].name);
+      if (it != report.at("nodes").end()) r[k] = it->at("ratio").get<double>();
+      reduced += r[k] > 0.0;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_reduction: %s is not a reduce report.json: %s\n", report_path.c_str(), e.what());
+    return 1;
   }
   auto t0 = Clock::now();
   const TrialResult a = ref.trial(r);
