@@ -6,7 +6,7 @@
 //   bench_reduction [MODEL] [trials (default: number of nodes)] [--sweep] [--no-trial-noise] [--incremental-only]
 //                   [--reduce-sampling] [--gaps] [--candidate REPORT.json]
 // --candidate times one combined candidate instead: every node at the ratio a `reduce` report
-// gave it (its nodes' "ratio", decimated under its "max_relative_area_change"), incremental
+// asked for (its nodes' "requested_ratio", decimated under its "max_relative_area_change"), incremental
 // against the reference and then simulated from scratch, with the incremental trial's phases.
 // --reduce-sampling first multiplies the noisy nodes' samples as `reduce` does (its noise
 // target, decide_sampling_boosts), so the trials cost what they cost inside `reduce`.
@@ -51,7 +51,7 @@ static int time_candidate(ReductionReference& ref, const ThermalModel& model, co
     ref.set_decimation_options(dec);
     for (std::size_t k = 0; k < model.nodes.size(); ++k) {
       const auto it = report.at("nodes").find(model.nodes[k].name);
-      if (it != report.at("nodes").end()) r[k] = it->at("ratio").get<double>();
+      if (it != report.at("nodes").end()) r[k] = it->at("requested_ratio").get<double>();
       reduced += r[k] > 0.0;
     }
   } catch (const std::exception& e) {
