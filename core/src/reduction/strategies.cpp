@@ -126,8 +126,7 @@ struct SuperpositionScreen {
                                        double measured_K, double tol) const {
     constexpr double kTrustedFactor = 1.5;
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    const double predicted = on ? superposed_max_abs_dT_K(curve_of, ratios) : nan;
-    const double factor = measured_K / predicted;
+    const double factor = measured_K / predicted(ratios);
     if (!(factor <= kTrustedFactor && factor >= 1.0 / kTrustedFactor) || !(measured_K > tol)) return nan;
     double best = std::numeric_limits<double>::infinity();
     for (int k : reduced) {
