@@ -38,33 +38,39 @@
 using namespace thermodec;
 using Clock = std::chrono::steady_clock;
 
-// --candidate: one combined candidate of a reduce report, incremental then from scratch.
-static int time_candidate(ReductionReference& ref, const ThermalModel& model, const std::string& report_path) {
-  Eigen::VectorXd r = Eigen::VectorXd::Zero(static_cast<int>(model.nodes.size()));
+// --candidate: the ratios a reduce report asked of each node of `model` and its area bound.
+struct ReportCandidate {
+  Eigen::VectorXd ratios;
+  double max_relative_area_change = 0.0;
   int reduced = 0;
-  try {
-    std::ifstream in(report_path);
-    if (!in) throw std::runtime_error("cannot open it");
-    const nlohmann::json report = nlohmann::json::parse(in);
-    DecimationOptions dec = ref.decimation_options();
-    dec.max_relative_area_change = report.at("max_relative_area_change").get<double>();
-    ref.set_decimation_options(dec);
-    for (std::size_t k = 0; k < model.nodes.size(); ++k) {
-      const auto it = report.at("nodes").find(model.nodes[k].name);
-      if (it != report.at("nodes").end()) r[k] = it->at("requested_ratio").get<double>();
-      reduced += r[k] > 0.0;
-    }
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_reduction: %s is not a reduce report.json: %s\n", report_path.c_str(), e.what());
-    return 1;
+};
+static ReportCandidate read_candidate(const std::string& report_path, const ThermalModel& model) {
+  std::ifstream in(report_path);
+  if (!in) throw std::runtime_error("cannot open it");
+  const nlohmann::json report = nlohmann::json::parse(in);
+  ReportCandidate c;
+  c.max_relative_area_change = report.at("max_relative_area_change").get<double>();
+  c.ratios = Eigen::VectorXd::Zero(static_cast<int>(model.nodes.size()));
+  for (std::size_t k = 0; k < model.nodes.size(); ++k) {
+    const auto it = report.at("nodes").find(model.nodes[k].name);
+    if (it != report.at("nodes").end()) c.ratios[k] = it->at("requested_ratio").get<double>();
+    c.reduced += c.ratios[k] > 0.0;
   }
+  return c;
+}
+
+// --candidate: that candidate, incremental against the reference, then from scratch.
+static int time_candidate(ReductionReference& ref, const ReportCandidate& c, const std::string& report_path) {
+  DecimationOptions dec = ref.decimation_options();
+  dec.max_relative_area_change = c.max_relative_area_change;
+  ref.set_decimation_options(dec);
   auto t0 = Clock::now();
-  const TrialResult a = ref.trial(r);
+  const TrialResult a = ref.trial(c.ratios);
   const double ti = std::chrono::duration<double>(Clock::now() - t0).count();
   t0 = Clock::now();
-  const TrialResult b = ref.verify(r);
+  const TrialResult b = ref.verify(c.ratios);
   const double tf = std::chrono::duration<double>(Clock::now() - t0).count();
-  std::printf("candidate of %s: %d nodes reduced, %d faces\n", report_path.c_str(), reduced, a.faces_after);
+  std::printf("candidate of %s: %d nodes reduced, %d faces\n", report_path.c_str(), c.reduced, a.faces_after);
   std::printf("incremental: max|dT| %.4f K in %.2f s (decimation %.2f s, couplings %.2f s, loads %.2f s, solve %.2f s; "
               "couplings and loads overlap)\n",
               a.max_abs_dT_K, ti, a.timing.decimation_s, a.timing.couplings_s, a.timing.loads_s, a.timing.solve_s);
@@ -97,6 +103,15 @@ int main(int argc, char** argv) {
     for (std::size_t k = 0; k < b.boost.size(); ++k) model.nodes[k].sampling_boost = b.boost[k];
     std::printf("%s\n", b.describe(model.nodes).c_str());
   }
+  ReportCandidate candidate;
+  if (!candidate_report.empty()) {  // read before the reference: a bad report fails at once
+    try {
+      candidate = read_candidate(candidate_report, model);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "bench_reduction: %s is not a reduce report.json: %s\n", candidate_report.c_str(), e.what());
+      return 1;
+    }
+  }
   const int n = static_cast<int>(model.nodes.size());
   const int trials = args.size() > 1 ? std::stoi(args[1]) : n;
   auto t0 = Clock::now();
@@ -104,7 +119,7 @@ int main(int argc, char** argv) {
   const double t_ref = std::chrono::duration<double>(Clock::now() - t0).count();
   std::printf("%s: %d faces, %d nodes; reference simulation + reusable state %.2f s\n", path.c_str(),
               model.mesh.num_faces(), n, t_ref);
-  if (!candidate_report.empty()) return time_candidate(ref, model, candidate_report);
+  if (!candidate_report.empty()) return time_candidate(ref, candidate, candidate_report);
   if (trial_noise) {
     t0 = Clock::now();
     const TrialNoiseFloor tn = ref.trial_noise_floor();
