@@ -317,12 +317,15 @@ bool back_off_by_leave_one_out(const std::vector<const SensitivityCurve*>& curve
 // The superposition's allocation for `target_K`, measured by `trial` into `res`; while it measures
 // over the tolerance, the target is scaled by tolerance / measured (a proportional correction of
 // the superposition's error) and re-allocated, at most `corrections` times. The first trial is
-// recorded as `action`, the corrections as "corrected superposition (target ... K)".
+// recorded as `action`, the corrections as "corrected superposition (target ... K)"; `first`,
+// if given, receives the first allocation.
 Eigen::VectorXd corrected_allocation(const std::vector<const SensitivityCurve*>& curve_of, const TrialFunction& trial,
                                      double target_K, int corrections, const std::string& action, double tol,
-                                     int& evaluations, const RecordFn& record, TrialResult& res) {
+                                     int& evaluations, const RecordFn& record, TrialResult& res,
+                                     Eigen::VectorXd* first = nullptr) {
   const int num_nodes = static_cast<int>(curve_of.size());
   Eigen::VectorXd ratios = superposed_allocation(curve_of, num_nodes, target_K);
+  if (first) *first = ratios;
   res = trial(ratios);
   ++evaluations;
   record(ratios, res, action);
@@ -346,11 +349,9 @@ Eigen::VectorXd predicted_start(const std::vector<const SensitivityCurve*>& curv
                                 TrialResult& res, Eigen::VectorXd& first) {
   const double tol = o.tolerance_K;
   const int num_nodes = static_cast<int>(curve_of.size());
-  if (by_superposition) {
-    first = superposed_allocation(curve_of, num_nodes, tol);
+  if (by_superposition)
     return corrected_allocation(curve_of, trial, tol, o.max_corrections, "predicted by superposition", tol,
-                                evaluations, record, res);
-  }
+                                evaluations, record, res, &first);
   Eigen::VectorXd ratios = Eigen::VectorXd::Zero(num_nodes);
   for (int k = 0; k < num_nodes; ++k)
     if (curve_of[k]) ratios[k] = feasible_ratio(*curve_of[k], tol);
@@ -405,6 +406,10 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       // A stall the superposition foresees needs no leave-one-out trials (tdrs: 8 trials of a
       // full simulation each, to learn that no single node is to blame).
       const double share = screen.predicted_best_back_off_share(ratios, reduced, res.max_abs_dT_K, tol);
+      auto foreseen = [&] {  // (only called with a finite share)
+        return "back-off: by superposition the best single back-off removes " +
+               std::to_string(int(std::lround(100.0 * share))) + " % of the excess: ";
+      };
       if (o.reallocate_by_superposition && !reallocated && share < 1.0) {
         // The trusted superposition says no single back-off suffices: many nodes add up. Its
         // allocation, with the target corrected by what this candidate measured against its
@@ -413,16 +418,14 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
         // scale-back trials for 18003 faces at 0.334 K).
         reallocated = true;
         const double target = tol * screen.predicted(ratios) / res.max_abs_dT_K;
-        log("back-off: by superposition the best single back-off removes " + std::to_string(int(std::lround(100.0 * share))) +
-            " % of the excess: re-allocating every node by superposition, target corrected to " + fmt_ratio(target) + " K");
+        log(foreseen() + "re-allocating every node by superposition, target corrected to " + fmt_ratio(target) + " K");
         ratios = corrected_allocation(curve_of, trial, target, o.max_corrections,
                                       "re-allocated by superposition (target " + fmt_ratio(target) + " K)", tol,
                                       evaluations, record, res);
         continue;
       }
       if (o.stall_fraction > 0.0 && share < o.stall_fraction) {
-        log("back-off: by superposition the best single back-off removes " + std::to_string(int(std::lround(100.0 * share))) +
-            " % of the excess: many nodes add up, scaling their shares of the tolerance back");
+        log(foreseen() + "many nodes add up, scaling their shares of the tolerance back");
         stalled = true;
         continue;
       }
