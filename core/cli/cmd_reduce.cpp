@@ -38,6 +38,7 @@ struct ReduceCliOptions {
   double max_area_change = -1.0;  // < 0: the default
   double record_memory_GiB = 0.0;  // 0: the default (record_budget.h)
   std::vector<std::string> case_files;
+  std::vector<double> prediction_targets;  // empty: the default (ReduceSettings, budgets)
 };
 
 // What `reduce` writes into its folder (report/reduction_report.h); only these may be there.
@@ -73,6 +74,7 @@ void run_reduce(const ReduceCliOptions& o) {
   apply_bare_mesh_reduction_budget(model, s);
   apply_large_model_sweep(model, s);
   if (o.max_evaluations_set) s.informed.max_evaluations = o.max_evaluations;
+  if (!o.prediction_targets.empty()) s.prediction_targets = o.prediction_targets;
   if (model.mesh_cleanup && root) std::cout << "bare mesh cleanup:\n" << model.mesh_cleanup->summary();
   if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
   s.tolerance_K = o.tolerance_K;
@@ -157,6 +159,12 @@ void add_reduce(CLI::App& app) {
                   "in report.json lists the superposition's prediction beside every measured candidate")
       ->check(CLI::IsMember({"per-node", "superposition"}))
       ->capture_default_str();
+  sub->add_option("--prediction-targets", o->prediction_targets,
+                  "informed: the predicted-vs-real plot's targets, as multiples of the search tolerance, comma "
+                  "separated; each but 1 costs a trial of a combined candidate (default 0.1,0.25,0.5,1,2; 1 alone "
+                  "for models over 2000 faces, where such a trial is about a whole simulation)")
+      ->delimiter(',')
+      ->check(CLI::PositiveNumber);
   sub->add_option("-o,--out", o->out_dir, "output folder (model.json, reduced.obj, report.json, plots)")->required();
   sub->add_option("--rays-per-face", o->rays_per_face, "override the model's radiation.rays_per_face");
   sub->add_option("--sensitivity-cap", o->cap_factor,

@@ -138,6 +138,37 @@ TEST(ReductionReference, incremental_trials_match_full_recompute) {
   EXPECT_EQ(ta.node_faces_after, tb.node_faces_after);
 }
 
+// Rebased on a candidate, trials near it re-trace from it yet give what the original gives:
+// each is still compared with the original's result, and both ways equal a full recompute.
+TEST(ReductionReference, rebased_trials_match_the_original_ones) {
+  const ThermalModel model = small_model();
+  ReductionReferenceSettings rs;
+  rs.simulation.loads.earth_rays_per_face = 16;
+  rs.simulation.loads.sun_rays_per_face = 256;
+  ReductionReference ref(model, rs), rebased(model, rs);
+  Eigen::VectorXd start = Eigen::VectorXd::Constant(7, 0.5);
+  start[6] = 0.0;
+  Eigen::VectorXd pushed = start, far = Eigen::VectorXd::Zero(7);
+  pushed[0] = 0.8;  // one node further than the start: nearer the start than the original
+  far[6] = 0.8;     // one node, none of the start's: nearer the original
+  rebased.rebase(start, std::size_t(64) << 20);
+  for (const Eigen::VectorXd& r : {start, pushed, far}) {
+    const TrialResult a = ref.trial(r), b = rebased.trial(r);
+    EXPECT_EQ(a.faces_after, b.faces_after);
+    EXPECT_NEAR(a.max_abs_dT_K, b.max_abs_dT_K, 1e-6);
+    EXPECT_GT(a.max_abs_dT_K, 0.0);
+    ASSERT_EQ(a.dT_K.rows(), b.dT_K.rows());
+    EXPECT_LT((a.dT_K - b.dT_K).cwiseAbs().maxCoeff(), 1e-6);
+  }
+  EXPECT_NEAR(rebased.trial(pushed).max_abs_dT_K, rebased.verify(pushed).max_abs_dT_K, 1e-6);
+  // The candidate of an evaluated trial is rebuilt from memory: its result is the trial's.
+  const int before = rebased.trials_evaluated();
+  const Candidate c = rebased.candidate(pushed, false);
+  EXPECT_EQ(rebased.trials_evaluated(), before);
+  EXPECT_EQ(c.trial.max_abs_dT_K, rebased.trial(pushed).max_abs_dT_K);
+  EXPECT_EQ(c.model.mesh.num_faces(), c.trial.faces_after);
+}
+
 TEST(ReductionReference, trials_do_not_depend_on_the_ray_record_budget) {
   // Without room for records, trials re-trace every ray near the change: slower, same numbers.
   const RecordBudget split = split_record_budget(default_record_budget_bytes());

@@ -50,6 +50,7 @@ void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& setti
     settings.informed.max_evaluations = std::min(settings.informed.max_evaluations, 20);
     settings.informed.max_leave_one_out = 8;  // two back-off steps fit in the 20 trials
     settings.informed.max_push_trials = 6;    // each about a full simulation (strategies.h)
+    settings.prediction_targets = {1.0};      // (the search's first candidate: no extra trial)
   }
 }
 
@@ -57,6 +58,7 @@ void apply_large_model_sweep(const ThermalModel& model, ReduceSettings& settings
   if (model.mesh_cleanup || model.mesh.num_faces() <= kBareMeshCoarseSweepFaces) return;
   settings.sensitivity.ratios.clear();
   for (int k = 1; k <= 7; ++k) settings.sensitivity.ratios.push_back(1.0 - std::exp2(-k));
+  settings.prediction_targets = {1.0};
 }
 
 namespace {
@@ -67,7 +69,10 @@ struct Searcher {
   const std::vector<std::unique_ptr<ReductionReference>>& refs;
   const Eigen::VectorXi& faces;
   int n;
-  std::function<TrialResult(const Eigen::VectorXd&)> trial, verify;
+  // The search's evaluations are trials: bit-identical to a full recompute with the search's
+  // seed (reduction_reference.h), so the strategies' confirming evaluation is the trial itself.
+  std::function<TrialResult(const Eigen::VectorXd&)> trial;
+  std::function<void(const Eigen::VectorXd&, const TrialResult&, int)> before_push;  // InformedOptions
   std::function<void(const std::string&)> log, say;
   std::function<int()> trials_evaluated;
   std::vector<std::string> node_names;  // for progress lines and history actions
@@ -108,14 +113,15 @@ struct Searcher {
       uo.tolerance_K = search_tol;
       uo.log = log;
       say("uniform reduction: one global ratio, raised until " + fmt("%.4g K is exceeded", search_tol));
-      return uniform_reduction(ratios_for_global, trial, verify, uo);
+      return uniform_reduction(ratios_for_global, trial, trial, uo);
     }
     InformedOptions io = settings.informed;
     io.tolerance_K = search_tol;
     io.log = log;
     io.node_names = node_names;
+    io.before_push = before_push;
     say("prediction and reduction aiming at " + fmt("%.4g K", search_tol));
-    return informed_reduction(run.curves, n, trial, verify, io);
+    return informed_reduction(run.curves, n, trial, trial, io);
   }
 
   // Predicted vs real (paper Fig. 11): for several targets, the curves' prediction and the
@@ -142,8 +148,8 @@ struct Searcher {
 VerificationStatistics verify_ratios(const std::vector<std::unique_ptr<ReductionReference>>& refs,
                                      const Eigen::VectorXd& ratios, const ReduceSettings& settings,
                                      std::uint64_t search_seed, VerificationOriginals& originals) {
-  std::vector<Candidate> cands;
-  for (const auto& r : refs) cands.push_back(r->candidate(ratios, true));
+  std::vector<Candidate> cands;  // (the search's trial of these ratios: decimated again, not simulated)
+  for (const auto& r : refs) cands.push_back(r->candidate(ratios, false));
   std::vector<VerificationCase> cases;
   for (std::size_t c = 0; c < refs.size(); ++c) cases.push_back({&refs[c]->model(), &cands[c].model});
   return verify_statistically(cases, settings.reference.simulation, settings.verification_replicates, search_seed,
@@ -185,7 +191,7 @@ void verified_search(ReductionRun& run, const Searcher& search,
   say("verification: no reduced candidate is bounded within the tolerance; keeping the unreduced model");
   ReductionOutcome keep;
   keep.ratio_per_node = Eigen::VectorXd::Zero(refs.front()->faces_per_node().size());
-  keep.verified = search.verify(keep.ratio_per_node);
+  keep.verified = search.trial(keep.ratio_per_node);
   keep.predicted_ratio_per_node = run.outcome.predicted_ratio_per_node;
   keep.history = run.outcome.history;
   run.outcome = keep;
@@ -253,15 +259,15 @@ void rebuild_and_report(ReductionRun& run, const std::vector<std::unique_ptr<Red
   const double tol = run.tolerance_K;
   const ReductionReference& ref = *refs.front();
   const int n = static_cast<int>(model.nodes.size());
-  // The returned model is the verified candidate, rebuilt in full (nothing reused), and its
-  // difference in every case (already verified: taken from memory).
-  run.reduced = ref.candidate(run.outcome.ratio_per_node, true);
+  // The returned model is the verified candidate, decimated again, and its difference in
+  // every case (the search's trial, bit-identical to a full recompute: taken from memory).
+  run.reduced = ref.candidate(run.outcome.ratio_per_node, false);
   run.faces_after = run.reduced.model.mesh.num_faces();
   Eigen::VectorXd node_max = run.reduced.trial.node_max_abs_dT_K;
   for (std::size_t c = 0; c < refs.size(); ++c) {
     TemperatureDifference d = run.reduced.difference;
     if (c > 0) {
-      const Candidate other = refs[c]->candidate(run.outcome.ratio_per_node, true);
+      const Candidate other = refs[c]->candidate(run.outcome.ratio_per_node, false);
       d = other.difference;
       node_max = node_max.cwiseMax(other.trial.node_max_abs_dT_K);
     }
@@ -291,6 +297,33 @@ void rebuild_and_report(ReductionRun& run, const std::vector<std::unique_ptr<Red
     nr.area_after_m2 = st.area_after_m2;
     run.nodes.push_back(nr);
   }
+}
+
+// Pushes move one node at a time from a candidate reduced in many nodes; against the original,
+// each such trial re-traces nearly everything (tdrs: ~21 s, a whole simulation). Rebasing every
+// case's reference on the start candidate (ReductionReference::rebase) costs about one
+// reference build and makes each push about a one-node trial. Done when the push trials left
+// would cost over twice that build at the start candidate's trial time, and only with the
+// record memory the references left unused (their budget is the run's).
+void rebase_for_pushes(const std::vector<std::unique_ptr<ReductionReference>>& refs, const Eigen::VectorXd& start,
+                       const TrialResult& start_result, int trials_left, double reference_s,
+                       std::size_t case_budget_bytes, const std::function<void(const std::string&)>& log) {
+  if (!(trials_left * start_result.timing.total_s > 2.0 * reference_s)) return;
+  std::vector<std::size_t> left;
+  for (const auto& r : refs) {
+    const RecordUse& u = r->record_use();
+    const std::size_t used = u.ir_bytes + u.load_bytes;
+    // The start candidate's records take about the original's share per face; without room for
+    // them, its trials would re-trace without records and lose what rebasing gains.
+    const double share = static_cast<double>(start_result.faces_after) / std::max(1, r->faces_per_node().sum());
+    const std::size_t room = used < case_budget_bytes ? case_budget_bytes - used : 0;
+    if (room < share * static_cast<double>(u.ir_needed_bytes + u.load_bytes)) return;
+    left.push_back(room);
+  }
+  const auto t0 = Clock::now();
+  for (std::size_t c = 0; c < refs.size(); ++c) refs[c]->rebase(start, left[c]);
+  release_free_memory();
+  log(fmt("rebased on the push's start candidate (%.0f s): each push re-traces only what differs from it", since(t0)));
 }
 
 }  // namespace
@@ -331,6 +364,7 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   for (const LoadCase& c : settings.extra_cases) cases.push_back(c);
   const bool several = cases.size() > 1;
   std::vector<std::unique_ptr<ReductionReference>> refs;
+  double reference_s = 0.0;  // building them [s]
   // The record budget is the run's: every case's reference keeps its records at once, so each
   // gets an equal share.
   ReductionReferenceSettings per_case = settings.reference;
@@ -338,7 +372,9 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const std::string tag = several ? "case " + cases[c].name + ": " : "";
     say(tag + "reference: simulating and keeping reusable rays and samples");
+    const auto tr = Clock::now();
     refs.push_back(std::make_unique<ReductionReference>(with_case(model, cases[c]), per_case));
+    reference_s += since(tr);
     release_free_memory();  // (the reference's tracing and load sampling: every trial runs beside what is left)
     say(tag + describe_records(refs.back()->record_use()));
     say(tag + "noise floor: simulating the reference with " + std::to_string(settings.noise_runs - 1) + " other seed(s)");
@@ -389,10 +425,10 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   run.faces_before = faces.sum();
   // Every case sees the same decimated mesh (decimation does not depend on the environment);
   // a candidate's difference is the worst over the cases, node by node.
-  auto worst_over_cases = [&](const Eigen::VectorXd& r, bool full) {
-    TrialResult t = full ? ref.verify(r) : ref.trial(r);
+  auto trial = [&](const Eigen::VectorXd& r) {
+    TrialResult t = ref.trial(r);
     for (std::size_t c = 1; c < refs.size(); ++c) {
-      const TrialResult o = full ? refs[c]->verify(r) : refs[c]->trial(r);
+      const TrialResult o = refs[c]->trial(r);
       t.max_abs_dT_K = std::max(t.max_abs_dT_K, o.max_abs_dT_K);
       t.node_max_abs_dT_K = t.node_max_abs_dT_K.cwiseMax(o.node_max_abs_dT_K);
       if (t.dT_K.rows() == o.dT_K.rows()) {  // the cases' fields side by side
@@ -405,11 +441,10 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
       t.timing.loads_s += o.timing.loads_s;
       t.timing.solve_s += o.timing.solve_s;
       t.timing.simulation_s += o.timing.simulation_s;
+      t.timing.total_s += o.timing.total_s;
     }
     return t;
   };
-  auto trial = [&](const Eigen::VectorXd& r) { return worst_over_cases(r, false); };
-  auto verify = [&](const Eigen::VectorXd& r) { return worst_over_cases(r, true); };
   auto trials_evaluated = [&] {
     int k = 0;
     for (const auto& rf : refs) k += rf->trials_evaluated();
@@ -420,7 +455,10 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   const auto t_search = Clock::now();
   std::vector<std::string> names;
   for (const Node& nd : model.nodes) names.push_back(nd.name);
-  const Searcher search{settings, refs, faces, n, trial, verify, log, say, trials_evaluated, names};
+  auto before_push = [&](const Eigen::VectorXd& start, const TrialResult& start_result, int trials_left) {
+    rebase_for_pushes(refs, start, start_result, trials_left, reference_s, per_case.record_budget_bytes, log);
+  };
+  const Searcher search{settings, refs, faces, n, trial, before_push, log, say, trials_evaluated, names};
   if (settings.strategy == ReductionStrategy::informed) {
     search.sweep(run);
     if (run.sweep_only) return run;  // an MPI rank other than 0: its curves went to rank 0

@@ -26,15 +26,25 @@ struct ReductionReference::Impl {
   LoadSamples load_samples;  //!< the reference's load sampling, reused by trials
   RecordUse records;
   mutable std::mutex cache_mutex;
-  mutable std::map<std::vector<double>, TrialResult> cache;
-  // Fully verified candidates, so that the driver's final rebuild of the verified model does
-  // not simulate it a second time.
+  // A trial's result and the candidate's simulation (nodes x times: small), so that the
+  // candidate a strategy returns is rebuilt without simulating it again.
+  struct Evaluation {
+    TrialResult trial;
+    std::shared_ptr<const SimulationResult> result;
+  };
+  mutable std::map<std::vector<double>, Evaluation> cache;
+  // Fully verified candidates, so that a later candidate(ratios, true) does not simulate them
+  // a second time.
   mutable std::map<std::vector<double>, std::shared_ptr<const Candidate>> verified;
   // Trials by candidate mesh: other ratios often give the same mesh (a node at the end of its
   // decimator's reach, a push bisected between two ratios it reaches alike), and the same
   // mesh gives the same trial.
-  mutable std::map<std::uint64_t, TrialResult> by_mesh;
+  mutable std::map<std::uint64_t, Evaluation> by_mesh;
   mutable std::atomic<int> evaluated{0};
+  // rebase(): a candidate's own reusable state, and its ratios; trials nearer to it than to
+  // the original re-trace what differs from it.
+  std::unique_ptr<ReductionReference> base;
+  Eigen::VectorXd base_ratios;
 };
 
 TrialResult trial_result(const SimulationResult& reference, const SimulationResult& candidate,
@@ -218,38 +228,82 @@ DecimationResult decimate_candidate(const ThermalModel& model, const DecimationO
 
 Candidate ReductionReference::candidate(const Eigen::VectorXd& ratios, bool full) const {
   const Impl& s = *impl_;
-  if (full) {
+  const std::vector<double> key(ratios.data(), ratios.data() + ratios.size());
+  std::shared_ptr<const SimulationResult> kept;  // a trial's simulation of these ratios
+  {
     std::lock_guard<std::mutex> lock(s.cache_mutex);
-    const auto it = s.verified.find(std::vector<double>(ratios.data(), ratios.data() + ratios.size()));
-    if (it != s.verified.end()) return *it->second;
+    if (full) {
+      const auto it = s.verified.find(key);
+      if (it != s.verified.end()) return *it->second;
+    } else if (const auto it = s.cache.find(key); it != s.cache.end()) {
+      kept = it->second.result;
+    }
   }
   double seconds = 0.0;
   DecimationResult d = decimate_candidate(s.model, s.settings.decimation, ratios, seconds);
-  return candidate_of(std::move(d), seconds, full);
+  if (kept) return finish_candidate(std::move(d), *kept, {});
+  return candidate_of(std::move(d), seconds, full, nearest(ratios));
 }
 
-Candidate ReductionReference::candidate_of(DecimationResult decimation, double decimation_s, bool full) const {
+const ReductionReference& ReductionReference::nearest(const Eigen::VectorXd& ratios) const {
   const Impl& s = *impl_;
+  if (!s.base) return *this;
+  int from_original = 0, from_base = 0;
+  for (Eigen::Index k = 0; k < ratios.size(); ++k) {
+    from_original += ratios[k] != 0.0;
+    from_base += ratios[k] != s.base_ratios[k];
+  }
+  return from_base < from_original ? *s.base : *this;
+}
+
+Candidate ReductionReference::finish_candidate(DecimationResult decimation, SimulationResult result,
+                                               const TrialResult::Timing& timing) const {
   Candidate c;
   c.decimation = std::move(decimation);
-  c.model = s.model;
+  c.model = impl_->model;
   c.model.mesh = c.decimation.mesh;
-  // A decimation that changed nothing (a node already at its fewest faces, common on CAD
-  // meshes: two-triangle panels) is the reference itself, face for face and sample for sample:
-  // its trial is the reference result, without re-sampling the loads.
-  const Mesh& m0 = s.model.mesh;
-  const Mesh& m1 = c.model.mesh;
+  c.result = std::move(result);
+  c.difference = compare_results(impl_->result, c.result);
+  c.trial = trial_result(impl_->result, c.result, c.decimation);
+  c.trial.timing = timing;
+  return c;
+}
+
+Candidate ReductionReference::candidate_of(DecimationResult decimation, double decimation_s, bool full,
+                                           const ReductionReference& via) const {
+  const auto t0 = Clock::now();
+  const Impl& v = *via.impl_;
+  ThermalModel cand = impl_->model;
+  cand.mesh = decimation.mesh;
+  // A decimation that changed nothing against the reused state (a node already at its fewest
+  // faces, common on CAD meshes: two-triangle panels) is that state's model itself, face for
+  // face and sample for sample: its trial is that model's result, without re-sampling the loads.
+  const Mesh& m0 = v.model.mesh;
+  const Mesh& m1 = cand.mesh;
   const bool unchanged = !full && m1.V.rows() == m0.V.rows() && m1.F.rows() == m0.F.rows() && m1.V == m0.V &&
                          m1.F == m0.F && m1.face_node == m0.face_node && m1.face_material == m0.face_material &&
                          m1.face_back_material == m0.face_back_material;
   TrialResult::Timing timing;
   timing.decimation_s = decimation_s;
-  c.result = unchanged ? s.result
-                       : simulate_candidate(c.model, *s.radiation, s.load_samples, s.settings.simulation, full, &timing);
-  c.difference = compare_results(s.result, c.result);
-  c.trial = trial_result(s.result, c.result, c.decimation);
-  c.trial.timing = timing;
-  return c;
+  SimulationResult r = unchanged ? v.result
+                                 : simulate_candidate(cand, *v.radiation, v.load_samples, impl_->settings.simulation,
+                                                      full, &timing);
+  timing.total_s = decimation_s + since(t0);
+  return finish_candidate(std::move(decimation), std::move(r), timing);
+}
+
+void ReductionReference::rebase(const Eigen::VectorXd& ratios, std::size_t record_budget_bytes) {
+  Impl& s = *impl_;
+  double seconds = 0.0;
+  const DecimationResult d = decimate_candidate(s.model, s.settings.decimation, ratios, seconds);
+  ThermalModel cand = s.model;
+  cand.mesh = d.mesh;
+  ReductionReferenceSettings settings = s.settings;
+  settings.record_budget_bytes = record_budget_bytes;
+  auto base = std::make_unique<ReductionReference>(cand, settings);
+  std::lock_guard<std::mutex> lock(s.cache_mutex);
+  s.base = std::move(base);
+  s.base_ratios = ratios;
 }
 
 TrialNoiseFloor ReductionReference::trial_noise_floor(std::uint64_t salt) const {
@@ -278,7 +332,7 @@ TrialResult ReductionReference::trial(const Eigen::VectorXd& ratios) const {
   {
     std::lock_guard<std::mutex> lock(impl_->cache_mutex);
     auto it = impl_->cache.find(key);
-    if (it != impl_->cache.end()) return it->second;
+    if (it != impl_->cache.end()) return it->second.trial;
   }
   double seconds = 0.0;
   DecimationResult d = decimate_candidate(impl_->model, impl_->settings.decimation, ratios, seconds);
@@ -288,15 +342,16 @@ TrialResult ReductionReference::trial(const Eigen::VectorXd& ratios) const {
     auto it = impl_->by_mesh.find(mesh);
     if (it != impl_->by_mesh.end()) {
       impl_->cache.emplace(std::move(key), it->second);
-      return it->second;
+      return it->second.trial;
     }
   }
-  const TrialResult t = candidate_of(std::move(d), seconds, false).trial;
+  Candidate c = candidate_of(std::move(d), seconds, false, nearest(ratios));
+  const Impl::Evaluation e{c.trial, std::make_shared<const SimulationResult>(std::move(c.result))};
   ++impl_->evaluated;
   std::lock_guard<std::mutex> lock(impl_->cache_mutex);
-  impl_->cache.emplace(std::move(key), t);
-  impl_->by_mesh.emplace(mesh, t);
-  return t;
+  impl_->cache.emplace(std::move(key), e);
+  impl_->by_mesh.emplace(mesh, e);
+  return e.trial;
 }
 
 TrialResult ReductionReference::verify(const Eigen::VectorXd& ratios) const {

@@ -58,7 +58,7 @@ ReductionOutcome uniform_reduction(
       if (evaluate(mid, trial, "bisect")) ok = mid;
       else bad = mid;
     }
-  // The incremental trial chose `ok`; a full verification must confirm it. Step back if not.
+  // The incremental trial chose `ok`; the confirming evaluation (`verify`) must agree. Step back if not.
   double g = ok;
   while (true) {
     out.ratio_per_node = ratios_for_global(g);
@@ -146,11 +146,11 @@ std::string node_name(const InformedOptions& o, int k) {
 // Push: spend remaining slack one step at a time, cheapest predicted increase per face
 // first. A step that fails is halved once towards the last good ratio (bisection), since
 // the curves are sampled coarsely. Returns the last candidate whose trial passed (`start` if
-// none did); its full verification is the caller's.
+// none did); its confirmation is the caller's.
 Eigen::VectorXd push_remaining_slack(const std::vector<const SensitivityCurve*>& curve_of, int num_nodes,
                                      const TrialFunction& trial, const InformedOptions& o,
                                      const SuperpositionScreen& screen, int& evaluations, const RecordFn& record,
-                                     const Eigen::VectorXd& start) {
+                                     const Eigen::VectorXd& start, const TrialResult& start_result) {
   auto log = [&](const std::string& s) { if (o.log) o.log(s); };
   const double tol = o.tolerance_K;
   Eigen::VectorXd current = start;
@@ -185,6 +185,8 @@ Eigen::VectorXd push_remaining_slack(const std::vector<const SensitivityCurve*>&
     const std::string ruled_out = screen.rules_out(cand, tol);
     bool passed = false;  // a step the superposition rules out counts as failed, without a trial
     if (ruled_out.empty()) {
+      if (pushes == 0 && o.before_push)
+        o.before_push(current, start_result, std::min(o.max_push_trials, o.max_evaluations - evaluations));
       const TrialResult r = trial(cand);
       ++evaluations;
       ++pushes;
@@ -435,10 +437,11 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       if (!stalled) log("evaluation budget spent while backing off; scaling every node's share of the tolerance back");
       ratios = scale_back(curve_of, ratios, trial, o, screen, scale_passes++ == 0, evaluations, record, res);
     }
-    // The push runs on trials from the candidate the trials passed; one full evaluation then
-    // confirms the pushed candidate, and the one before the push is evaluated only if that fails
-    // (each full evaluation costs a whole simulation: 25 s on NPP_16, 57 s on tdrs).
-    auto verified = [&](const Eigen::VectorXd& r) {  // full evaluation; within the tolerance: the best
+    // The push runs on trials from the candidate the trials passed; `verify` then confirms the
+    // pushed candidate, and the one before the push is confirmed only if that fails. (A full
+    // recompute costs a whole simulation; reduce_model confirms by the trial itself, which is
+    // bit-identical to one with the search's seed.)
+    auto verified = [&](const Eigen::VectorXd& r) {  // confirming evaluation; within the tolerance: the best
       const TrialResult v = verify(r);
       record(r, v, "verify");
       if (within(v, tol)) {
@@ -450,16 +453,16 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
     };
     if (within(res, tol) && o.push) {
       const Eigen::VectorXd pushed =
-          push_remaining_slack(curve_of, num_nodes, trial, o, screen, evaluations, record, ratios);
+          push_remaining_slack(curve_of, num_nodes, trial, o, screen, evaluations, record, ratios, res);
       if (pushed != ratios) {
         verified(pushed);
         if (have_best) break;
-        log("pushed candidate failed full verification; verifying the one before the push");
+        log("pushed candidate failed its confirming evaluation; confirming the one before the push");
       }
     }
     const TrialResult v = verified(ratios);
     if (have_best || ratios.maxCoeff() <= 0.0) break;  // (unreduced and failing: noise above tolerance)
-    res = v;  // the full evaluation disagrees with the trial: keep backing off from it
+    res = v;  // the confirming evaluation disagrees with the trial: keep backing off from it
   }
   if (!have_best)
     throw SolverError("even the unreduced model differs from the reference by " +

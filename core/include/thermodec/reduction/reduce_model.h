@@ -71,7 +71,10 @@ struct ReduceSettings {
   double area_error_fraction = 0.1;
   //! Extra trials for the predicted-vs-real plot: targets as multiples of the search tolerance
   //! (the tolerance less the verification margin), so that the 1.0 point is the informed
-  //! search's first candidate, already simulated.
+  //! search's first candidate, already simulated. Each other point is a trial of a combined
+  //! candidate, about a whole simulation on a large model (tdrs: 4 points, 67 s), so the
+  //! budgets for models over kBareMeshCoarseSweepFaces faces keep the 1.0 point alone; the
+  //! plot still shows every candidate the search measured against its prediction.
   std::vector<double> prediction_targets{0.1, 0.25, 0.5, 1.0, 2.0};
   //! Further load cases the reduced model must also meet (hot and cold cases, ...): the
   //! model's own environment is the first case; each extra one gets its own reference,
@@ -161,8 +164,8 @@ struct ReductionRun {
 //! Bounded run time for bare meshes (ThermalModel::mesh_cleanup set; no-op otherwise): the
 //! simulation ray budgets of apply_bare_mesh_ray_budgets, and above
 //! kBareMeshCoarseSweepFaces faces a coarse sensitivity sweep (ratios 0.5, 0.8, 0.93: at most
-//! 3 trials per node instead of 11), at most 20 trials after the prediction and 8 leave-one-out
-//! trials per back-off step. Measured
+//! 3 trials per node instead of 11), at most 20 trials after the prediction, 8 leave-one-out
+//! trials per back-off step, 6 push trials, and no extra predicted-vs-real trials. Measured
 //! effect in docs/benchmarks.md ("Reduction: NASA meshes").
 void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& settings);
 constexpr int kBareMeshCoarseSweepFaces = 2000;
@@ -172,6 +175,7 @@ constexpr int kBareMeshCoarseSweepFaces = 2000;
 //! faces): at most 7 trials per node instead of 11, spaced where a finely meshed node's curve
 //! changes (its |dT| grows with the faces removed relative to those kept), and reaching 99.2 %
 //! where the fixed grid stops at 98 %. A node the decimator cannot take further ends early.
+//! No extra predicted-vs-real trials either (ReduceSettings::prediction_targets).
 void apply_large_model_sweep(const ThermalModel& model, ReduceSettings& settings);
 
 //! Runs the whole reduction: reference simulation, noise floor, (informed) sensitivity and

@@ -82,9 +82,21 @@ class ReductionReference {
   TrialResult trial(const Eigen::VectorXd& ratio_per_node) const;
   //! Full verification: the candidate simulated from scratch, nothing reused. Thread-safe.
   TrialResult verify(const Eigen::VectorXd& ratio_per_node) const;
-  //! The candidate itself (decimated model + its result), incremental or full (a candidate
-  //! already verified is returned from memory, not simulated again).
+  //! The candidate itself (decimated model + its result), incremental or full. A candidate
+  //! already evaluated the same way (a trial, or a verification) is decimated again and its
+  //! result taken from memory, not simulated again.
   Candidate candidate(const Eigen::VectorXd& ratio_per_node, bool full) const;
+
+  //! Prepares a second reusable state next to the original's: the candidate of `ratio_per_node`
+  //! simulated with its own ray records and load samples (`record_budget_bytes` for them, as
+  //! ReductionReferenceSettings::record_budget_bytes). Every later trial whose ratios differ
+  //! from these in fewer nodes than from the original's re-traces only what differs from that
+  //! candidate, and is still compared with the original's result. A push that moves one node of
+  //! a candidate reduced everywhere then costs about a one-node sweep trial instead of a whole
+  //! simulation (tdrs: ~3 s against ~21 s). Same results (view factors and loads bit-identical
+  //! to a full recompute either way); costs about one reference build and its records' memory.
+  //! Not thread-safe with trials running: call it between them.
+  void rebase(const Eigen::VectorXd& ratio_per_node, std::size_t record_budget_bytes);
 
   //! Redraws each node's samples in turn (salt `salt`, incremental evaluation, nodes in
   //! parallel) and compares with the reference. Costs about one trial per node.
@@ -103,8 +115,15 @@ class ReductionReference {
   const RecordUse& record_use() const;
 
  private:
-  //! Simulates an already decimated candidate (decimation_s: the time it took).
-  Candidate candidate_of(DecimationResult decimation, double decimation_s, bool full) const;
+  //! Simulates an already decimated candidate (decimation_s: the time it took), reusing the
+  //! rays and samples of `via` (this reference or its rebased state) unless `full`.
+  Candidate candidate_of(DecimationResult decimation, double decimation_s, bool full,
+                         const ReductionReference& via) const;
+  //! The candidate of `decimation` with its simulation `result`, compared with the reference.
+  Candidate finish_candidate(DecimationResult decimation, SimulationResult result,
+                             const TrialResult::Timing& timing) const;
+  //! The state a trial of `ratios` re-traces least from: the rebased one if it is nearer.
+  const ReductionReference& nearest(const Eigen::VectorXd& ratios) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

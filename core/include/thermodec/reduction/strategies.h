@@ -25,7 +25,7 @@ struct ReductionStep {
 
 struct ReductionOutcome {
   Eigen::VectorXd ratio_per_node;   //!< the returned candidate's ratios
-  TrialResult verified;             //!< its full verification (always <= tolerance)
+  TrialResult verified;             //!< its confirming evaluation by `verify` (always <= tolerance)
   std::vector<ReductionStep> history;
   //! Informed: the first predicted candidate, before correction, back-off and push (by
   //! superposition when the curves carry difference fields, else the paper's per-node one).
@@ -66,8 +66,9 @@ struct InformedOptions {
   double stall_fraction = 0.3;
   bool push = true;           //!< use remaining slack to reduce nodes further
   //! Bound on the push's trials (within max_evaluations). On a large CAD model each push is a
-  //! trial of a combined candidate, about a full simulation, for one node one sample further
-  //! (tdrs at 0.5 K: 6 pushes of ~21 s removed 120 of 17289 faces).
+  //! trial of a combined candidate, about a full simulation against the original, for one node
+  //! one sample further (tdrs at 0.5 K: 6 pushes of ~21 s removed 120 of 17289 faces), unless
+  //! before_push rebases the trials on the push's start candidate.
   int max_push_trials = std::numeric_limits<int>::max();
   //! Start from the superposition's allocation instead of the per-node prediction. On the
   //! sample satellite both reach the same model: decimating two nodes that share an interface
@@ -90,6 +91,10 @@ struct InformedOptions {
   //! Needs curves with difference fields.
   bool screen_by_superposition = true;
   bool parallel = true;       //!< leave-one-out contributions measured concurrently
+  //! Called once, before the push's first trial, with the candidate the push starts from, its
+  //! trial and the push trials left at most: the caller may prepare cheaper trials near that
+  //! candidate (ReductionReference::rebase). Trials must give the same results after it.
+  std::function<void(const Eigen::VectorXd& start, const TrialResult& start_result, int trials_left)> before_push;
   std::function<void(const std::string&)> log;
   //! Node names for progress lines and history actions ("push antenna_dish to 0.6"); nodes
   //! without a name here are called "node <index>".
@@ -112,8 +117,9 @@ struct InformedOptions {
 //! single culprit), it bisects every node's share of the tolerance. Then, while slack remains,
 //! pushes nodes one sample further in order of smallest predicted increase (at most
 //! max_push_trials trials), keeping only pushes that stay within tolerance. The returned
-//! candidate always passed `verify` (a full, non-incremental evaluation); if nothing else does,
-//! the unreduced model is returned.
+//! candidate always passed `verify`, the confirming evaluation (a full recompute, or the trial
+//! itself where trials are bit-identical to one, as in reduce_model); if nothing else does, the
+//! unreduced model is returned.
 ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves, int num_nodes,
                                     const TrialFunction& trial, const TrialFunction& verify,
                                     const InformedOptions& options);

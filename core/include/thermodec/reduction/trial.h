@@ -24,6 +24,7 @@ struct TrialResult {
   //! An incremental trial computes its couplings and loads side by side: their times overlap.
   struct Timing {
     double decimation_s = 0.0, couplings_s = 0.0, loads_s = 0.0, solve_s = 0.0, simulation_s = 0.0;
+    double total_s = 0.0;  //!< the whole trial, decimation to comparison
   } timing;
 };
 
