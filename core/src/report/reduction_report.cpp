@@ -2,6 +2,7 @@
 #include "thermodec/report/reduction_report.h"
 
 #include <cstdio>
+#include <future>
 #include <sstream>
 
 #include "thermodec/common/atomic_write.h"
@@ -135,12 +136,18 @@ std::vector<std::string> write_reduction_outputs(const ReductionRun& run, const 
 
   std::vector<std::string> warnings;
   if (!plots) return warnings;
-  auto plot = [&](const std::string& kind, const json& data, const std::string& file) {
-    try {
-      plot_png(kind, data, out_dir / file);
-    } catch (const Error& e) {
-      warnings.push_back(file + ": " + e.what());
-    }
+  // The plots are drawn side by side, each by its own python process (the mesh view of a 20k-face
+  // model alone takes ~5 s); a plot that fails is a warning, never a failed reduction.
+  std::vector<std::future<std::string>> drawn;
+  auto plot = [&](const std::string& kind, json data, const std::string& file) {
+    drawn.push_back(std::async(std::launch::async, [kind, data = std::move(data), path = out_dir / file, file] {
+      try {
+        plot_png(kind, data, path);
+        return std::string();
+      } catch (const Error& e) {
+        return file + ": " + e.what();
+      }
+    }));
   };
   if (!run.curves.empty()) {
     json curves = json::array();
@@ -193,6 +200,8 @@ std::vector<std::string> write_reduction_outputs(const ReductionRun& run, const 
                                mesh_panel(run.reduced.model.mesh, "max |dT| per node [K]", &dT, "max |dT| [K]")});
     plot("mesh_view", {{"panels", panels}}, "mesh.png");
   }
+  for (auto& d : drawn)
+    if (std::string w = d.get(); !w.empty()) warnings.push_back(std::move(w));
   return warnings;
 }
 
