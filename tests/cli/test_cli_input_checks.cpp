@@ -262,11 +262,21 @@ TEST(CliOutputChecks, reduce_clears_its_earlier_outputs_and_records_version_and_
   auto d = temp_dir("red_again");
   fs::create_directories(d / "out");
   write_text(d / "out" / "mesh.png", "stale picture of an earlier run");
-  const CliRun r = run_cli("reduce " + q(kData / "example_model.json") + " --no-plots --quiet --out " + q(d / "out"), d);
+  const CliRun r = run_cli("reduce " + q(kData / "example_model.json") +
+                               " --prediction-targets 0.5,1 --no-plots --quiet --out " + q(d / "out"), d);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_FALSE(fs::exists(d / "out" / "mesh.png")) << "a stale plot stayed beside the new model";
   const std::string report = read_text(d / "out" / "report.json");
   EXPECT_TRUE(has(report, "\"thermodec_version\"")) << report.substr(0, 300);
   EXPECT_TRUE(has(report, "\"schema_version\""));
   EXPECT_TRUE(has(report, "example_model.json"));
+  // The predicted-vs-real points asked for, and no others.
+  std::size_t points = 0;
+  for (std::size_t at = report.find("\"target_K\""); at != std::string::npos; at = report.find("\"target_K\"", at + 1))
+    ++points;
+  EXPECT_EQ(points, 2u);
+  const CliRun bad = run_cli("reduce " + q(kData / "example_model.json") + " --prediction-targets 0,1 --out " +
+                             q(d / "bad"), d);
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_FALSE(fs::exists(d / "bad"));
 }

@@ -2,7 +2,9 @@
 curves predicted (x) against the simulated one (y). Right: the search that followed (back-off
 and push trials, rejected ones marked) ending at the verified final model. Input: {"points":
 [{"target_K", "predicted_K", "real_K", "label"}], "tolerance_K": t, "history": [{"action",
-"max_abs_dT_K", "within_tolerance", "faces_after"}], "final": {"real_K", "faces_after"}}"""
+"max_abs_dT_K", "within_tolerance", "faces_after", "superposition_predicted_K" (optional)}],
+"final": {"real_K", "faces_after"}}. The left panel also shows, for every candidate the search
+measured, the superposition's prediction against the measurement, where the curves carry fields."""
 from _common import load_args, plt, save
 
 data, out = load_args()
@@ -12,11 +14,15 @@ fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 5.2), gridspec_kw={"width_ratio
 pts = data["points"]
 xs = [p["predicted_K"] for p in pts]
 ys = [p["real_K"] for p in pts]
-hi = max(xs + ys + [tol]) * 1.15 or 1.0
+sup = [(h["superposition_predicted_K"], h["max_abs_dT_K"]) for h in hist if "superposition_predicted_K" in h]
+hi = max(xs + ys + [v for pair in sup for v in pair] + [tol]) * 1.15 or 1.0
 ax.fill_between([0, hi], 0, tol, color="tab:green", alpha=0.08, lw=0)
 ax.plot([0, hi], [0, hi], "k--", lw=1, label="real = predicted")
 ax.axhline(tol, color="tab:red", lw=1.2, ls="--", label=f"tolerance {tol:g} K")
-ax.scatter(xs, ys, c="tab:blue", s=40, zorder=3, label="prediction, simulated")
+ax.scatter(xs, ys, c="tab:blue", s=40, zorder=3, label="per-node curves' prediction, simulated")
+if sup:
+    ax.scatter([x for x, _ in sup], [y for _, y in sup], c="tab:orange", marker="D", s=22, zorder=3,
+               label="superposition, each candidate the search measured")
 for i, p in enumerate(pts):
     if p.get("label"):
         ax.annotate(p["label"], (p["predicted_K"], p["real_K"]), fontsize=8, xytext=(6, 6 + 10 * (i % 3)),
@@ -27,11 +33,11 @@ if final:
                label=f'verified final model ({final["faces_after"]} faces)')
 ax.set_xlim(0, hi)
 ax.set_ylim(0, hi)
-ax.set_xlabel("predicted max |dT| from the sensitivity curves [K]")
+ax.set_xlabel("predicted max |dT| [K]")
 ax.set_ylabel("simulated max |dT| [K]")
 ax.set_title("Prediction vs simulation")
 ax.grid(True, alpha=0.3)
-ax.legend(fontsize=8, loc="center right")
+ax.legend(fontsize=8, loc="lower right")
 
 if hist:
     steps = list(range(len(hist)))

@@ -323,7 +323,8 @@ void rebase_for_pushes(const std::vector<std::unique_ptr<ReductionReference>>& r
   const auto t0 = Clock::now();
   for (std::size_t c = 0; c < refs.size(); ++c) refs[c]->rebase(start, left[c]);
   release_free_memory();
-  log(fmt("rebased on the push's start candidate (%.0f s): each push re-traces only what differs from it", since(t0)));
+  log(fmt("rebased on the push's start candidate (%.0f s) for about %.0f push trials: each re-traces only what "
+          "differs from it", since(t0), trials_left));
 }
 
 }  // namespace

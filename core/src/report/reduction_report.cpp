@@ -1,6 +1,7 @@
 #include "thermodec/common/version.h"
 #include "thermodec/report/reduction_report.h"
 
+#include <cmath>
 #include <cstdio>
 #include <future>
 #include <sstream>
@@ -163,9 +164,12 @@ std::vector<std::string> write_reduction_outputs(const ReductionRun& run, const 
     // The search after the prediction (back-off, push) and the verified final model, so the
     // plot shows how a prediction over the tolerance was brought back within it.
     json steps = json::array();
-    for (const auto& h : run.outcome.history)
-      steps.push_back({{"action", h.action}, {"max_abs_dT_K", h.result.max_abs_dT_K}, {"within_tolerance", h.within_tolerance},
-                       {"faces_after", h.result.faces_after}});
+    for (const auto& h : run.outcome.history) {
+      json step = {{"action", h.action}, {"max_abs_dT_K", h.result.max_abs_dT_K}, {"within_tolerance", h.within_tolerance},
+                   {"faces_after", h.result.faces_after}};
+      if (std::isfinite(h.predicted_K)) step["superposition_predicted_K"] = h.predicted_K;
+      steps.push_back(step);
+    }
     plot("predicted_vs_real",
          {{"points", pts}, {"tolerance_K", run.tolerance_K}, {"history", steps},
           {"final", {{"real_K", run.max_temperature_difference_K}, {"faces_after", run.faces_after}}}},

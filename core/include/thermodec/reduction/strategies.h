@@ -92,7 +92,8 @@ struct InformedOptions {
   bool screen_by_superposition = true;
   bool parallel = true;       //!< leave-one-out contributions measured concurrently
   //! Called once, before the push's first trial, with the candidate the push starts from, its
-  //! trial and the push trials left at most: the caller may prepare cheaper trials near that
+  //! trial and the push trials to expect (nodes whose next or halfway step the superposition
+  //! does not rule out, within the bounds): the caller may prepare cheaper trials near that
   //! candidate (ReductionReference::rebase). Trials must give the same results after it.
   std::function<void(const Eigen::VectorXd& start, const TrialResult& start_result, int trials_left)> before_push;
   std::function<void(const std::string&)> log;
