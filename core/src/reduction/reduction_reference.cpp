@@ -146,7 +146,7 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 
 SimulationResult simulate_candidate(const ThermalModel& cand, const RadiationReference& radiation,
                                     const LoadSamples& load_samples, const ModelSimulationSettings& settings, bool full,
-                                    TrialResult::Timing* timing = nullptr) {
+                                    TrialResult::Timing* timing = nullptr, double* retraced_fraction = nullptr) {
   TrialResult::Timing ignored;
   TrialResult::Timing& t = timing ? *timing : ignored;
   auto t0 = Clock::now();
@@ -175,7 +175,10 @@ SimulationResult simulate_candidate(const ThermalModel& cand, const RadiationRef
   tbb::parallel_invoke(
       [&] {
         const auto c0 = Clock::now();
-        couplings = radiative_couplings_incremental(radiation, cand, nullptr, &vf, &scene);
+        IncrementalStats stats;
+        couplings = radiative_couplings_incremental(radiation, cand, &stats, &vf, &scene);
+        if (retraced_fraction && stats.rays_total > 0)
+          *retraced_fraction = std::min(1.0, double(stats.rays_retraced) / double(stats.rays_total));
         t.couplings_s = since(c0);
       },
       [&] {
@@ -285,11 +288,14 @@ Candidate ReductionReference::candidate_of(DecimationResult decimation, double d
                          m1.face_back_material == m0.face_back_material;
   TrialResult::Timing timing;
   timing.decimation_s = decimation_s;
+  double retraced = unchanged ? 0.0 : 1.0;
   SimulationResult r = unchanged ? v.result
                                  : simulate_candidate(cand, *v.radiation, v.load_samples, impl_->settings.simulation,
-                                                      full, &timing);
+                                                      full, &timing, &retraced);
   timing.total_s = decimation_s + since(t0);
-  return finish_candidate(std::move(decimation), std::move(r), timing);
+  Candidate c = finish_candidate(std::move(decimation), std::move(r), timing);
+  c.trial.retraced_fraction = retraced;
+  return c;
 }
 
 void ReductionReference::rebase(const Eigen::VectorXd& ratios, std::size_t record_budget_bytes) {
