@@ -146,7 +146,7 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 
 SimulationResult simulate_candidate(const ThermalModel& cand, const RadiationReference& radiation,
                                     const LoadSamples& load_samples, const ModelSimulationSettings& settings, bool full,
-                                    TrialResult::Timing* timing = nullptr, double* retraced_fraction = nullptr) {
+                                    TrialResult::Timing* timing = nullptr, double* redone_fraction = nullptr) {
   TrialResult::Timing ignored;
   TrialResult::Timing& t = timing ? *timing : ignored;
   auto t0 = Clock::now();
@@ -177,8 +177,13 @@ SimulationResult simulate_candidate(const ThermalModel& cand, const RadiationRef
         const auto c0 = Clock::now();
         IncrementalStats stats;
         couplings = radiative_couplings_incremental(radiation, cand, &stats, &vf, &scene);
-        if (retraced_fraction && stats.rays_total > 0)
-          *retraced_fraction = std::min(1.0, double(stats.rays_retraced) / double(stats.rays_total));
+        // The work redone: rays traced again, or sides whose view-factor rows were rebuilt (each
+        // re-reads its rays' records): the larger share (tdrs' returned candidate: 32 % of the
+        // rays, all but 12 of 18 237 rows, 22 s of couplings where a full recompute takes 24 s).
+        const int sides = stats.reused_sides + stats.changed_sides;
+        if (redone_fraction && stats.rays_total > 0 && sides > 0)
+          *redone_fraction = std::min(1.0, std::max(double(stats.rays_retraced) / double(stats.rays_total),
+                                                    1.0 - double(stats.rows_kept) / sides));
         t.couplings_s = since(c0);
       },
       [&] {
@@ -288,13 +293,13 @@ Candidate ReductionReference::candidate_of(DecimationResult decimation, double d
                          m1.face_back_material == m0.face_back_material;
   TrialResult::Timing timing;
   timing.decimation_s = decimation_s;
-  double retraced = unchanged ? 0.0 : 1.0;
+  double redone = unchanged ? 0.0 : 1.0;
   SimulationResult r = unchanged ? v.result
                                  : simulate_candidate(cand, *v.radiation, v.load_samples, impl_->settings.simulation,
-                                                      full, &timing, &retraced);
+                                                      full, &timing, &redone);
   timing.total_s = decimation_s + since(t0);
   Candidate c = finish_candidate(std::move(decimation), std::move(r), timing);
-  c.trial.retraced_fraction = retraced;
+  c.trial.redone_fraction = redone;
   return c;
 }
 

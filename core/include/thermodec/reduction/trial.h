@@ -22,10 +22,11 @@ struct TrialResult {
   //! Wall time of the trial's phases [s] (for benchmarks; 0 for a phase it skipped). A full
   //! (non-incremental) simulation puts its couplings, loads and solve all in `simulation_s`.
   //! An incremental trial computes its couplings and loads side by side: their times overlap.
-  //! Share of the IR rays a full recompute traces that this trial traced again (1 for a full
-  //! simulation; a one-node trial on a large model ~0.1): deterministic, unlike its time, so
-  //! decisions on the trials' cost (reduce_model's rebase) do not depend on machine load.
-  double retraced_fraction = 1.0;
+  //! Share of a full recompute's radiative work this trial did again: the larger of the IR rays
+  //! traced again and the sides whose view-factor rows were rebuilt (1 for a full simulation, 0
+  //! for an unchanged mesh). Deterministic, unlike its time, so decisions on the trials' cost
+  //! (reduce_model's rebase) do not depend on machine load.
+  double redone_fraction = 1.0;
   struct Timing {
     double decimation_s = 0.0, couplings_s = 0.0, loads_s = 0.0, solve_s = 0.0, simulation_s = 0.0;
     double total_s = 0.0;  //!< the whole trial, decimation to comparison
