@@ -311,6 +311,10 @@ void ReductionReference::rebase(const Eigen::VectorXd& ratios, std::size_t recor
   cand.mesh = d.mesh;
   ReductionReferenceSettings settings = s.settings;
   settings.record_budget_bytes = record_budget_bytes;
+  {
+    std::lock_guard<std::mutex> lock(s.cache_mutex);
+    s.base.reset();  // (an earlier rebased state's records go before the new one's are made)
+  }
   auto base = std::make_unique<ReductionReference>(cand, settings);
   std::lock_guard<std::mutex> lock(s.cache_mutex);
   s.base = std::move(base);
