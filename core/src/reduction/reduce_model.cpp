@@ -443,7 +443,6 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
       t.timing.loads_s += o.timing.loads_s;
       t.timing.solve_s += o.timing.solve_s;
       t.timing.simulation_s += o.timing.simulation_s;
-      t.timing.total_s += o.timing.total_s;
       t.redone_fraction = std::max(t.redone_fraction, o.redone_fraction);
     }
     return t;

@@ -279,7 +279,6 @@ Candidate ReductionReference::finish_candidate(DecimationResult decimation, Simu
 
 Candidate ReductionReference::candidate_of(DecimationResult decimation, double decimation_s, bool full,
                                            const ReductionReference& via) const {
-  const auto t0 = Clock::now();
   const Impl& v = *via.impl_;
   ThermalModel cand = impl_->model;
   cand.mesh = decimation.mesh;
@@ -297,7 +296,6 @@ Candidate ReductionReference::candidate_of(DecimationResult decimation, double d
   SimulationResult r = unchanged ? v.result
                                  : simulate_candidate(cand, *v.radiation, v.load_samples, impl_->settings.simulation,
                                                       full, &timing, &redone);
-  timing.total_s = decimation_s + since(t0);
   Candidate c = finish_candidate(std::move(decimation), std::move(r), timing);
   c.trial.redone_fraction = redone;
   return c;

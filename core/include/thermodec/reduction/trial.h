@@ -29,7 +29,6 @@ struct TrialResult {
   double redone_fraction = 1.0;
   struct Timing {
     double decimation_s = 0.0, couplings_s = 0.0, loads_s = 0.0, solve_s = 0.0, simulation_s = 0.0;
-    double total_s = 0.0;  //!< the whole trial, decimation to comparison
   } timing;
 };
 
