@@ -14,3 +14,8 @@ if _dir and _dir not in _sys.path:
 import FreeCAD as _FreeCAD
 
 _FreeCAD.__unit_test__ += ["TestThermoDec"]
+
+# Outputs beside the document follow it when it is saved somewhere new (objects.follow_save).
+import thermodec_freecad.objects as _objects
+
+_FreeCAD.addDocumentObserver(_objects.SaveObserver())

@@ -422,6 +422,64 @@ class Robustness(_DocTest):
         self.assertEqual(len(objects.automatic_nodes(analysis, [obj], per="face")), 12)
 
 
+class AutomaticNodes(_DocTest):
+    """Automatic nodes per face get the default panel's heat capacity and edge links
+    (defaults.py); a transient orbit refuses nodes that store no heat."""
+
+    def _two_box_satellite(self, physical_defaults=True):
+        import Part
+        obj = self.doc.addObject("Part::Feature", "Sat")  # 1 m body, 0.4 m instrument box beside it
+        obj.Shape = Part.makeCompound([Part.makeBox(1000, 1000, 1000, Vector(-500, -500, -500)),
+                                       Part.makeBox(400, 400, 400, Vector(-200, -200, 700))])
+        analysis = objects.makeAnalysis(self.doc)
+        analysis.DefaultMaterial = objects.makeMaterial(analysis, "white_paint")
+        nodes = objects.automatic_nodes(analysis, [obj], per="face", physical_defaults=physical_defaults)
+        objects.makeEnvironment(analysis, "orbit")
+        analysis.AnalysisType = "transient_orbit"
+        analysis.MaxEdgeLength = "500 mm"
+        analysis.RaysPerFace = 200
+        analysis.StepsPerOrbit = 36
+        analysis.OutputDirectory = _output_dir("automatic_nodes")
+        return analysis, nodes
+
+    def test_faces_get_the_panel_heat_capacity_and_links_across_their_edges(self):
+        analysis, nodes = self._two_box_satellite()
+        self.assertAlmostEqual(analysis.PanelArealHeatCapacity, 2*0.3e-3*2810*960 + 25e-3*49.7*904)
+        areas = sorted(round(n.Capacitance / analysis.PanelArealHeatCapacity, 9) for n in nodes)
+        self.assertEqual(areas, [0.16] * 6 + [1.0] * 6)  # m^2: each face one panel
+        self.assertIn("J/(m^2 K)", nodes[0].Note)
+        links = objects.members(analysis, objects.Conductance)
+        self.assertEqual(len(links), 24)  # 12 edges per box, none between the two solids
+        solid_of = {n.Name: (n.Capacitance > analysis.PanelArealHeatCapacity / 2) for n in nodes}
+        for c in links:
+            self.assertEqual(solid_of[c.NodeA.Name], solid_of[c.NodeB.Name])
+            # k t L / (d_a + d_b): square faces of side s meet over s at s/2 + s/2, so G = k t.
+            self.assertAlmostEqual(c.Value, analysis.PanelSheetConductance, places=9)
+        self.assertAlmostEqual(analysis.PanelSheetConductance, 0.078)
+
+    def test_two_box_satellite_in_a_transient_orbit_stays_above_100_K(self):
+        if thermodec is None:
+            self.skipTest("thermodec module not built")
+        analysis, _ = self._two_box_satellite()
+        path, summary = results.simulate(analysis)
+        coldest = min(summary.items(), key=lambda kv: kv[1]["min_K"])
+        FreeCAD.Console.PrintMessage("ThermoDec test: two-box satellite, coldest node %s %.1f K, hottest max %.1f K\n"
+                                     % (coldest[0], coldest[1]["min_K"], max(v["max_K"] for v in summary.values())))
+        self.assertGreater(coldest[1]["min_K"], 100.0)
+        with open(analysis.ModelFile) as f:
+            model = json.load(f)
+        self.assertEqual(len(model["conductances"]), 24)
+        self.assertTrue(all(n["capacitance"] > 0 for n in model["nodes"].values()))
+
+    def test_nodes_without_heat_capacity_are_refused_in_a_transient_orbit(self):
+        analysis, nodes = self._two_box_satellite(physical_defaults=False)
+        self.assertEqual(objects.members(analysis, objects.Conductance), [])
+        with self.assertRaisesRegex(ThermoDecError, "'Sat_Face1'.* capacitance 0 J/K"):
+            export.model_data(analysis)
+        analysis.AllowArithmeticNodes = True  # on purpose: accepted
+        export.model_data(analysis)
+
+
 class TwoSidedSheets(_DocTest):
     def test_sheet_node_with_back_material_is_two_sided_in_the_core(self):
         import Part

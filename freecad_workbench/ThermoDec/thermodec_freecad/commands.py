@@ -15,7 +15,7 @@ SETUP = ["ThermoDec_ImportStep", "ThermoDec_Analysis", "ThermoDec_NodeFromSelect
          "ThermoDec_AutoNodesPerFace", "ThermoDec_AutoNodesPerSolid", "ThermoDec_Conductance",
          "ThermoDec_Environment"]
 RUN = ["ThermoDec_Tessellate", "ThermoDec_Export", "ThermoDec_ExportTool", "ThermoDec_Simulate", "ThermoDec_ShowResult",
-       "ThermoDec_Decimate", "ThermoDec_Reduce", "ThermoDec_ImportResults"]
+       "ThermoDec_Plots", "ThermoDec_Decimate", "ThermoDec_Reduce", "ThermoDec_ImportResults"]
 
 
 class _Command:
@@ -125,7 +125,10 @@ class EnvironmentCommand(_Command):
     icon, menu, tip = "Environment.svg", "Environment", "Orbit or fixed-sun environment"
 
     def Activated(self):
-        run("Environment", [analysis_line(), "tdo.makeEnvironment(analysis, 'orbit')"])
+        from . import taskpanels
+        analysis = active_analysis()
+        envs = objects.members(analysis, objects.Environment)
+        FreeCADGui.Control.showDialog(taskpanels.EnvironmentPanel(analysis, envs[0] if envs else None))
 
 
 class Tessellate(_Command):
@@ -223,10 +226,8 @@ class Reduce(_CoreCommand):
         "reduce_model"
 
     def Activated(self):
-        status("ThermoDec: reducing ...")
-        if run("Reduce", [analysis_line(), "import thermodec_freecad.results as tdresults",
-                          "tdresults.reduce(analysis)"]):
-            status("ThermoDec: reduction done")
+        from . import taskpanels
+        FreeCADGui.Control.showDialog(taskpanels.ReducePanel(active_analysis()))
 
 
 class ExportTool(_CoreCommand):
@@ -236,10 +237,13 @@ class ExportTool(_CoreCommand):
 
     def Activated(self):
         from PySide import QtGui
-        from . import results
+        from . import results, taskpanels
         window = FreeCADGui.getMainWindow()
-        fmt, ok = QtGui.QInputDialog.getItem(window, "Export for other tools", "Format", list(results.EXCHANGE_FORMATS),
-                                             0, False)
+        analysis = active_analysis()
+        which = "the reduced model (%s)" % analysis.ReducedModelFile if results.reduced_model_current(analysis) \
+            else "the dense model (no current reduced model: Reduce first to export it)"
+        fmt, ok = QtGui.QInputDialog.getItem(window, "Export for other tools", "Exports %s\nFormat" % which,
+                                             list(results.EXCHANGE_FORMATS), 0, False)
         if not ok:
             return
         if fmt == "vtk":
@@ -249,10 +253,24 @@ class ExportTool(_CoreCommand):
                        "sinda": "SINDA/FLUINT (*.inp)", "csv": "CSV tables prefix (*.csv)"}
             out, _ = QtGui.QFileDialog.getSaveFileName(window, "Export as " + fmt, "", filters[fmt])
         if out:
-            status("ThermoDec: exporting %s ..." % fmt)
-            if run("Export for other tools", [analysis_line(), "import thermodec_freecad.results as tdresults",
-                                              "tdresults.export_for_tool(analysis, %r, %r)" % (fmt, out)]):
-                status("ThermoDec: %s written to %s" % (fmt, out))
+            taskpanels.start_export(analysis, fmt, out)  # in the background, with progress and Cancel
+
+
+class Plots(_Command):
+    icon, menu, tip = "Result.svg", "Thermal plots", \
+        "Temperatures over the orbit per node (original vs reduced) and the reduction's sensitivity curves"
+
+    def IsActive(self):
+        from . import plots
+        analysis = active_analysis() if FreeCAD.ActiveDocument is not None else None
+        return analysis is not None and plots._result_on(analysis, "ThermalMesh") is not None
+
+    def Activated(self):
+        from . import plots
+        try:
+            plots.PlotDock(active_analysis())
+        except Exception as e:
+            error(e)
 
 
 class ImportResults(_Command):
@@ -280,6 +298,7 @@ def register():
                       ("ThermoDec_Tessellate", Tessellate), ("ThermoDec_Export", Export),
                       ("ThermoDec_ExportTool", ExportTool),
                       ("ThermoDec_Simulate", Simulate), ("ThermoDec_ShowResult", ShowResult),
+                      ("ThermoDec_Plots", Plots),
                       ("ThermoDec_Decimate", Decimate),
                       ("ThermoDec_Reduce", Reduce),
                       ("ThermoDec_ImportResults", ImportResults)):

@@ -95,6 +95,7 @@ def model_data(analysis, mesh_file="model.obj"):
             raise ThermoDecError("node '%s': negative capacitance %g J/K" % (n.Label, n.Capacitance))
         nodes[name] = entry
 
+    _refuse_arithmetic_nodes(analysis, nodes_by_name, nodes)
     conductances = []
     for c in objects.members(analysis, objects.Conductance):
         if c.NodeA is None or c.NodeB is None:
@@ -125,6 +126,21 @@ def model_data(analysis, mesh_file="model.obj"):
     return data, units.points_m(V_mm), F, face_node, mat_map[face_material]
 
 
+def _refuse_arithmetic_nodes(analysis, nodes_by_name, entries):
+    """In a transient orbit, a node of capacitance 0 J/K stores no heat: it follows the sun at
+    once (a face falls to a few kelvin in eclipse). Refused unless AllowArithmeticNodes."""
+    if analysis.AnalysisType != "transient_orbit" or analysis.AllowArithmeticNodes:
+        return
+    zero = [name for name, e in entries.items() if e["capacitance"] == 0 and "fixed_temperature" not in e]
+    if zero:
+        raise ThermoDecError(
+            "transient_orbit: node(s) %s have capacitance 0 J/K (no heat storage: in eclipse such a "
+            "face falls towards 3 K); give them a Capacitance [J/K] (automatic nodes get face area x "
+            "%.4g J/(m^2 K)) or set the analysis' AllowArithmeticNodes"
+            % (", ".join("'%s'" % nodes_by_name[n].Label for n in zero[:8]) + (" ..." if len(zero) > 8 else ""),
+               analysis.PanelArealHeatCapacity))
+
+
 def _atomic_write(path, text):
     tmp = "%s.tmp%d" % (path, os.getpid())
     with open(tmp, "w", encoding="utf-8") as f:
@@ -153,6 +169,7 @@ def write_model(analysis, json_path, mesh_path=None):
     if json_path == mesh_path:
         raise ThermoDecError("model and mesh paths are the same: %s" % json_path)
     os.makedirs(os.path.dirname(json_path), exist_ok=True)
+    analysis.Document.recompute()  # edits pending in the tree count before this export, not after
     rel = os.path.relpath(mesh_path, os.path.dirname(json_path))
     data, V, F, face_node, face_material = model_data(analysis, rel)
     node_names = list(data["nodes"])

@@ -9,7 +9,7 @@ import re
 
 import FreeCAD
 
-from . import coatings, references
+from . import coatings, defaults, references, units
 from .errors import ThermoDecError
 
 CUSTOM = "custom"
@@ -33,8 +33,18 @@ class _Proxy:
     def setup(self, obj):
         pass
 
+    #: Properties whose change leaves the analysis' results current (outputs, bookkeeping).
+    NOT_INPUTS = {"Proxy", "Label2", "ExpressionEngine", "Visibility", "Group", "ThermalMesh", "ModelFile",
+                  "ResultFile", "ReducedModelFile", "OutputDirectory", "ReferenceSignatures", "Note",
+                  "ToleranceK", "ReductionStrategy", "GlobalRatio", "LoadCases"}
+
     def onDocumentRestored(self, obj):
         self.setup(obj)  # adds properties introduced by newer versions
+
+    def onChanged(self, obj, prop):
+        if prop not in self.NOT_INPUTS and not obj.Document.Restoring and "Restore" not in obj.State:
+            stale(find_analysis(obj) if not is_type(obj, ThermalAnalysis) else obj,
+                  "%s of '%s' changed" % (prop, obj.Label))
 
     def execute(self, obj):
         pass
@@ -52,6 +62,16 @@ class _Proxy:
 class ThermalAnalysis(_Proxy):
     Type = "ThermoDec::ThermalAnalysis"
 
+    def onChanged(self, obj, prop):
+        if prop == "Group":  # a node, material, link or environment added or removed
+            inputs = tuple(sorted(o.Name for o in getattr(obj, "Group", []) if _is_input(o)))
+            known = getattr(self, "_inputs", None)
+            self._inputs = inputs
+            if known is not None and known != inputs and not obj.Document.Restoring:
+                stale(obj, "the analysis' nodes, materials, links or environment changed")
+            return
+        _Proxy.onChanged(self, obj, prop)
+
     def setup(self, obj):
         g = "Tessellation"
         _add(obj, "App::PropertyLength", "MaxEdgeLength", g,
@@ -66,6 +86,15 @@ class ThermalAnalysis(_Proxy):
         _add(obj, "App::PropertyInteger", "Orbits", g, "transient_orbit: max orbits to periodicity", 3)
         _add(obj, "App::PropertyInteger", "RaysPerFace", g, "Monte Carlo rays per face", 4000)
         _add(obj, "App::PropertyInteger", "Seed", g, "Monte Carlo seed", 1)
+        _add(obj, "App::PropertyBool", "AllowArithmeticNodes", g,
+             "transient_orbit: accept nodes of capacitance 0 J/K (no heat storage); refused otherwise", False)
+        g = "Automatic nodes"
+        _add(obj, "App::PropertyFloat", "PanelArealHeatCapacity", g,
+             "Heat capacity per face area given to automatic nodes [J/(m^2 K)] (default: "
+             + defaults.PANEL_NAME + ")", defaults.areal_heat_capacity_J_per_m2K())
+        _add(obj, "App::PropertyFloat", "PanelSheetConductance", g,
+             "In-plane conductance k*t of that panel [W/K]: links faces of one solid sharing an edge, "
+             "G = k*t * edge length / (centroid-to-edge distances)", defaults.sheet_conductance_W_per_K())
         g = "Reduction"
         _add(obj, "App::PropertyFloat", "ToleranceK", g,
              "Reduce: max temperature difference allowed vs the dense model [K]", 0.5)
@@ -80,6 +109,11 @@ class ThermalAnalysis(_Proxy):
              "Folder for model.json, the mesh and results (empty: beside the document)")
         _add(obj, "App::PropertyFile", "ModelFile", g, "Last exported model.json")
         _add(obj, "App::PropertyFile", "ResultFile", g, "Last simulation result.json")
+        _add(obj, "App::PropertyFile", "ReducedModelFile", g,
+             "Last reduced model.json (Reduce); Export for other tools writes it when current")
+        g = "Reduction"
+        _add(obj, "App::PropertyStringList", "LoadCases", g,
+             "Reduce: load case files the reduced model must also meet (thermodec reduce --case)")
 
 
 class ThermalNode(_Proxy):
@@ -101,10 +135,12 @@ class ThermalNode(_Proxy):
         _add(obj, "App::PropertyBool", "TwoSided", g,
              "Thin sheet radiating from both faces (not part of a closed solid)", False)
         _add(obj, "App::PropertyLink", "BackMaterial", g, "Coating of the back side (implies TwoSided)")
+        _add(obj, "App::PropertyString", "Note", g, "Where the capacitance comes from (automatic nodes)")
 
     def onChanged(self, obj, prop):
         if prop == "References" and "ReferenceSignatures" in obj.PropertiesList:
             references.store_signatures(obj)
+        _Proxy.onChanged(self, obj, prop)
 
     def execute(self, obj):
         _recheck(obj)
@@ -146,6 +182,7 @@ class ThermalMaterial(_Proxy):
             obj.Source = obj.MaterialCard
         elif prop == "References" and "ReferenceSignatures" in obj.PropertiesList:
             references.store_signatures(obj)
+        _Proxy.onChanged(self, obj, prop)
 
     def execute(self, obj):
         _recheck(obj)
@@ -159,6 +196,7 @@ class Conductance(_Proxy):
         _add(obj, "App::PropertyLink", "NodeA", g, "First node")
         _add(obj, "App::PropertyLink", "NodeB", g, "Second node")
         _add(obj, "App::PropertyFloat", "Value", g, "Conductance GL [W/K]", 0.0)
+        _add(obj, "App::PropertyString", "Note", g, "Where the value comes from (automatic links)")
 
 
 class Environment(_Proxy):
@@ -189,6 +227,20 @@ class Environment(_Proxy):
 
 def is_type(obj, proxy_class):
     return obj is not None and getattr(getattr(obj, "Proxy", None), "Type", None) == proxy_class.Type
+
+
+def _is_input(obj):
+    return any(is_type(obj, c) for c in (ThermalNode, ThermalMaterial, Conductance, Environment))
+
+
+def stale(analysis, reason):
+    """Marks the analysis' simulated results stale (thermal_result.mark_stale)."""
+    if analysis is None or "Group" not in analysis.PropertiesList:
+        return
+    from . import thermal_result
+    for obj in analysis.Group:
+        if is_type(obj, thermal_result.ThermalResult) and "Stale" in obj.PropertiesList:
+            thermal_result.mark_stale(obj, reason)
 
 
 def _view(obj, icon):
@@ -307,8 +359,64 @@ def assign_material(material, refs):
     material.References = current + references.normalise(refs)
 
 
-def automatic_nodes(analysis, shapes, per="face", material=None):
+def _solid_groups(shape):
+    """[[face index, ...] per solid] of a shape (shells, or the whole shape, when it has no solid)."""
+    index = {}
+    for i, f in enumerate(shape.Faces):
+        index.setdefault(f.hashCode(), []).append(i)
+
+    def find(face):
+        return next(i for i in index.get(face.hashCode(), []) if shape.Faces[i].isSame(face))
+    parts = shape.Solids or shape.Shells or [shape]
+    return [[find(f) for f in part.Faces] for part in parts]
+
+
+def _shared_edges(shape, faces):
+    """{(i, j): [edge, ...]} for faces i < j of `faces` (indices into shape.Faces) sharing an edge."""
+    by_edge = {}
+    for i in faces:
+        for e in shape.Faces[i].Edges:
+            by_edge.setdefault(e.hashCode(), []).append((i, e))
+    pairs = {}
+    for entries in by_edge.values():
+        for a in range(len(entries)):
+            for b in range(a + 1, len(entries)):
+                (i, e), (j, f) = entries[a], entries[b]
+                if i != j and e.isSame(f):
+                    pairs.setdefault((min(i, j), max(i, j)), []).append(e)
+    return pairs
+
+
+def _edge_links(analysis, shape_obj, node_of_face, sheet_W_per_K):
+    """Conductances between nodes of faces of one solid that share an edge (defaults.py)."""
+    import Part
+    shape = shape_obj.Shape
+    links = []
+    for faces in _solid_groups(shape):
+        for (i, j), edges in sorted(_shared_edges(shape, faces).items()):
+            a, b = node_of_face[i], node_of_face[j]
+            if a == b:
+                continue
+            value = 0.0
+            for e in edges:
+                mid = Part.Vertex(e.valueAt(0.5 * (e.FirstParameter + e.LastParameter)))
+                d = [units.length_m(mid.distToShape(Part.Vertex(shape.Faces[k].CenterOfMass))[0]) for k in (i, j)]
+                value += defaults.edge_conductance_W_per_K(sheet_W_per_K, units.length_m(e.Length), d[0], d[1])
+            link = makeConductance(analysis, a, b, value, name="link_%s_%s" % (a.Name, b.Name))
+            link.Label = "link_%s_%s" % (model_name(a), model_name(b))
+            link.Note = "default: panel k*t %.4g W/K x %.4g m shared edge / centroid-to-edge path" % (
+                sheet_W_per_K, sum(units.length_m(e.Length) for e in edges))
+            links.append(link)
+    return links
+
+
+def automatic_nodes(analysis, shapes, per="face", material=None, physical_defaults=True):
     """One ThermalNode per B-rep face or per solid of each shape object.
+
+    With physical_defaults (docs/freecad.md, "Automatic nodes"), each node's capacitance is its
+    area x the analysis' PanelArealHeatCapacity [J/(m^2 K)] (every face a default honeycomb
+    panel) and, per face, faces of one solid sharing an edge are linked by a Conductance of
+    PanelSheetConductance x edge length / centroid-to-edge path [W/K]; the report view says so.
     Returns the new nodes. Raises ThermoDecError for an empty shape."""
     if per not in ("face", "solid"):
         raise ThermoDecError("automatic nodes: per must be 'face' or 'solid', not '%s'" % per)
@@ -318,16 +426,76 @@ def automatic_nodes(analysis, shapes, per="face", material=None):
         if shape is None or shape.isNull() or not shape.Faces:
             raise ThermoDecError("automatic nodes: '%s' has no faces" % shape_obj.Label)
         if per == "face":
-            groups = [("Face%d" % (i + 1), ["Face%d" % (i + 1)]) for i in range(len(shape.Faces))]
+            groups = [("Face%d" % (i + 1), [i]) for i in range(len(shape.Faces))]
         else:
-            solids = shape.Solids or [shape]
-            groups = []
-            for k, solid in enumerate(solids):
-                subs = ["Face%d" % (i + 1) for i, f in enumerate(shape.Faces)
-                        if any(f.isSame(g) for g in solid.Faces)]
-                groups.append(("Solid%d" % (k + 1), subs))
-        for suffix, subs in groups:
-            nodes.append(makeNode(analysis, [(shape_obj, subs)], name="%s_%s" % (shape_obj.Name, suffix),
-                                  material=material))
-            nodes[-1].Label = "%s_%s" % (model_name(shape_obj), suffix)
+            groups = [("Solid%d" % (k + 1), faces) for k, faces in enumerate(_solid_groups(shape))]
+        made, node_of_face = [], {}
+        for suffix, faces in groups:
+            node = makeNode(analysis, [(shape_obj, ["Face%d" % (i + 1) for i in faces])],
+                            name="%s_%s" % (shape_obj.Name, suffix), material=material)
+            node.Label = "%s_%s" % (model_name(shape_obj), suffix)
+            if physical_defaults:
+                area = sum(units.area_m2(shape.Faces[i].Area) for i in faces)
+                node.Capacitance = defaults.face_capacitance_J_per_K(area, analysis.PanelArealHeatCapacity)
+                node.Note = "default: %.4g m^2 x %.4g J/(m^2 K) panel" % (area, analysis.PanelArealHeatCapacity)
+            for i in faces:
+                node_of_face[i] = node
+            made.append(node)
+        links = _edge_links(analysis, shape_obj, node_of_face, analysis.PanelSheetConductance) \
+            if physical_defaults and per == "face" else []
+        if physical_defaults:
+            FreeCAD.Console.PrintMessage(
+                "ThermoDec: %d automatic node(s) on '%s': capacitance = face area x %.4g J/(m^2 K) "
+                "(%.4g .. %.4g J/K; default panel: %s); %d conductive link(s) between faces of one solid "
+                "sharing an edge, k*t %.4g W/K x edge length / centroid-to-edge path (%.4g .. %.4g W/K). "
+                "Edit a node's Capacitance or a link's Value when the design is known.\n" % (
+                    len(made), shape_obj.Label, analysis.PanelArealHeatCapacity,
+                    min(n.Capacitance for n in made), max(n.Capacitance for n in made), defaults.PANEL_NAME,
+                    len(links), analysis.PanelSheetConductance,
+                    min([c.Value for c in links] or [0.0]), max([c.Value for c in links] or [0.0])))
+        nodes += made
     return nodes
+
+
+# ---------------------------------------------------------------------------------------------
+# Saving: an analysis without OutputDirectory writes beside its document (export.default_paths),
+# so saving the document somewhere new moves that folder. Its files follow, and the analysis'
+# and results' file paths are rewritten before the document is written.
+
+_PATH_PROPERTIES = ("ModelFile", "ResultFile", "ReducedModelFile")
+
+
+def follow_save(doc, filename):
+    """Copies each default-output analysis' folder to the one beside `filename` and points its
+    file properties there. Returns the folders copied [(old, new)]."""
+    import os
+    import shutil
+    moved = []
+    new = os.path.join(os.path.dirname(os.path.abspath(filename)), "%s_thermodec" % doc.Name)
+    for analysis in [o for o in doc.Objects if is_type(o, ThermalAnalysis)]:
+        if analysis.OutputDirectory or not analysis.ModelFile:
+            continue
+        old = os.path.dirname(analysis.ModelFile)
+        if os.path.normpath(old) == os.path.normpath(new) or not os.path.isdir(old):
+            continue
+        shutil.copytree(old, new, dirs_exist_ok=True)
+        holders = [analysis] + [o for o in analysis.Group if "ResultFile" in o.PropertiesList]
+        for obj in holders:
+            for prop in _PATH_PROPERTIES:
+                path = getattr(obj, prop, "") if prop in obj.PropertiesList else ""
+                if path and os.path.normpath(path).startswith(os.path.normpath(old) + os.sep):
+                    setattr(obj, prop, os.path.join(new, os.path.relpath(path, old)))
+        FreeCAD.Console.PrintMessage("ThermoDec: outputs of '%s' copied to %s (the document moved)\n"
+                                     % (analysis.Label, new))
+        moved.append((old, new))
+    return moved
+
+
+class SaveObserver:
+    """App document observer (registered by Init.py): follow_save before every save."""
+
+    def slotStartSaveDocument(self, doc, filename):
+        try:
+            follow_save(doc, filename)
+        except Exception as e:  # never block a save
+            FreeCAD.Console.PrintError("ThermoDec: outputs not moved with the document: %s\n" % e)

@@ -190,6 +190,7 @@ def simulate(analysis, json_path=None):
     summary = data["summary"]
     summary.pop("time_error_K", None)  # per-node entries only
     res = _result_of(analysis, analysis.ThermalMesh, result, model, result_path)
+    res.TracksAnalysis = True
     _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (result_path, res.Shown, res.ColourMinK, res.ColourMaxK))
     return result_path, summary
 
@@ -197,13 +198,42 @@ def simulate(analysis, json_path=None):
 EXCHANGE_FORMATS = ("nastran", "esatan", "sinda", "vtk", "csv")
 
 
-def export_for_tool(analysis, fmt, out):
+def dense_result_current(analysis):
+    """The result.json of the analysis' current (not stale) simulation on its ThermalMesh, or ''."""
+    path = analysis.ResultFile
+    if not path or not os.path.exists(path) or analysis.ThermalMesh is None:
+        return ""
+    dense = [r for r in objects.members(analysis, thermal_result.ThermalResult) if r.ResultMesh == analysis.ThermalMesh]
+    return path if dense and not dense[-1].Stale and dense[-1].ResultFile == path else ""
+
+
+def reduced_model_current(analysis):
+    """True when the analysis has a reduced model whose result is not stale (Reduce ran since
+    the last change of its inputs)."""
+    path = analysis.ReducedModelFile
+    if not path or not os.path.exists(path):
+        return False
+    reduced = [r for r in objects.members(analysis, thermal_result.ThermalResult)
+               if r.ResultMesh is not None and r.ResultMesh.Name == "ReducedMesh"]
+    return bool(reduced) and not reduced[-1].Stale
+
+
+def model_for_tools(analysis):
+    """The model Export for other tools writes: the reduced model.json when current, else the
+    dense model, exported now."""
+    if reduced_model_current(analysis):
+        return analysis.ReducedModelFile
+    return export.write_model(analysis, export.default_paths(analysis)[0])[0]
+
+
+def export_for_tool(analysis, fmt, out, model_path=None):
     """Writes the analysis for another tool (docs/exchange.md): 'nastran' (.bdf), 'esatan' (.d),
-    'sinda' (.inp), 'vtk' (out = folder, ParaView series) or 'csv' (out = prefix). The network
+    'sinda' (.inp), 'vtk' (out = folder, ParaView series) or 'csv' (out = prefix): the reduced
+    model when Reduce made a current one, else the dense model (model_for_tools). The network
     formats run the reference simulation first. Returns the files written."""
     td = core.module()
     core.require("export_model")
-    json_path, _ = export.write_model(analysis, export.default_paths(analysis)[0])
+    json_path = model_path or model_for_tools(analysis)
     _progress("exporting %s as %s" % (json_path, fmt))
     model = td.load_model(json_path)
     files = [str(f) for f in td.export_model(model, fmt, out, "model", _progress)]
@@ -245,7 +275,7 @@ def decimate(analysis, global_ratio=None, json_path=None):
     if dense:  # the dense model's simulation, node by node, on the reduced triangles
         nodes, times, T = thermal_result.matrix(dense[-1])
         thermal_result.makeResult(analysis, feature, nodes, times, T, seed=dense[-1].Seed, rays_per_face=dense[-1].RaysPerFace,
-                                  result_file=dense[-1].ResultFile, name="ReducedMeshResult")
+                                  result_file=dense[-1].ResultFile, name="ReducedMeshResult").TracksAnalysis = True
     summary.update(faces_before=int(model.mesh.num_faces), global_ratio=ratio,
                    nodes_reached=sum(1 for n in result.nodes if n.reached))
     _progress("reduced to %d faces (from %d)" % (summary["faces"], summary["faces_before"]))
@@ -285,14 +315,54 @@ def reduce(analysis, tolerance_K=None, json_path=None, plots=True, cases=()):
     _remove_mesh(analysis, "ReducedMesh")
     feature, summary = import_results(analysis, os.path.join(folder, "reduced.obj"), None, name="ReducedMesh")
     # The verified reduced model's own simulation, with the seed and rays it ran with.
-    _result_of(analysis, feature, run.reduced_result, run.reduced_model, "", name="ReducedMeshResult")
+    _result_of(analysis, feature, run.reduced_result, run.reduced_model, "", name="ReducedMeshResult").TracksAnalysis = True
     summary.update(faces_before=run.faces_before, tolerance_K=run.tolerance_K,
                    noise_floor_K=run.noise_floor_K,
                    max_temperature_difference_K=run.max_temperature_difference_K,
                    max_difference_node=run.max_difference_node, trials=run.trials,
                    cases={c.name: c.max_temperature_difference_K for c in run.cases},
                    seconds=run.seconds_total, report=os.path.join(folder, "report.json"))
+    analysis.ReducedModelFile = os.path.join(folder, "model.json")
     FreeCAD.Console.PrintMessage(td.reduction_summary(run) + "\n")
     _progress("reduced %d -> %d faces, max |dT| %.3g K (tolerance %.3g K)" % (
         run.faces_before, run.faces_after, run.max_temperature_difference_K, run.tolerance_K))
     return feature, summary
+
+
+def _result_file(analysis, mesh, result_path, model_path, name):
+    """A ThermalResult on `mesh` from a result.json written by `thermodec simulate --json`,
+    with the seed and rays per face of the model file it simulated."""
+    data = _read_json(result_path)
+    nodes, times, T = temperature_field.temperature_matrix(data)
+    radiation = _read_json(model_path).get("radiation", {})
+    res = thermal_result.makeResult(analysis, mesh, nodes, times, T, seed=radiation.get("seed"),
+                                    rays_per_face=radiation.get("rays_per_face"), result_file=result_path, name=name)
+    res.TracksAnalysis = True
+    return res
+
+
+def import_reduction(analysis, outputs, summary=""):
+    """After a Reduce job (runner.reduce_job, run by the CLI): the dense result on the
+    ThermalMesh (when the job simulated it), the reduced mesh as *ReducedMesh* with the reduced
+    model's own simulation, ReducedModelFile set, the CLI's summary in the report view.
+    Returns (feature, summary dict from report.json)."""
+    td = core.module()
+    if outputs.get("simulate_dense", True) and os.path.exists(outputs["result"]):
+        analysis.ResultFile = outputs["result"]
+        _result_file(analysis, analysis.ThermalMesh, outputs["result"], outputs["model"], "ThermalResult")
+    folder = outputs["folder"]
+    mesh_path = os.path.join(folder, "reduced.obj")
+    _remove_mesh(analysis, "ReducedMesh")
+    feature, info = _mesh_feature(analysis, td.read_mesh(mesh_path), mesh_path, None, "ReducedMesh")
+    _result_file(analysis, feature, outputs["reduced_result"], outputs["reduced_model"], "ReducedMeshResult")
+    analysis.ReducedModelFile = outputs["reduced_model"]
+    report = _read_json(os.path.join(folder, "report.json"))
+    info.update({k: report[k] for k in ("faces_before", "faces_after", "tolerance_K", "noise_floor_K",
+                                        "max_temperature_difference_K", "trials") if k in report})
+    info["report"] = os.path.join(folder, "report.json")
+    if summary:
+        FreeCAD.Console.PrintMessage(summary.rstrip() + "\n")
+    _progress("reduced %d -> %d faces, max |dT| %.3g K (tolerance %.3g K)" % (
+        info.get("faces_before", 0), info.get("faces_after", 0), info.get("max_temperature_difference_K", 0.0),
+        info.get("tolerance_K", 0.0)))
+    return feature, info

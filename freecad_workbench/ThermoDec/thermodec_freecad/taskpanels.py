@@ -23,6 +23,10 @@ def _spin(value, low, high, decimals, suffix):
     return box
 
 
+#: The last panel of each class opened (scripted GUI runs reach a panel FreeCAD shows by its class name).
+ACTIVE = {}
+
+
 class _Panel:
     def reject(self):
         FreeCADGui.Control.closeDialog()
@@ -289,3 +293,285 @@ class ResultPanel(_Panel):
         else:
             FreeCADGui.Control.closeDialog()
 
+
+
+# ---------------------------------------------------------------------------------------------
+# Environment and Reduce: values with units (Gui::QuantitySpinBox); the properties keep
+# FreeCAD quantities or SI floats, and units.py converts them for the model file.
+
+def _quantity(text, minimum=None, maximum=None):
+    """A Gui::QuantitySpinBox showing `text` (e.g. '500 km', '1361 W/m^2', '0.5 K')."""
+    import FreeCAD
+    box = FreeCADGui.UiLoader().createWidget("Gui::QuantitySpinBox")
+    if minimum is not None:
+        box.setProperty("minimum", minimum)
+    if maximum is not None:
+        box.setProperty("maximum", maximum)
+    box.setProperty("value", FreeCAD.Units.Quantity(text))
+    return box
+
+
+def quantity_value(box, unit):
+    """The value of a QuantitySpinBox in `unit` (a float)."""
+    import FreeCAD
+    return float(FreeCAD.Units.Quantity(box.property("value")).getValueAs(unit))
+
+
+def _combo(items, current):
+    box = QtGui.QComboBox()
+    box.addItems(list(items))
+    if current in items:
+        box.setCurrentIndex(list(items).index(current))
+    return box
+
+
+class EnvironmentPanel(_Panel):
+    """Orbit (altitude, inclination, RAAN, day of year, attitude, albedo, Earth IR) or fixed sun
+    (direction, flux), and the analysis type (steady / transient over the orbit)."""
+
+    def __init__(self, analysis, environment=None):
+        ACTIVE[type(self).__name__] = self
+        self.analysis, self.env = analysis, environment
+        e = environment
+        self.form = QtGui.QWidget()
+        self.form.setWindowTitle("Thermal environment")
+        layout = QtGui.QVBoxLayout(self.form)
+        top = QtGui.QFormLayout()
+        self.kind = _combo(["orbit", "fixed_sun"], e.EnvironmentType if e else "orbit")
+        top.addRow("Environment", self.kind)
+        layout.addLayout(top)
+
+        self.orbit_box = QtGui.QGroupBox("Circular orbit")
+        orbit = QtGui.QFormLayout(self.orbit_box)
+        self.altitude = _quantity(e.Altitude.UserString if e else "500 km", 0.0)
+        self.inclination = _quantity("%r deg" % (float(e.Inclination) if e else 51.6), -180.0, 180.0)
+        self.raan = _quantity("%r deg" % (float(e.RAAN) if e else 0.0), -360.0, 360.0)
+        self.day = QtGui.QSpinBox()
+        self.day.setRange(1, 366)
+        self.day.setValue(e.DayOfYear if e else 80)
+        self.attitude = _combo(["nadir", "sun", "inertial"], e.Attitude if e else "nadir")
+        self.albedo = _spin(e.Albedo if e else 0.30, 0.0, 1.0, 3, "")
+        self.earth_ir = _quantity("%r W/m^2" % (e.EarthIRFlux if e else 237.0), 0.0)
+        for label, w in (("Altitude", self.altitude), ("Inclination", self.inclination), ("RAAN", self.raan),
+                         ("Day of year (sun position)", self.day), ("Attitude", self.attitude),
+                         ("Albedo", self.albedo), ("Earth IR flux", self.earth_ir)):
+            orbit.addRow(label, w)
+        layout.addWidget(self.orbit_box)
+
+        self.sun_box = QtGui.QGroupBox("Fixed sun")
+        sun = QtGui.QFormLayout(self.sun_box)
+        d = e.SunDirection if e else None
+        self.sun = [_spin(getattr(d, c) if d else (1.0 if c == "x" else 0.0), -1.0, 1.0, 3, "") for c in "xyz"]
+        row = QtGui.QHBoxLayout()
+        for w in self.sun:
+            row.addWidget(w)
+        sun.addRow("Direction to the sun (body axes)", row)
+        self.flux = _quantity("%r W/m^2" % (e.SolarFlux if e else 1361.0), 0.0)
+        sun.addRow("Solar flux", self.flux)
+        layout.addWidget(self.sun_box)
+
+        self.analysis_box = QtGui.QGroupBox("Analysis")
+        run = QtGui.QFormLayout(self.analysis_box)
+        self.type = _combo(["steady", "transient_orbit"], analysis.AnalysisType)
+        self.steps = QtGui.QSpinBox()
+        self.steps.setRange(4, 100000)
+        self.steps.setValue(analysis.StepsPerOrbit)
+        run.addRow("Type", self.type)
+        run.addRow("Time steps per orbit", self.steps)
+        layout.addWidget(self.analysis_box)
+        self.kind.currentIndexChanged.connect(self._kind)
+        self._kind()
+
+    def _kind(self, *args):
+        orbit = self.kind.currentText() == "orbit"
+        self.orbit_box.setVisible(orbit)
+        self.sun_box.setVisible(not orbit)
+
+    def lines(self):
+        """The script lines OK runs (one transaction)."""
+        out = ["analysis = App.ActiveDocument.%s" % self.analysis.Name]
+        out.append("env = App.ActiveDocument.%s" % self.env.Name if self.env is not None
+                   else "env = tdo.makeEnvironment(analysis, %r)" % self.kind.currentText())
+        out.append("env.EnvironmentType = %r" % self.kind.currentText())
+        if self.kind.currentText() == "orbit":
+            out += ["env.Altitude = '%r km'" % quantity_value(self.altitude, "km"),
+                    "env.Inclination = %r" % quantity_value(self.inclination, "deg"),
+                    "env.RAAN = %r" % quantity_value(self.raan, "deg"),
+                    "env.DayOfYear = %d" % self.day.value(),
+                    "env.Attitude = %r" % self.attitude.currentText(),
+                    "env.Albedo = %r" % self.albedo.value(),
+                    "env.EarthIRFlux = %r" % quantity_value(self.earth_ir, "W/m^2")]
+        else:
+            out += ["env.SunDirection = App.Vector(%r, %r, %r)" % tuple(w.value() for w in self.sun),
+                    "env.SolarFlux = %r" % quantity_value(self.flux, "W/m^2")]
+        out += ["analysis.AnalysisType = %r" % self.type.currentText(),
+                "analysis.StepsPerOrbit = %d" % self.steps.value()]
+        return out
+
+    def accept(self):
+        ok = gui_actions.run("Thermal environment", self.lines())
+        if ok:
+            FreeCADGui.Control.closeDialog()
+        return ok
+
+
+class ReducePanel(_Panel):
+    """Reduce settings (tolerance, strategy, load cases, plots); OK stores them on the analysis
+    (one transaction) and starts the reduction in the background (RunPanel)."""
+
+    def __init__(self, analysis):
+        ACTIVE[type(self).__name__] = self
+        self.analysis = analysis
+        self.form, layout = _form("Reduce")
+        self.tolerance = _quantity("%r K" % analysis.ToleranceK, 0.0)
+        self.strategy = _combo(["informed", "uniform"], analysis.ReductionStrategy)
+        self.cases = QtGui.QListWidget()
+        self.cases.addItems(list(analysis.LoadCases))
+        self.cases.setMaximumHeight(90)
+        buttons = QtGui.QHBoxLayout()
+        add, remove = QtGui.QPushButton("Add case..."), QtGui.QPushButton("Remove")
+        add.clicked.connect(self._add_case)
+        remove.clicked.connect(lambda: [self.cases.takeItem(self.cases.row(i)) for i in self.cases.selectedItems()])
+        buttons.addWidget(add)
+        buttons.addWidget(remove)
+        self.plots = QtGui.QCheckBox("write the core's PNG plots")
+        self.plots.setChecked(True)
+        layout.addRow("Temperature tolerance", self.tolerance)
+        layout.addRow("Strategy", self.strategy)
+        layout.addRow("Load cases", self.cases)
+        layout.addRow("", buttons)
+        layout.addRow("", self.plots)
+        note = QtGui.QLabel("Runs `thermodec reduce` in the background: the dense model is simulated, "
+                            "reduced to the tolerance (max |dT| over nodes and the orbit, verified by a "
+                            "full recompute) and the reduced model simulated. Cancel stops it.")
+        note.setWordWrap(True)
+        layout.addRow(note)
+
+    def _add_case(self):
+        paths, _ = QtGui.QFileDialog.getOpenFileNames(FreeCADGui.getMainWindow(), "Load case", "",
+                                                      "Load case (*.json)")
+        self.cases.addItems(paths)
+
+    def settings_lines(self):
+        cases = [self.cases.item(k).text() for k in range(self.cases.count())]
+        return ["analysis = App.ActiveDocument.%s" % self.analysis.Name,
+                "analysis.ToleranceK = %r" % quantity_value(self.tolerance, "K"),
+                "analysis.ReductionStrategy = %r" % self.strategy.currentText(),
+                "analysis.LoadCases = %r" % cases]
+
+    def accept(self):
+        if not gui_actions.run("Reduce settings", self.settings_lines()):
+            return False
+        FreeCADGui.Control.closeDialog()
+        start_reduce(self.analysis, plots=self.plots.isChecked())
+        return True
+
+
+def start_reduce(analysis, plots=True):
+    """Exports the analysis and runs the Reduce job in the background with a RunPanel.
+    Returns the panel (or None when the job could not start: the error is shown)."""
+    from . import runner
+    try:
+        job = runner.reduce_job(analysis, plots=plots)
+    except Exception as e:
+        gui_actions.error(e)
+        return None
+    finish = ["analysis = App.ActiveDocument.%s" % analysis.Name, "import thermodec_freecad.results as tdresults",
+              "tdresults.import_reduction(analysis, %r)" % job.outputs]
+    return _start(job, finish, "Import reduced model")
+
+
+def start_export(analysis, fmt, out):
+    from . import runner
+    try:
+        job = runner.export_job(analysis, fmt, out)
+    except Exception as e:
+        gui_actions.error(e)
+        return None
+    return _start(job, [], "")
+
+
+def _start(job, finish_lines, finish_title):
+    panel = RunPanel(job, finish_lines, finish_title)
+    if FreeCADGui.Control.activeDialog():
+        FreeCADGui.Control.closeDialog()
+    FreeCADGui.Control.showDialog(panel)
+    panel.start()
+    return panel
+
+
+class RunPanel:
+    """A background job (runner.Runner): step k of n, elapsed time, the CLI's output lines and
+    Cancel. FreeCAD stays usable meanwhile. On success the finish lines import the results in
+    one transaction; the output goes to the report view."""
+
+    def __init__(self, job, finish_lines, finish_title):
+        ACTIVE[type(self).__name__] = self
+        from . import runner
+        self.job, self.finish_lines, self.finish_title = job, finish_lines, finish_title
+        self.form = QtGui.QWidget()
+        self.form.setWindowTitle(job.title)
+        layout = QtGui.QVBoxLayout(self.form)
+        self.step = QtGui.QLabel()
+        self.step.setWordWrap(True)
+        self.bar = QtGui.QProgressBar()
+        self.bar.setRange(0, len(job.steps))
+        self.bar.setFormat("step %v of %m")
+        self.elapsed = QtGui.QLabel()
+        self.log = QtGui.QPlainTextEdit()
+        self.log.setReadOnly(True)
+        self.log.setMinimumHeight(260)
+        self.log.setLineWrapMode(QtGui.QPlainTextEdit.NoWrap)
+        self.cancel_button = QtGui.QPushButton("Cancel")
+        for w in (self.step, self.bar, self.elapsed, self.cancel_button, self.log):
+            layout.addWidget(w)
+        self.runner = runner.Runner(job, self._line, self._done)
+        self.cancel_button.clicked.connect(self.runner.cancel)
+        self.timer = QtCore.QTimer()
+        self.timer.timeout.connect(self._tick)
+        self.done, self.ok, self.message = False, False, ""
+
+    def start(self):
+        self.timer.start(500)
+        self.runner.start()
+
+    def _tick(self):
+        import time
+        self.elapsed.setText("%.0f s" % (time.monotonic() - self.runner.started))
+
+    def _line(self, text):
+        self.log.appendPlainText(text)
+        if text.startswith("[") and "/" in text.split("]")[0]:
+            self.step.setText(text)
+            self.bar.setValue(self.runner.index)
+        gui_actions.status("ThermoDec: %s" % text[:160])
+
+    def _done(self, ok, message):
+        import FreeCAD
+        self.timer.stop()
+        self._tick()
+        self.bar.setValue(len(self.job.steps) if ok else self.runner.index)
+        FreeCAD.Console.PrintMessage("ThermoDec: %s\n%s\n" % (
+            message, "\n".join(self.log.toPlainText().splitlines()[-30:])))
+        if ok and self.finish_lines:
+            ok = gui_actions.run(self.finish_title, self.finish_lines)
+        self.done, self.ok, self.message = True, ok, message
+        self.cancel_button.setEnabled(False)
+        self.step.setText(message)
+        gui_actions.status("ThermoDec: %s" % message)
+        if not ok and not self.runner.cancelled:
+            FreeCAD.Console.PrintError("ThermoDec: %s\n" % message)
+
+    def getStandardButtons(self):
+        return int(QtGui.QDialogButtonBox.Close)
+
+    def reject(self):
+        """Close: cancels a running job (the process is killed), else closes the panel."""
+        if not self.done:
+            self.runner.cancel()
+            return False
+        FreeCADGui.Control.closeDialog()
+        return True
+
+    def accept(self):
+        return self.reject()

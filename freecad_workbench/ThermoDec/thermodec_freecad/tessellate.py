@@ -225,6 +225,14 @@ class ThermalMesh(objects._Proxy):
     """Dense mesh with per-triangle node and material (indices into NodeNames/MaterialNames)."""
     Type = "ThermoDec::ThermalMesh"
 
+    def onChanged(self, obj, prop):
+        # Re-tessellated (its tags rewritten): the analysis' results are of the old mesh.
+        # Colours and shown temperatures are outputs.
+        if prop in ("FaceNode", "FaceMaterial") and not obj.Document.Restoring:
+            analysis = objects.find_analysis(obj)
+            if analysis is not None and analysis.ThermalMesh == obj:
+                objects.stale(analysis, "'%s' was tessellated again" % obj.Label)
+
     def setup(self, obj):
         g = "Thermal tags"
         objects._add(obj, "App::PropertyIntegerList", "FaceNode", g, "Node index per triangle")

@@ -31,8 +31,13 @@ class ThermalResult(objects._Proxy):
                      "Node temperatures [K], node after node, one value per time")
         objects._add(obj, "App::PropertyInteger", "Seed", g, "Monte Carlo seed the simulation used")
         objects._add(obj, "App::PropertyInteger", "RaysPerFace", g, "Rays per face the simulation used")
-        for name in ("TimesS", "TemperaturesK", "Seed", "RaysPerFace", "NodeNames"):
+        objects._add(obj, "App::PropertyBool", "TracksAnalysis", g,
+                     "Simulated from the analysis' inputs (goes stale when they change)", False)
+        objects._add(obj, "App::PropertyBool", "Stale", g, "An input changed since this result was computed", False)
+        objects._add(obj, "App::PropertyString", "StaleReason", g, "The first input change since the result")
+        for name in ("TimesS", "TemperaturesK", "Seed", "RaysPerFace", "NodeNames", "Stale", "StaleReason"):
             obj.setEditorMode(name, 1)
+        obj.setEditorMode("TracksAnalysis", 2)
         g = "Display"
         objects._add(obj, "App::PropertyEnumeration", "Field", g,
                      "What the mesh shows: each node's min, mean or max over the orbit, or one time step")
@@ -45,6 +50,9 @@ class ThermalResult(objects._Proxy):
         objects._add(obj, "App::PropertyString", "Shown", g, "The field shown, in words")
         for name in ("ColourMinK", "ColourMaxK", "Shown"):
             obj.setEditorMode(name, 1)
+
+    def onChanged(self, obj, prop):
+        pass  # a result is an output: showing another field leaves the others current
 
     def execute(self, obj):
         show(obj)
@@ -141,3 +149,19 @@ def set_field(obj, field_value):
         obj.TimeStep = k
     obj.recompute()
     return obj
+
+
+STALE_SUFFIX = " (stale)"
+
+
+def mark_stale(result, reason):
+    """Marks a result computed from the analysis' inputs as out of date: Stale, the reason, and
+    " (stale)" after its label in the tree."""
+    if result.Stale or not result.TracksAnalysis:
+        return
+    result.Stale = True
+    result.StaleReason = reason
+    if not result.Label.endswith(STALE_SUFFIX):
+        result.Label = result.Label + STALE_SUFFIX
+    FreeCAD.Console.PrintWarning("ThermoDec: result '%s' is stale: %s; simulate (or reduce) again\n"
+                                 % (result.Label, reason))

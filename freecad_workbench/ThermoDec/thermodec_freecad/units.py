@@ -15,6 +15,13 @@ def length_m(value):
     return float(value) * MM_TO_M
 
 
+def area_m2(value_mm2):
+    """A FreeCAD area (Part face Area, in mm^2) in m^2."""
+    if hasattr(value_mm2, "getValueAs"):
+        return float(value_mm2.getValueAs("m^2"))
+    return float(value_mm2) * MM_TO_M * MM_TO_M
+
+
 def length_km(value):
     return length_m(value) * 1e-3
 

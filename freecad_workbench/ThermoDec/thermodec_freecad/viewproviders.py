@@ -36,6 +36,32 @@ class ViewProvider:
     dumps = __getstate__
     loads = __setstate__
 
+    def _panel(self, vobj):
+        """The task panel that edits this object, or None (environments: EnvironmentPanel)."""
+        from . import objects, taskpanels
+        obj = vobj.Object
+        if objects.is_type(obj, objects.Environment):
+            return taskpanels.EnvironmentPanel(objects.find_analysis(obj), obj)
+        return None
+
+    def setEdit(self, vobj, mode=0):
+        if mode != 0:
+            return None
+        panel = self._panel(vobj)
+        if panel is None:
+            return None  # FreeCAD's default edit
+        import FreeCADGui
+        FreeCADGui.Control.showDialog(panel)
+        return True
+
+    def unsetEdit(self, vobj, mode=0):
+        from . import objects
+        if mode != 0 or not objects.is_type(vobj.Object, objects.Environment):
+            return None
+        import FreeCADGui
+        FreeCADGui.Control.closeDialog()
+        return True
+
 
 class ViewProviderThermalMesh(ViewProvider):
     def __init__(self, vobj):

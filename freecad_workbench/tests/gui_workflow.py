@@ -1,0 +1,256 @@
+"""GUI test: a user's whole flow through the ThermoDec workbench in the real FreeCAD, under Xvfb.
+
+  THERMODEC_PYTHON_DIR=build/python THERMODEC_GUI_OUTPUT=/tmp/gui QTWEBENGINE_DISABLE_SANDBOX=1 \
+      xvfb-run -a -s '-screen 0 1600x1000x24' freecad freecad_workbench/tests/gui_workflow.py \
+      -M freecad_workbench/ThermoDec
+
+Import STEP (command, file dialog answered) -> automatic nodes per face (command: default panel
+heat capacity and edge links) -> material (task panel) -> environment (task panel) ->
+tessellate (task panel) -> simulate (command) -> reduce (task panel, run in the background
+while the GUI keeps processing events; progress panel) -> plots (dock) -> export the reduced
+model for NASTRAN (command, in the background) -> an edit marks the results stale -> save
+elsewhere and reopen. Screenshots (`import -window root`) of each stage go to
+THERMODEC_GUI_OUTPUT. `freecad script.py` exits 0 whatever happens, so the script writes DONE
+or FAILED and the traceback to status.txt there and leaves with os._exit.
+"""
+
+import os
+import sys
+import time
+import traceback
+
+import FreeCAD as App
+import FreeCADGui as Gui
+
+OUT = os.path.abspath(os.environ.get("THERMODEC_GUI_OUTPUT", "thermodec_gui_workflow"))
+LOG = []
+
+
+def note(text):
+    LOG.append(text)
+    App.Console.PrintMessage("gui_workflow: %s\n" % text)
+
+
+def events(n=5):
+    from PySide import QtGui
+    for _ in range(n):
+        QtGui.QApplication.processEvents()
+
+
+def screenshot(name):
+    """The whole screen (`import -window root`, ImageMagick: a Qt grab leaves the 3D view blank)."""
+    import subprocess
+    events(10)
+    subprocess.run(["import", "-window", "root", os.path.join(OUT, name + ".png")], check=True)
+
+
+def wait_for(panel, timeout_s, shot=None):
+    """Lets the event loop run until the background job of a RunPanel ends; the GUI stays live
+    meanwhile (counted: event-loop turns while the job runs). Optionally a screenshot mid-run."""
+    from PySide import QtGui
+    start, turns, shot_taken = time.monotonic(), 0, False
+    while not panel.done:
+        QtGui.QApplication.processEvents()
+        turns += 1
+        time.sleep(0.02)
+        if shot and not shot_taken and time.monotonic() - start > 4:
+            screenshot(shot)
+            shot_taken = True
+        if time.monotonic() - start > timeout_s:
+            panel.runner.cancel()
+            raise RuntimeError("%s still running after %d s" % (panel.job.title, timeout_s))
+    note("%s: %s (%d event-loop turns while it ran, %.0f s)" % (panel.job.title, panel.message, turns,
+                                                             time.monotonic() - start))
+    if not panel.ok:
+        raise RuntimeError(panel.message)
+    return turns
+
+
+def patch_dialogs(open_file=None, save_file=None, item=None):
+    """Answers the next file / item dialogs the way a user would."""
+    from PySide import QtGui
+    if open_file:
+        QtGui.QFileDialog.getOpenFileName = staticmethod(lambda *a, **k: (open_file, ""))
+    if save_file:
+        QtGui.QFileDialog.getSaveFileName = staticmethod(lambda *a, **k: (save_file, ""))
+    if item:
+        QtGui.QInputDialog.getItem = staticmethod(lambda *a, **k: (item, True))
+
+
+def make_step(path):
+    """A two-solid box satellite as a STEP file: a 1 m body and a 0.4 m box on its +Z face."""
+    import Part
+    from FreeCAD import Vector
+    shape = Part.makeCompound([Part.makeBox(1000, 1000, 1000, Vector(-500, -500, -500)),
+                               Part.makeBox(400, 400, 400, Vector(-200, -200, 520))])
+    shape.exportStep(path)
+
+
+def main():
+    import thermodec
+    from thermodec_freecad import gui_actions, objects, plots, taskpanels, thermal_result
+    from PySide import QtCore, QtGui
+    gui_actions.SHOW_DIALOGS = False
+    os.makedirs(OUT, exist_ok=True)
+    window = Gui.getMainWindow()
+    window.showMaximized()
+    Gui.activateWorkbench("ThermoDecWorkbench")
+    os.makedirs(os.path.join(OUT, "work"), exist_ok=True)
+    os.chdir(os.path.join(OUT, "work"))
+    step = os.path.join(OUT, "two_box_sat.step")
+    make_step(step)
+
+    # 1. Import STEP (the command; its file dialog answered).
+    doc = App.newDocument("TwoBoxSat")
+    patch_dialogs(open_file=step)
+    Gui.runCommand("ThermoDec_ImportStep")
+    sat = [o for o in doc.Objects if o.TypeId == "Part::Feature"][0]
+    assert len(sat.Shape.Solids) == 2, "STEP import"
+    note("imported %s: %d solids, %d faces" % (step, len(sat.Shape.Solids), len(sat.Shape.Faces)))
+
+    # 2. Analysis and automatic nodes per face (default panel capacity and edge links).
+    Gui.runCommand("ThermoDec_Analysis")
+    analysis = gui_actions.active_analysis(doc)
+    assert not analysis.OutputDirectory  # outputs beside the document; unsaved: in the working folder
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(sat)
+    Gui.runCommand("ThermoDec_AutoNodesPerFace")
+    nodes = objects.members(analysis, objects.ThermalNode)
+    links = objects.members(analysis, objects.Conductance)
+    assert len(nodes) == 12 and all(n.Capacitance > 0 for n in nodes), "automatic nodes"
+    note("%d nodes (%.0f .. %.0f J/K), %d links" % (len(nodes), min(n.Capacitance for n in nodes),
+                                                   max(n.Capacitance for n in nodes), len(links)))
+
+    # 3. Material through its task panel: white paint on every node.
+    Gui.Selection.clearSelection()
+    panel = taskpanels.MaterialPanel(analysis, [], nodes)
+    Gui.Control.showDialog(panel)
+    panel.choice.setCurrentIndex(sorted(objects.coatings.COATINGS).index("white_paint"))
+    assert panel.accept(), "material"
+
+    # 4. Environment through its task panel (the command opens it): a transient orbit.
+    Gui.runCommand("ThermoDec_Environment")
+    panel = Gui.Control.activeDialog() and _active_panel(taskpanels.EnvironmentPanel)
+    panel.altitude.setProperty("value", App.Units.Quantity("600 km"))
+    panel.inclination.setProperty("value", App.Units.Quantity("98 deg"))
+    panel.type.setCurrentIndex(1)  # transient_orbit
+    panel.steps.setValue(24)
+    events()
+    screenshot("environment_panel")
+    assert panel.accept(), "environment"
+    env = objects.members(analysis, objects.Environment)[0]
+    assert abs(env.Altitude.getValueAs("km") - 600) < 1e-9 and analysis.AnalysisType == "transient_orbit"
+    analysis.RaysPerFace = 100
+
+    # 5. Tessellate through its task panel.
+    panel = taskpanels.TessellatePanel(analysis)
+    Gui.Control.showDialog(panel)
+    panel.length.setValue(250.0)
+    assert panel.accept(), "tessellate"
+    sat.ViewObject.Visibility = False
+    analysis.ThermalMesh.ViewObject.DisplayMode = "Flat Lines"
+    Gui.activeDocument().activeView().viewIsometric()
+    Gui.SendMsgToActiveView("ViewFit")
+    screenshot("tessellated")
+
+    # 6. Simulate (command).
+    Gui.runCommand("ThermoDec_Simulate")
+    dense = plots._result_on(analysis, "ThermalMesh")
+    assert dense is not None and not dense.Stale, "simulate"
+    _, _, T = thermal_result.matrix(dense)
+    note("simulated: %d triangles, %.1f .. %.1f K" % (analysis.ThermalMesh.Mesh.CountFacets, T.min(), T.max()))
+    assert T.min() > 100.0, "a node below 100 K"
+
+    # 7. Reduce through its task panel: runs in the background with a progress panel.
+    Gui.runCommand("ThermoDec_Reduce")
+    panel = _active_panel(taskpanels.ReducePanel)
+    panel.tolerance.setProperty("value", App.Units.Quantity("3 K"))
+    screenshot("reduce_panel")
+    assert panel.accept(), "reduce settings"
+    run_panel = _active_panel(taskpanels.RunPanel)
+    turns = wait_for(run_panel, 420, shot="reduce_running")
+    assert turns > 50, "the GUI did not process events while reducing"
+    screenshot("reduce_done")
+    Gui.Control.closeDialog()
+    reduced = doc.getObject("ReducedMesh")
+    assert reduced is not None and analysis.ReducedModelFile, "reduced model imported"
+    analysis.ThermalMesh.ViewObject.Visibility = False
+    reduced.ViewObject.DisplayMode = "Flat Lines"
+    Gui.SendMsgToActiveView("ViewFit")
+    note("reduced: %d -> %d triangles" % (analysis.ThermalMesh.Mesh.CountFacets, reduced.Mesh.CountFacets))
+
+    # 8. Plots (command): a dock with temperatures over the orbit and the sensitivity curves.
+    Gui.runCommand("ThermoDec_Plots")
+    dock = window.findChild(QtGui.QDockWidget, plots.DOCK_NAME)
+    assert dock is not None and dock.isVisible(), "plot dock"
+    combo = dock.findChild(QtGui.QComboBox)
+    combo.setCurrentIndex(1)  # the first node: original vs reduced
+    screenshot("plots_temperatures")
+    dock.findChild(QtGui.QTabWidget).setCurrentIndex(1)
+    screenshot("plots_sensitivity")
+    dock.findChild(QtGui.QTabWidget).setCurrentIndex(0)
+
+    # 9. Export for other tools (command): the reduced model, in the background.
+    bdf = os.path.join(OUT, "export", "reduced.bdf")
+    os.makedirs(os.path.dirname(bdf), exist_ok=True)
+    patch_dialogs(save_file=bdf, item="nastran")
+    Gui.runCommand("ThermoDec_ExportTool")
+    wait_for(_active_panel(taskpanels.RunPanel), 240)
+    Gui.Control.closeDialog()
+    back = thermodec.load_model(bdf)
+    assert back.mesh.num_faces == reduced.Mesh.CountFacets, "export wrote %d faces, reduced mesh has %d" % (
+        back.mesh.num_faces, reduced.Mesh.CountFacets)
+    note("exported %s: %d faces (the reduced model)" % (bdf, back.mesh.num_faces))
+
+    # 10. Save elsewhere with the default output folder: the outputs follow; reopen.
+    saved = os.path.join(OUT, "saved", "two_box_sat.FCStd")
+    os.makedirs(os.path.dirname(saved), exist_ok=True)
+    doc.saveAs(saved)
+    name = doc.Name
+    App.closeDocument(name)
+    doc = App.openDocument(saved)
+    events(20)
+    analysis = [o for o in doc.Objects if objects.is_type(o, objects.ThermalAnalysis)][0]
+    for prop in ("ModelFile", "ResultFile", "ReducedModelFile"):
+        path = getattr(analysis, prop)
+        assert path.startswith(os.path.dirname(saved)) and os.path.exists(path), "%s = %s" % (prop, path)
+    results = objects.members(analysis, thermal_result.ThermalResult)
+    assert len(results) == 2 and not any(r.Stale for r in results), [(r.Label, r.Stale) for r in results]
+    Gui.activeDocument().activeView().viewIsometric()
+    Gui.SendMsgToActiveView("ViewFit")
+    screenshot("reopened")
+    note("saved and reopened %s: paths beside it, %d results current" % (saved, len(results)))
+
+    # 11. An input edit marks the results stale (labels in the tree say so).
+    node = objects.members(analysis, objects.ThermalNode)[0]
+    node.Capacitance = node.Capacitance * 2
+    assert all(r.Stale and r.Label.endswith("(stale)") for r in objects.members(analysis, thermal_result.ThermalResult))
+    screenshot("stale")
+    note("capacitance edited: results marked stale")
+
+
+def _active_panel(cls):
+    """The task panel of class `cls` shown now (FreeCAD hands back only its form)."""
+    from thermodec_freecad import taskpanels
+    panel = taskpanels.ACTIVE.get(cls.__name__)
+    if panel is None:
+        raise RuntimeError("no %s open" % cls.__name__)
+    return panel
+
+
+def run():
+    status = os.path.join(OUT, "status.txt")
+    os.makedirs(OUT, exist_ok=True)
+    try:
+        main()
+        text, code = "DONE\n", 0
+    except Exception:
+        text, code = "FAILED\n" + traceback.format_exc(), 1
+        traceback.print_exc()
+    with open(status, "w") as f:
+        f.write(text + "\n".join(LOG) + "\n")
+    sys.stdout.flush()
+    os._exit(code)
+
+
+run()
