@@ -93,7 +93,8 @@ def main():
     material_to("white_paint", nodes=[])  # creates the material...
     analysis.DefaultMaterial = [m for m in objects.members(analysis, objects.ThermalMaterial)
                                 if m.Coating == "white_paint"][0]  # ...and makes it the default
-    Gui.runCommand("ThermoDec_Environment")
+    Gui.runCommand("ThermoDec_Environment")  # opens the environment panel: the default orbit
+    assert taskpanels.ACTIVE["EnvironmentPanel"].accept(), "environment"
     if REDUCE:
         analysis.RaysPerFace = 400
 
@@ -123,8 +124,10 @@ def main():
         raise RuntimeError("simulation did not run (is the thermodec module on THERMODEC_PYTHON_DIR?)")
     screenshot("simulated_dense")
     if REDUCE:  # the simulation-driven reduction (Reduce command, no dialog)
-        analysis.ToleranceK = 1.0
-        Gui.runCommand("ThermoDec_Reduce")
+        analysis.ToleranceK = 1.0  # in-process here; the Reduce command runs it in the background
+        assert gui_actions.run("Reduce", ["analysis = App.ActiveDocument.%s" % analysis.Name,
+                                          "import thermodec_freecad.results as tdresults",
+                                          "tdresults.reduce(analysis)"]), "reduce"
     else:  # quick: decimation to a fixed ratio
         assert gui_actions.run("Decimate", ["analysis = App.ActiveDocument.%s" % analysis.Name,
                                          "analysis.GlobalRatio = 0.9",

@@ -16,8 +16,8 @@ import numpy as np
 import FreeCAD
 from FreeCAD import Vector
 
-from thermodec_freecad import (coatings, export, objects, references, results, sample, temperature_field,
-                               tessellate, thermal_result)
+from thermodec_freecad import (coatings, export, objects, plots, references, results, runner, sample,
+                               temperature_field, tessellate, thermal_result)
 from thermodec_freecad.errors import ThermoDecError
 
 try:
@@ -235,7 +235,7 @@ class SampleSatellite(_DocTest):
         self.assertEqual(data["_material_sources"]["solar_cell"], coatings.coating("solar_cell")[2])
         self.assertEqual(data["environment"]["type"], "orbit")
         self.assertAlmostEqual(data["environment"]["altitude_km"], 600.0)
-        self.assertEqual(len(data["conductances"]), 4)
+        self.assertEqual(len(data["conductances"]), 4 + 12)  # hinges, mounts; the body box's 12 edges
         V = np.array([[float(x) for x in line.split()[1:]] for line in open(mesh_path)
                       if line.startswith("v ")])
         # mm -> m: the wings reach y = +-2400 mm.
@@ -315,7 +315,7 @@ class SampleSatellite(_DocTest):
         self.assertEqual(body_px.power_W, 40.0)
         self.assertEqual(body_px.capacitance_J_per_K, 8000.0)
         self.assertEqual(model.materials[body_px.material].name, "mli_outer_layer")
-        self.assertEqual(len(model.conductances), 4)
+        self.assertEqual(len(model.conductances), 4 + 12)
         self.assertEqual(model.environment.type, thermodec.EnvironmentType.orbit)
         self.assertAlmostEqual(model.environment.altitude_km, 600.0)
         self.assertAlmostEqual(model.environment.inclination_deg, 98.0)
@@ -604,6 +604,36 @@ class CoreRuns(_DocTest):
         results.decimate(self.analysis, 0.5)  # a second run replaces the mesh and its result
         self.assertEqual(len([r for r in objects.members(self.analysis, thermal_result.ThermalResult)
                               if r.ResultMesh is None or r.ResultMesh.Name == "ReducedMesh"]), 1)
+
+    def test_reduce_job_runs_the_cli_and_export_writes_the_reduced_model_until_an_input_changes(self):
+        objects.members(self.analysis, objects.Environment)[0].EnvironmentType = "fixed_sun"
+        self.analysis.RaysPerFace = 100
+        self.analysis.MaxEdgeLength = "500 mm"
+        job = runner.reduce_job(self.analysis, tolerance_K=5.0, plots=False)
+        self.assertEqual([argv[1] for _, argv in job.steps], ["simulate", "reduce", "simulate"])
+        runner.run_blocking(job)  # what the GUI's RunPanel runs with QProcess
+        feature, info = results.import_reduction(self.analysis, job.outputs)
+        self.assertEqual(info["faces_after"], feature.Mesh.CountFacets)
+        self.assertLessEqual(info["max_temperature_difference_K"], 5.0)
+        series = plots.orbit_series(self.analysis)  # the plot dock's data: original and reduced
+        self.assertEqual(series["reduced"].shape, series["dense"].shape)
+        # `thermodec simulate` of each model, seed for seed: within the tolerance the reduction verified
+        self.assertLessEqual(float(np.abs(series["reduced"] - series["dense"]).max()), 5.0)
+        tolerance, curves = plots.sensitivity_curves(plots.report_path(self.analysis))
+        self.assertEqual((tolerance, len(curves)), (5.0, len(self.analysis.ThermalMesh.NodeNames)))
+        self.assertEqual(results.model_for_tools(self.analysis), job.outputs["reduced_model"])
+        out = os.path.join(self.analysis.OutputDirectory, "reduced.bdf")
+        runner.run_blocking(runner.export_job(self.analysis, "nastran", out))
+        self.assertEqual(thermodec.load_model(out).mesh.num_faces, feature.Mesh.CountFacets)
+        self.assertEqual([argv[1] for _, argv in runner.reduce_job(self.analysis).steps], ["reduce", "simulate"],
+                         [(r.Label, r.StaleReason, r.ResultFile, self.analysis.ResultFile) for r in
+                          objects.members(self.analysis, thermal_result.ThermalResult)])  # the dense result is current
+        node = objects.members(self.analysis, objects.ThermalNode)[0]
+        node.Power = node.Power + 1.0  # an input changes: every result is stale, the dense model exported
+        shown = objects.members(self.analysis, thermal_result.ThermalResult)
+        self.assertTrue(all(r.Stale and r.Label.endswith("(stale)") for r in shown))
+        self.assertIn("Power of '%s' changed" % node.Label, shown[0].StaleReason)
+        self.assertEqual(results.model_for_tools(self.analysis), self.analysis.ModelFile)
 
     def test_reduction_meets_its_tolerance_and_writes_the_core_outputs(self):
         # Fixed sun and few rays keep this fast (the orbit case takes ~1 min: see docs/freecad.md).

@@ -77,6 +77,14 @@ def patch_dialogs(open_file=None, save_file=None, item=None):
         QtGui.QInputDialog.getItem = staticmethod(lambda *a, **k: (item, True))
 
 
+def wide_combo_view(window):
+    """The Combo View (tree and task panels) wide enough for the panels' values and units."""
+    from PySide import QtCore, QtGui
+    docks = [d for d in window.findChildren(QtGui.QDockWidget) if d.windowTitle() == "Combo View"]
+    window.resizeDocks(docks, [430] * len(docks), QtCore.Qt.Horizontal)
+    events()
+
+
 def make_step(path):
     """A two-solid box satellite as a STEP file: a 1 m body and a 0.4 m box on its +Z face."""
     import Part
@@ -106,6 +114,9 @@ def main():
     Gui.runCommand("ThermoDec_ImportStep")
     sat = [o for o in doc.Objects if o.TypeId == "Part::Feature"][0]
     assert len(sat.Shape.Solids) == 2, "STEP import"
+    wide_combo_view(window)
+    Gui.activeDocument().activeView().viewIsometric()
+    Gui.SendMsgToActiveView("ViewFit")
     note("imported %s: %d solids, %d faces" % (step, len(sat.Shape.Solids), len(sat.Shape.Faces)))
 
     # 2. Analysis and automatic nodes per face (default panel capacity and edge links).
@@ -167,6 +178,7 @@ def main():
     panel.tolerance.setProperty("value", App.Units.Quantity("3 K"))
     screenshot("reduce_panel")
     assert panel.accept(), "reduce settings"
+    wide_combo_view(window)  # the progress log readable
     run_panel = _active_panel(taskpanels.RunPanel)
     turns = wait_for(run_panel, 420, shot="reduce_running")
     assert turns > 50, "the GUI did not process events while reducing"
@@ -181,8 +193,12 @@ def main():
 
     # 8. Plots (command): a dock with temperatures over the orbit and the sensitivity curves.
     Gui.runCommand("ThermoDec_Plots")
+    events(10)
     dock = window.findChild(QtGui.QDockWidget, plots.DOCK_NAME)
-    assert dock is not None and dock.isVisible(), "plot dock"
+    if dock is None:  # the command failed: show why
+        plots.PlotDock(analysis)
+        raise RuntimeError("the Thermal plots command opened no dock")
+    assert dock.isVisible(), "plot dock"
     combo = dock.findChild(QtGui.QComboBox)
     combo.setCurrentIndex(1)  # the first node: original vs reduced
     screenshot("plots_temperatures")
@@ -216,8 +232,12 @@ def main():
         assert path.startswith(os.path.dirname(saved)) and os.path.exists(path), "%s = %s" % (prop, path)
     results = objects.members(analysis, thermal_result.ThermalResult)
     assert len(results) == 2 and not any(r.Stale for r in results), [(r.Label, r.Stale) for r in results]
+    analysis.ThermalMesh.ViewObject.Visibility = False
     Gui.activeDocument().activeView().viewIsometric()
     Gui.SendMsgToActiveView("ViewFit")
+    Gui.runCommand("ThermoDec_Plots")  # the reopened results, plotted again
+    Gui.Selection.addSelection(doc.Name, results[-1].Name)  # expands the analysis in the tree
+    events(10)
     screenshot("reopened")
     note("saved and reopened %s: paths beside it, %d results current" % (saved, len(results)))
 

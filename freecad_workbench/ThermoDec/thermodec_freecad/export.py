@@ -22,7 +22,7 @@ def _environment(env):
         d = env.SunDirection
         if d.Length == 0:
             raise ThermoDecError("environment '%s': SunDirection is the zero vector" % env.Label)
-        d = d.normalize() if hasattr(d, "normalize") else d
+        d = FreeCAD.Vector(d).normalize()  # a copy: the property is left as it is
         return {"type": "fixed_sun", "sun_direction": [d.x, d.y, d.z], "solar_flux": env.SolarFlux}
     return {"type": "orbit", "altitude_km": units.length_km(env.Altitude),
             "inclination_deg": units.angle_deg(env.Inclination), "raan_deg": units.angle_deg(env.RAAN),

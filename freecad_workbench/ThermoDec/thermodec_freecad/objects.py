@@ -42,7 +42,8 @@ class _Proxy:
         self.setup(obj)  # adds properties introduced by newer versions
 
     def onChanged(self, obj, prop):
-        if prop not in self.NOT_INPUTS and not obj.Document.Restoring and "Restore" not in obj.State:
+        if prop not in self.NOT_INPUTS and not prop.startswith("_") and not obj.Document.Restoring \
+                and "Restore" not in obj.State:
             stale(find_analysis(obj) if not is_type(obj, ThermalAnalysis) else obj,
                   "%s of '%s' changed" % (prop, obj.Label))
 

@@ -115,6 +115,8 @@ def draw_sensitivity(figure, tolerance_K, curves):
 # GUI
 
 DOCK_NAME = "ThermoDecPlots"
+#: The dock shown (its Python side must outlive the command that made it: its slots live here).
+_current = None
 
 
 class PlotDock:
@@ -131,6 +133,7 @@ class PlotDock:
         old = window.findChild(QtGui.QDockWidget, DOCK_NAME)
         if old is not None:
             window.removeDockWidget(old)
+            old.setObjectName("")
             old.deleteLater()
         self.dock = QtGui.QDockWidget("ThermoDec plots", window)
         self.dock.setObjectName(DOCK_NAME)
@@ -150,8 +153,13 @@ class PlotDock:
         self.dock.setWidget(tabs)
         self.dock.setMinimumWidth(480)
         window.addDockWidget(QtCore.Qt.RightDockWidgetArea, self.dock)
+        self.dock.setFloating(False)
+        self.dock.show()
+        self.dock.raise_()
         self.node.currentIndexChanged.connect(self._draw_orbit)
         self.refresh()
+        global _current
+        _current = self
 
     def refresh(self):
         self.series = orbit_series(self.analysis)

@@ -26,10 +26,12 @@ def cli_path():
         tried.append(env)
     try:
         module_dir = os.path.dirname(os.path.abspath(core.module().__file__))
-        candidate = os.path.join(module_dir, os.pardir, "core", "thermodec")
-        if os.access(candidate, os.X_OK):
-            return os.path.normpath(candidate)
-        tried.append(os.path.normpath(candidate))
+        # build tree: build/python + build/core; installed: <prefix>/share/freecad/Mod/ThermoDec + <prefix>/bin
+        for candidate in (os.path.join(module_dir, os.pardir, "core", "thermodec"),
+                          os.path.join(module_dir, os.pardir, os.pardir, os.pardir, os.pardir, "bin", "thermodec")):
+            if os.access(candidate, os.X_OK):
+                return os.path.normpath(candidate)
+            tried.append(os.path.normpath(candidate))
     except ThermoDecError:
         pass
     found = shutil.which("thermodec")

@@ -460,10 +460,11 @@ class ReducePanel(_Panel):
                 "analysis.LoadCases = %r" % cases]
 
     def accept(self):
+        plots = self.plots.isChecked()  # the form is gone once the dialog closes
         if not gui_actions.run("Reduce settings", self.settings_lines()):
             return False
         FreeCADGui.Control.closeDialog()
-        start_reduce(self.analysis, plots=self.plots.isChecked())
+        start_reduce(self.analysis, plots=plots)
         return True
 
 
@@ -516,12 +517,12 @@ class RunPanel:
         self.step.setWordWrap(True)
         self.bar = QtGui.QProgressBar()
         self.bar.setRange(0, len(job.steps))
-        self.bar.setFormat("step %v of %m")
+        self.bar.setFormat("%v of %m steps done")
         self.elapsed = QtGui.QLabel()
         self.log = QtGui.QPlainTextEdit()
         self.log.setReadOnly(True)
         self.log.setMinimumHeight(260)
-        self.log.setLineWrapMode(QtGui.QPlainTextEdit.NoWrap)
+        self.log.setLineWrapMode(QtGui.QPlainTextEdit.WidgetWidth)
         self.cancel_button = QtGui.QPushButton("Cancel")
         for w in (self.step, self.bar, self.elapsed, self.cancel_button, self.log):
             layout.addWidget(w)

@@ -120,14 +120,15 @@ def _legend_graph(low, high, title):
     bands, labels = legend(low, high)
     root = coin.SoSeparator()
     camera = coin.SoOrthographicCamera()
-    camera.height = 2.0  # y in [-1, 1]; x spans the view's aspect ratio
+    camera.height = 2.0  # x and y in [-1, 1] over the whole view, whatever its shape
+    camera.viewportMapping = coin.SoCamera.LEAVE_ALONE
     root.addChild(camera)
     light = coin.SoLightModel()
     light.model = coin.SoLightModel.BASE_COLOR
     root.addChild(light)
     # Right of the model, clear of the navigation cube (top right) and the axis cross (bottom
     # right) in a landscape view; the field's name goes under the bar.
-    x0, x1, y0, y1 = 1.0, 1.07, -0.7, 0.5
+    x0, x1, y0, y1 = 0.62, 0.66, -0.7, 0.5
     step = (y1 - y0) / len(bands)
     coords = coin.SoCoordinate3()
     points = []
@@ -153,9 +154,9 @@ def _legend_graph(low, high, title):
         sep = coin.SoSeparator()
         move = coin.SoTranslation()
         if value is None:
-            move.translation = (x0 - 0.3, y0 - 0.1, 0)
+            move.translation = (x0 - 0.25, y0 - 0.1, 0)
         else:
-            move.translation = (x1 + 0.03, y0 + (value - low) / ((high - low) or 1.0) * (y1 - y0) - 0.015, 0)
+            move.translation = (x1 + 0.015, y0 + (value - low) / ((high - low) or 1.0) * (y1 - y0) - 0.015, 0)
         label = coin.SoText2()
         label.string.setValues(0, len(text), text) if isinstance(text, list) else label.string.setValue(text)
         sep.addChild(move)
