@@ -172,7 +172,23 @@ def main():
     note("simulated: %d triangles, %.1f .. %.1f K" % (analysis.ThermalMesh.Mesh.CountFacets, T.min(), T.max()))
     assert T.min() > 100.0, "a node below 100 K"
 
-    # 7. Reduce through its task panel: runs in the background with a progress panel.
+    # 7. Reduce through its task panel: runs in the background with a progress panel. A first
+    # run is cancelled after a few seconds: nothing is imported.
+    Gui.runCommand("ThermoDec_Reduce")
+    assert _active_panel(taskpanels.ReducePanel).accept(), "reduce settings"
+    run_panel = _active_panel(taskpanels.RunPanel)
+    start = time.monotonic()
+    while time.monotonic() - start < 3:
+        events(1)
+        time.sleep(0.02)
+    run_panel.cancel_button.click()
+    start = time.monotonic()
+    while not run_panel.done and time.monotonic() - start < 30:
+        events(1)
+    assert run_panel.done and not run_panel.ok and "cancelled" in run_panel.message, run_panel.message
+    assert doc.getObject("ReducedMesh") is None and not analysis.ReducedModelFile, "a cancelled run imported"
+    note("cancelled: %s" % run_panel.message)
+    Gui.Control.closeDialog()
     Gui.runCommand("ThermoDec_Reduce")
     panel = _active_panel(taskpanels.ReducePanel)
     panel.tolerance.setProperty("value", App.Units.Quantity("3 K"))

@@ -538,7 +538,7 @@ class RunPanel:
 
     def _tick(self):
         import time
-        self.elapsed.setText("%.0f s" % (time.monotonic() - self.runner.started))
+        self.elapsed.setText("elapsed %.0f s" % (time.monotonic() - self.runner.started))
 
     def _line(self, text):
         self.log.appendPlainText(text)
