@@ -261,6 +261,8 @@ def main():
     node = objects.members(analysis, objects.ThermalNode)[0]
     node.Capacitance = node.Capacitance * 2
     assert all(r.Stale and r.Label.endswith("(stale)") for r in objects.members(analysis, thermal_result.ThermalResult))
+    title = plots._current.orbit_figure.axes[0].get_title()
+    assert title.endswith("(stale)"), "plot title %r" % title
     screenshot("stale")
     note("capacitance edited: results marked stale")
 

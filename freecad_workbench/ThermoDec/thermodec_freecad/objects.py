@@ -239,9 +239,18 @@ def stale(analysis, reason):
     if analysis is None or "Group" not in analysis.PropertiesList:
         return
     from . import thermal_result
+    changed = False
     for obj in analysis.Group:
         if is_type(obj, thermal_result.ThermalResult) and "Stale" in obj.PropertiesList:
-            thermal_result.mark_stale(obj, reason)
+            changed = thermal_result.mark_stale(obj, reason) or changed
+    if changed and FreeCAD.GuiUp:  # the plot dock's titles say "(stale)" too
+        from . import plots
+        dock = plots._current
+        if dock is not None and dock.analysis == analysis:
+            try:
+                dock.refresh()
+            except Exception:  # a closed dock or document: nothing to redraw
+                pass
 
 
 def _view(obj, icon):

@@ -162,10 +162,13 @@ class PlotDock:
         _current = self
 
     def refresh(self):
+        shown = self.node.currentText()
         self.series = orbit_series(self.analysis)
         self.node.blockSignals(True)
         self.node.clear()
         self.node.addItems(["all nodes"] + list(self.series["nodes"]))
+        if shown in self.series["nodes"]:
+            self.node.setCurrentIndex(1 + list(self.series["nodes"]).index(shown))
         self.node.blockSignals(False)
         self._draw_orbit()
         path = report_path(self.analysis)

@@ -146,7 +146,13 @@ class Runner:
         self.process.setProcessChannelMode(QtCore.QProcess.MergedChannels)
         self.process.readyReadStandardOutput.connect(self._read)
         self.process.finished.connect(self._finished)
+        self.process.errorOccurred.connect(self._error)
         self.process.start(argv[0], argv[1:])
+
+    def _error(self, error):
+        from PySide import QtCore
+        if error == QtCore.QProcess.FailedToStart:  # no finished signal follows
+            self.on_done(False, "%s: cannot start %s" % (self.step_title, self.job.steps[self.index][1][0]))
 
     def _read(self):
         data = bytes(self.process.readAllStandardOutput()).decode("utf-8", "replace")

@@ -36,6 +36,16 @@ class _Panel:
         return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
 
 
+def _area_m2(refs):
+    """Total area [m^2] of face references [(object, [sub names or ''])]."""
+    from . import units
+    total = 0.0
+    for obj, subs in refs:
+        faces = [obj.Shape.getElement(s) for s in subs if s] or obj.Shape.Faces
+        total += sum(units.area_m2(f.Area) for f in faces)
+    return total
+
+
 class NodePanel(_Panel):
     def __init__(self, analysis, refs):
         self.analysis, self.refs = analysis, refs
@@ -44,7 +54,10 @@ class NodePanel(_Panel):
         self.materials = [m for m in objects.members(analysis, objects.ThermalMaterial)]
         self.material = QtGui.QComboBox()
         self.material.addItems(["(analysis default)"] + [m.Label for m in self.materials])
-        self.capacitance = _spin(0.0, 0.0, 1e9, 2, "J/K")
+        area = _area_m2(refs)  # the default panel's heat capacity for that area (defaults.py)
+        self.capacitance = _spin(area * analysis.PanelArealHeatCapacity, 0.0, 1e9, 2, "J/K")
+        self.capacitance.setToolTip("default: %.4g m^2 x %.4g J/(m^2 K) (the analysis' PanelArealHeatCapacity)"
+                                    % (area, analysis.PanelArealHeatCapacity))
         self.power = _spin(0.0, -1e6, 1e6, 3, "W")
         self.boundary = QtGui.QCheckBox("held at fixed temperature")
         self.temperature = _spin(293.15, 0.0, 5000.0, 2, "K")

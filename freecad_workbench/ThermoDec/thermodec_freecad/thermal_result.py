@@ -158,10 +158,11 @@ def mark_stale(result, reason):
     """Marks a result computed from the analysis' inputs as out of date: Stale, the reason, and
     " (stale)" after its label in the tree."""
     if result.Stale or not result.TracksAnalysis:
-        return
+        return False
     result.Stale = True
     result.StaleReason = reason
     if not result.Label.endswith(STALE_SUFFIX):
         result.Label = result.Label + STALE_SUFFIX
     FreeCAD.Console.PrintWarning("ThermoDec: result '%s' is stale: %s; simulate (or reduce) again\n"
                                  % (result.Label, reason))
+    return True
