@@ -83,7 +83,7 @@ def draw_orbit(figure, series, node=None):
         k = None if node is None else series["nodes"].index(node)
         title += ": max |dT| reduced vs original %.3g K" % (d.max() if k is None else d[k].max())
     if series["stale"]:
-        title += " (stale)"
+        title += "\n(stale: an input changed since these results)"
     ax.set_title(title, fontsize=9)
     ax.set_xlabel("time [min]")
     ax.set_ylabel("temperature [K]")
