@@ -555,6 +555,8 @@ class RunPanel:
 
     def _line(self, text):
         self.log.appendPlainText(text)
+        bar = self.log.verticalScrollBar()
+        bar.setValue(bar.maximum())  # follow the newest line
         if text.startswith("[") and "/" in text.split("]")[0]:
             self.step.setText(text)
             self.bar.setValue(self.runner.index)
