@@ -635,6 +635,15 @@ class CoreRuns(_DocTest):
         self.assertIn("Power of '%s' changed" % node.Label, shown[0].StaleReason)
         self.assertEqual(results.model_for_tools(self.analysis), self.analysis.ModelFile)
 
+    def test_reduce_progress_follows_the_clis_stage_lines(self):
+        lines = ["reduce: model.json: 600 faces", "reduce: [   0.0 s] sampling: estimating",
+                 "reduce: [   2.8 s] noise floor 0.06 K", "reduce: [   3.0 s] sensitivity: 6/12 nodes",
+                 "reduce: [   9.0 s] prediction and reduction", "reduce: [  20.0 s] verification: max |dT|"]
+        shares = [runner.stage_fraction(line) for line in lines]
+        self.assertIsNone(shares[0])
+        self.assertEqual(shares[1:], sorted(shares[1:]))
+        self.assertAlmostEqual(shares[3], 0.15 + 0.55 / 2)
+
     def test_reduction_meets_its_tolerance_and_writes_the_core_outputs(self):
         # Fixed sun and few rays keep this fast (the orbit case takes ~1 min: see docs/freecad.md).
         objects.members(self.analysis, objects.Environment)[0].EnvironmentType = "fixed_sun"

@@ -198,6 +198,8 @@ def main():
     run_panel = _active_panel(taskpanels.RunPanel)
     turns = wait_for(run_panel, 420, shot="reduce_running")
     assert turns > 50, "the GUI did not process events while reducing"
+    assert run_panel.bar.value() == run_panel.bar.maximum(), "progress %d of %d" % (
+        run_panel.bar.value(), run_panel.bar.maximum())
     screenshot("reduce_done")
     Gui.Control.closeDialog()
     reduced = doc.getObject("ReducedMesh")

@@ -98,6 +98,27 @@ def export_job(analysis, fmt, out, model_path=None):
     return job
 
 
+#: How far into `thermodec reduce` its stage lines are (a rough share of its time, for a progress
+#: bar: the sensitivity sweep, node by node, dominates). Matched in order; None: no change.
+_REDUCE_STAGES = (("sampling", 0.02), ("reference", 0.05), ("noise floor", 0.10), ("decimation", 0.13),
+                  ("sensitivity analysis", 0.15), ("prediction and reduction", 0.72), ("push", 0.78),
+                  ("back-off", 0.78), ("verify", 0.85), ("verification", 0.9))
+
+
+def stage_fraction(line):
+    """Share [0, 1] of a `thermodec reduce` run done when it prints `line`, or None."""
+    import re
+    text = line.split("] ", 1)[-1] if line.startswith("reduce: [") else line[len("reduce: "):] \
+        if line.startswith("reduce: ") else ""
+    m = re.match(r"sensitivity: (\d+)/(\d+) nodes", text)
+    if m:
+        return 0.15 + 0.55 * int(m.group(1)) / max(int(m.group(2)), 1)
+    for key, share in _REDUCE_STAGES:
+        if text.startswith(key):
+            return share
+    return None
+
+
 def run_blocking(job, log=None):
     """Runs the job's steps here (headless scripts and tests). Raises ThermoDecError with the
     failing step's last output lines."""

@@ -528,9 +528,10 @@ class RunPanel:
         layout = QtGui.QVBoxLayout(self.form)
         self.step = QtGui.QLabel()
         self.step.setWordWrap(True)
-        self.bar = QtGui.QProgressBar()
-        self.bar.setRange(0, len(job.steps))
-        self.bar.setFormat("%v of %m steps done")
+        self.bar = QtGui.QProgressBar()  # per step 100; within `reduce`, by its stage lines
+        self.bar.setRange(0, 100 * len(job.steps))
+        self.bar.setFormat("%p %")
+        self.share = 0.0
         self.elapsed = QtGui.QLabel()
         self.log = QtGui.QPlainTextEdit()
         self.log.setReadOnly(True)
@@ -557,16 +558,22 @@ class RunPanel:
         self.log.appendPlainText(text)
         bar = self.log.verticalScrollBar()
         bar.setValue(bar.maximum())  # follow the newest line
-        if text.startswith("[") and "/" in text.split("]")[0]:
+        from . import runner
+        if text.startswith("[") and "/" in text.split("]")[0]:  # a step starts
             self.step.setText(text)
-            self.bar.setValue(self.runner.index)
+            self.share = 0.0
+        share = runner.stage_fraction(text)
+        if share is not None:
+            self.share = max(self.share, share)
+        self.bar.setValue(int(100 * (self.runner.index + self.share)))
         gui_actions.status("ThermoDec: %s" % text[:160])
 
     def _done(self, ok, message):
         import FreeCAD
         self.timer.stop()
         self._tick()
-        self.bar.setValue(len(self.job.steps) if ok else self.runner.index)
+        if ok:
+            self.bar.setValue(self.bar.maximum())
         FreeCAD.Console.PrintMessage("ThermoDec: %s\n%s\n" % (
             message, "\n".join(self.log.toPlainText().splitlines()[-30:])))
         if ok and self.finish_lines:
