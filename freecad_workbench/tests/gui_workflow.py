@@ -218,7 +218,9 @@ def main():
         raise RuntimeError("the Thermal plots command opened no dock")
     assert dock.isVisible(), "plot dock"
     combo = dock.findChild(QtGui.QComboBox)
-    combo.setCurrentIndex(1)  # the first node: original vs reduced
+    series = plots.orbit_series(analysis)  # the node the reduction moved most: original vs reduced
+    worst = int(abs(series["reduced"] - series["dense"]).max(axis=1).argmax())
+    combo.setCurrentIndex(1 + worst)
     screenshot("plots_temperatures")
     dock.findChild(QtGui.QTabWidget).setCurrentIndex(1)
     screenshot("plots_sensitivity")
