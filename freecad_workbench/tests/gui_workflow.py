@@ -268,6 +268,13 @@ def main():
     title = plots._current.orbit_figure.axes[0].get_title()
     assert "(stale" in title, "plot title %r" % title
     screenshot("stale")
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(doc.Name, results[-1].Name)
+    Gui.runCommand("ThermoDec_ShowResult")  # the result panel says so too
+    events(10)
+    texts = [w.text() for w in _active_panel(taskpanels.ResultPanel).form.findChildren(QtGui.QLabel)]
+    assert any("STALE: Capacitance of" in t for t in texts), texts
+    Gui.ActiveDocument.resetEdit()
     note("capacitance edited: results marked stale")
 
 

@@ -174,6 +174,7 @@ class ResultPanel(_Panel):
 
     def __init__(self, result):
         from . import temperature_field, thermal_result
+        ACTIVE[type(self).__name__] = self
         self.result = result
         self.original = thermal_result.field(result)
         nodes, self.times, T = thermal_result.matrix(result)
@@ -185,7 +186,8 @@ class ResultPanel(_Panel):
             if len(self.times) > 1 else "steady state"
         used = ("seed %d, %d rays per face" % (result.Seed, result.RaysPerFace)) if result.Seed >= 0 \
             else "seed and rays not recorded (imported result)"
-        info = QtGui.QLabel("%s on %s\n%s; %s" % (result.Label, result.ResultMesh.Label, run, used))
+        stale = ("\nSTALE: %s since; simulate (or reduce) again" % result.StaleReason) if result.Stale else ""
+        info = QtGui.QLabel("%s on %s\n%s; %s%s" % (result.Label, result.ResultMesh.Label, run, used, stale))
         info.setWordWrap(True)
         layout.addWidget(info)
 
