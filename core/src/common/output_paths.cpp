@@ -25,6 +25,13 @@ void check_output_file(const fs::path& path, const std::string& what, const std:
   }
   if (!path.has_filename() || path.filename() == "." || path.filename() == "..")
     throw InvalidInput(what + " " + p + ": not a file name");
+  if (extensions.empty() && ext.empty())
+    throw InvalidInput(what + " " + p + ": no file extension; give the output a name with one");
+  try {
+    check_replaceable_output(path);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(what + " " + e.what());
+  }
   for (const auto& in : inputs)
     if (!in.empty() && same_file(path, in)) throw InvalidInput(what + " " + p + ": is an input of this command; refusing to overwrite it");
   // The nearest existing ancestor must be a writable folder (missing folders are created).

@@ -9,7 +9,8 @@
 namespace thermodec {
 
 //! Checks that `path` can receive an output file: its extension (lower case, with the dot) is
-//! one of `extensions` (empty = any), it is not an existing folder, its parent is a folder
+//! one of `extensions` (empty = any, but there must be one), it is not an existing folder,
+//! device, FIFO or socket (check_replaceable_output), its parent is a folder
 //! (or can be created: missing parents are created by the atomic writers) that is writable,
 //! and it is none of `inputs`. `what` names the output in messages ("--json", "-o").
 //! \throw InvalidInput naming the path and what is wrong.
