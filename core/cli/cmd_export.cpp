@@ -55,7 +55,7 @@ void run_export(const ExportOptions& o) {
   for (const fs::path& out : export_outputs(format, o.out, fs::path(o.model).stem().string()))
     check_output_file(out, "export: output", format == ExchangeFormat::nastran ? std::vector<std::string>{".bdf", ".nas", ".dat"}
                                                                                 : std::vector<std::string>{},
-                      settings.protected_inputs);
+                      {});  // an input in the way: export_model says so, before any work too
   const NoiseTargetingBound noise = settings.noise_target_K > 0.0 && !has_sampling_boosts(model)
                                         ? NoiseTargetingBound{settings.noise_budget, settings.noise_max_samples}
                                         : NoiseTargetingBound{};

@@ -199,3 +199,41 @@ TEST(CliInterruptedRuns, a_result_whose_plots_cannot_be_written_fails_and_keeps_
   EXPECT_EQ(read_text(out / "report.json"), old_report);
   expect_nothing_beside(out);
 }
+
+TEST(CliInterruptedRuns, a_full_disk_fails_the_run_and_keeps_the_previous_result) {
+  // A 256 KiB tmpfs mounted in a private mount namespace (unshare -m): skipped where the system
+  // does not allow it.
+  auto d = temp_dir("full_disk");
+  const fs::path disk = d / "disk";
+  fs::create_directories(disk);
+  auto reduce = [&](int rays, bool plots) {
+    std::string cmd = q(THERMODEC_CLI);
+    for (const auto& a : reduce_args(disk / "result", rays, plots)) cmd += " " + q(a);
+    return cmd;
+  };
+  const std::string script =
+      "mount -t tmpfs -o size=256k tmpfs " + q(disk) + " || exit 77\n" + reduce(200, false) + " >/dev/null 2>&1 || exit 78\n" +
+      "cp " + q(disk / "result" / "report.json") + " " + q(d / "report_before") + "\n" +
+      // 32 KiB left: room for the JSON and the mesh (3 pages, twice), none for a plot (39-76 KB).
+      "dd if=/dev/zero of=" + q(disk / "room") + " bs=1k count=32 2>/dev/null\n" +
+      "dd if=/dev/zero of=" + q(disk / "filler") + " bs=1k count=100000 2>/dev/null\nrm " + q(disk / "room") + "\n" +
+      reduce(300, true) + " >" + q(d / "out") + " 2>" + q(d / "err") + "; echo $? >" + q(d / "rc") + "\n" +
+      "ls -A " + q(disk) + " >" + q(d / "beside") + "; ls -A " + q(disk / "result") + " >" + q(d / "inside") + "\n" +
+      "cp " + q(disk / "result" / "report.json") + " " + q(d / "report_after") + "\n" +
+      reduce(300, false) + " >" + q(d / "out2") + " 2>" + q(d / "err2") + "; echo $? >" +
+      q(d / "rc2") + "\n";
+  write_text(d / "script.sh", script);
+  const int status = std::system(("unshare -m sh " + q(d / "script.sh") + " 2>" + q(d / "unshare.err")).c_str());
+  if (!WIFEXITED(status) || WEXITSTATUS(status) == 77 || !fs::exists(d / "rc"))
+    GTEST_SKIP() << "no private tmpfs here: " << read_text(d / "unshare.err");
+  ASSERT_NE(WEXITSTATUS(status), 78) << "the first run failed";
+  EXPECT_EQ(read_text(d / "rc"), "1\n") << read_text(d / "err");
+  EXPECT_TRUE(has(read_text(d / "err"), "could not be written completely") || has(read_text(d / "err"), "disk full"))
+      << read_text(d / "err");
+  EXPECT_FALSE(has(read_text(d / "out"), "results:"));
+  EXPECT_EQ(read_text(d / "beside"), "filler\nresult\n");
+  EXPECT_EQ(read_text(d / "inside"), "model.json\nreduced.obj\nreport.json\n");
+  EXPECT_EQ(read_text(d / "report_after"), read_text(d / "report_before"));
+  // Without plots the new result fits: the disk, not the run, was at fault.
+  EXPECT_EQ(read_text(d / "rc2"), "0\n") << read_text(d / "err2");
+}
