@@ -56,7 +56,9 @@ OutputFolderLock::OutputFolderLock(const fs::path& dir) : path_(beside(resolved(
   // the one now at the path; such a lock is worthless, so open again (the classic flock race).
   for (int attempt = 0; attempt < 100; ++attempt) {
     const int fd = ::open(path_.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
-    if (fd < 0) throw IOError("cannot create the lock file " + path_.string() + ": " + std::strerror(errno));
+    if (fd < 0)
+      throw IOError("cannot create the lock file " + path_.string() + ": " + std::strerror(errno) +
+                    " (the result is written beside the output folder and swapped in: its parent must be writable)");
     if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
       const std::string pid = read_small(fd);
       ::close(fd);
