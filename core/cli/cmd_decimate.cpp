@@ -35,6 +35,13 @@ bool same_file(const fs::path& a, const fs::path& b) {
 
 // {"node name": ratio, ...} (nodes not listed keep all faces) or [ratio per node].
 Eigen::VectorXd read_node_ratios(const fs::path& path, const std::vector<std::string>& names) {
+  // A FIFO or device would block or never end: like model and case files, a regular file only.
+  std::error_code ec;
+  const auto status = fs::status(path, ec);
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    throw IOError(path.string() + ": not a regular file (a folder, device or FIFO)");
+  if (fs::is_regular_file(status) && fs::file_size(path, ec) > (std::uintmax_t{64} << 20))
+    throw IOError(path.string() + ": more than 64 MiB, too large for a node ratio file");
   std::ifstream in(path);
   if (!in) throw IOError(path.string() + ": cannot open");
   nlohmann::json j;

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "commands.h"
+#include "thermodec/common/output_paths.h"
 #include "thermodec/exchange/export_model.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/thermal/simulate_model.h"
@@ -49,7 +50,17 @@ void run_export(const ExportOptions& o) {
   settings.noise_target_K = o.noise_target_K;
   if (!o.raw_mesh) apply_bare_mesh_ray_budgets(model, settings.simulation);
   if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
-  if (format != ExchangeFormat::nastran) guard_simulation_cost("export", model, settings.simulation, o.quiet);
+  // The outputs are checked before the cost estimate and the simulation (export_model checks
+  // them again): a kind, extension or folder that cannot take them is said at once.
+  for (const fs::path& out : export_outputs(format, o.out, fs::path(o.model).stem().string()))
+    check_output_file(out, "export: output", format == ExchangeFormat::nastran ? std::vector<std::string>{".bdf", ".nas", ".dat"}
+                                                                                : std::vector<std::string>{},
+                      {});  // an input in the way: export_model says so, before any work too
+  const NoiseTargetingBound noise = settings.noise_target_K > 0.0 && !has_sampling_boosts(model)
+                                        ? NoiseTargetingBound{settings.noise_budget, settings.noise_max_samples}
+                                        : NoiseTargetingBound{};
+  if (format != ExchangeFormat::nastran)
+    guard_simulation_cost("export", model, settings.simulation, o.quiet, {}, SimulationCostScope::simulation, noise);
   if (!o.quiet) settings.simulation.progress = [](const std::string& m) { std::cerr << "export: " << m << "\n"; };
   const auto files = export_model(std::move(model), format, o.out, fs::path(o.model).stem().string(), settings);
   if (!o.quiet)

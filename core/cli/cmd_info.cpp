@@ -8,6 +8,7 @@
 #include "thermodec/common/output_paths.h"
 #include "thermodec/common/version.h"
 #include "thermodec/common/atomic_write.h"
+#include "thermodec/common/printable.h"
 #include "thermodec/mesh/mesh_stats.h"
 #include "thermodec/nodes/load_model.h"
 
@@ -20,9 +21,13 @@ struct InfoArgs {
   double weld_tolerance = MeshReadOptions{}.weld_tolerance;
 };
 
+// Names and paths as they may be printed: the readers refuse control characters in names, and
+// this keeps any that come another way (a file name) off the terminal.
+std::string shown(const std::string& text) { return printable(text, 1000); }
+
 std::string material_list(const ThermalModel& model, const std::vector<int>& ids) {
   std::string s;
-  for (int m : ids) s += (s.empty() ? "" : ", ") + (m >= 0 ? model.materials[m].name : std::string("(none)"));
+  for (int m : ids) s += (s.empty() ? "" : ", ") + (m >= 0 ? shown(model.materials[m].name) : std::string("(none)"));
   return s;
 }
 
@@ -43,8 +48,8 @@ void run_info(const InfoArgs& args) {
 
   std::string out;
   auto line = [&](const std::string& key, const std::string& value) { out += fmt::format("{:<20}{}\n", key, value); };
-  line("model", args.model);
-  line("mesh", model.mesh_path.string());
+  line("model", shown(args.model));
+  line("mesh", shown(model.mesh_path.string()));
   line("faces", std::to_string(s.faces));
   line("vertices", s.unreferenced_vertices ? fmt::format("{} ({} unreferenced)", s.vertices, s.unreferenced_vertices)
                                            : std::to_string(s.vertices));
@@ -57,15 +62,15 @@ void run_info(const InfoArgs& args) {
   out += environment_analysis_text(model);
   line("materials", std::to_string(model.materials.size()));
   for (const auto& m : model.materials)
-    out += fmt::format("  {:<18}absorptivity {:.3g}  emissivity {:.3g}\n", m.name, m.absorptivity, m.emissivity);
+    out += fmt::format("  {:<18}absorptivity {:.3g}  emissivity {:.3g}\n", shown(m.name), m.absorptivity, m.emissivity);
   line("nodes", std::to_string(model.nodes.size()));
   std::size_t w = 4;
-  for (const auto& n : model.nodes) w = std::max(w, n.name.size());
+  for (const auto& n : model.nodes) w = std::max(w, shown(n.name).size());
   out += fmt::format("  {:<{}}  {:>8}  {:>12}  {}\n", "node", w, "faces", "area [m^2]", "material(s)");
   for (std::size_t n = 0; n < model.nodes.size(); ++n) {
     std::string mats = material_list(model, materials[n]);
     if (two_sided[n]) mats += fmt::format("  [two-sided: {} faces]", two_sided[n]);
-    out += fmt::format("  {:<{}}  {:>8}  {:>12.6g}  {}\n", model.nodes[n].name, w, counts[n], areas[n], mats);
+    out += fmt::format("  {:<{}}  {:>8}  {:>12.6g}  {}\n", shown(model.nodes[n].name), w, counts[n], areas[n], mats);
   }
   std::cout << out;
 
@@ -97,7 +102,7 @@ void run_info(const InfoArgs& args) {
                             {"materials", mats}, {"two_sided_faces", two_sided[n]}});
     }
     write_text_atomically(args.json_out, j.dump(2) + "\n", {args.model, model.mesh_path});
-    std::cout << "statistics written to " << args.json_out << "\n";
+    std::cout << "statistics written to " << shown(args.json_out) << "\n";
   }
 }
 

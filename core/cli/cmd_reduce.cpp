@@ -2,12 +2,14 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "commands.h"
 #include "thermodec/common/errors.h"
 #include "thermodec/common/peak_memory.h"
 #include "thermodec/nodes/load_case.h"
 #include "thermodec/common/output_paths.h"
+#include "thermodec/common/staged_folder.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/reduction/record_budget.h"
 #include "thermodec/reduction/reduce_model.h"
@@ -69,6 +71,10 @@ void run_reduce(const ReduceCliOptions& o) {
   std::vector<std::filesystem::path> inputs{o.model, model.mesh_path};
   for (const auto& f : o.case_files) inputs.push_back(f);
   check_output_folder(o.out_dir, kReduceOutputs, inputs);
+  // The result is written into a staging folder beside --out and swapped into place once
+  // complete; the lock refuses a second run into the same folder (common/staged_folder.h).
+  std::optional<StagedFolder> staged;
+  if (root) staged.emplace(o.out_dir);
   ReduceSettings s;
   s.informed.max_evaluations = o.max_evaluations;
   apply_bare_mesh_reduction_budget(model, s);
@@ -114,9 +120,15 @@ void run_reduce(const ReduceCliOptions& o) {
   if (run.sweep_only) return;  // an MPI rank other than 0: its curves went to rank 0
   run.ranks = ranks.size;
   run.peak_memory_bytes = peak_resident_memory_bytes();
-  clear_own_outputs(o.out_dir, kReduceOutputs);
-  const auto warnings = write_reduction_outputs(run, o.out_dir, inputs, !o.no_plots);
-  for (const auto& w : warnings) std::cerr << "reduce: warning: plot not written: " << w << "\n";
+  const auto missing = write_reduction_outputs(run, staged->staging(), inputs, !o.no_plots);
+  if (!missing.empty()) {
+    std::string list;
+    for (const auto& w : missing) list += (list.empty() ? "" : "; ") + w;
+    throw IOError("the result could not be written completely, " + o.out_dir + " keeps its previous content (plot not written: " +
+                  list + "); free space or pass --no-plots");
+  }
+  check_output_folder(o.out_dir, kReduceOutputs, inputs);  // nothing foreign came in meanwhile
+  staged->commit();
   std::cout << reduction_summary(run);
   char mem[160];
   const std::size_t records = record_budget_bytes(s.reference.record_budget_bytes);

@@ -48,13 +48,23 @@ thermodec::ModelLoadOptions model_load_options(const thermodec::MeshReadOptions&
 //! The global `--force` flag: run even when a simulation's estimated cost is over the limits.
 bool force_costly_runs();
 
+//! Noise-targeted sampling's bound on extra samples (thermal/simulate_model.h,
+//! decide_sampling_boosts): max_extra x the model's total of a kind, at most max_samples; 0 = off.
+struct NoiseTargetingBound {
+  double max_extra = 0.0;
+  double max_samples = 0.0;
+};
+
 //! Before the expensive work of `command`: estimates one simulation of `model` (and of it in each
 //! of `cases`) with `settings` (thermal/simulation_cost.h), prints the estimate on stderr unless
 //! `quiet`, and refuses a run over SimulationCostLimits with InvalidInput naming the setting
-//! that drives it, unless `--force` was given (then a warning).
+//! that drives it, unless `--force` was given (then a warning). The estimate includes the second
+//! run and the extra samples of noise-targeted sampling when `noise` is on, and a run whose
+//! memory with its view-factor rows' upper bound exceeds the machine's is refused the same way.
 void guard_simulation_cost(const std::string& command, const thermodec::ThermalModel& model,
                            const thermodec::ModelSimulationSettings& settings, bool quiet,
                            const std::vector<thermodec::LoadCase>& cases = {},
-                           thermodec::SimulationCostScope scope = thermodec::SimulationCostScope::simulation);
+                           thermodec::SimulationCostScope scope = thermodec::SimulationCostScope::simulation,
+                           const NoiseTargetingBound& noise = {});
 
 }  // namespace thermodec::cli

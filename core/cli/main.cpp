@@ -4,6 +4,8 @@
 
 #include "commands.h"
 #include "thermodec/common/errors.h"
+#include "thermodec/common/interrupt_cleanup.h"
+#include "thermodec/common/printable.h"
 #include "thermodec/common/version.h"
 #include "thermodec/thermal/simulation_cost.h"
 
@@ -30,22 +32,24 @@ int exit_code() { return g_exit_code; }
 void set_exit_code(int code) { g_exit_code = code; }
 
 void run_guarded(const std::function<void()>& body) {
+  // Messages quote file content (names, fields): never raw control bytes on a terminal.
+  auto said = [](const std::exception& e) { return printable(e.what(), 4000); };
   try {
     body();
   } catch (const InvalidInput& e) {
-    std::cerr << "thermodec: invalid input: " << e.what() << "\n";
+    std::cerr << "thermodec: invalid input: " << said(e) << "\n";
     g_exit_code = 1;
   } catch (const IOError& e) {
-    std::cerr << "thermodec: I/O error: " << e.what() << "\n";
+    std::cerr << "thermodec: I/O error: " << said(e) << "\n";
     g_exit_code = 1;
   } catch (const SolverError& e) {
-    std::cerr << "thermodec: solver failed: " << e.what() << "\n";
+    std::cerr << "thermodec: solver failed: " << said(e) << "\n";
     g_exit_code = 1;
   } catch (const std::bad_alloc&) {
     std::cerr << "thermodec: out of memory\n";
     g_exit_code = 1;
   } catch (const std::exception& e) {
-    std::cerr << "thermodec: error: " << e.what() << "\n";
+    std::cerr << "thermodec: error: " << said(e) << "\n";
     g_exit_code = 1;
   }
 }
@@ -65,6 +69,7 @@ int run_and_exit(CLI::App& app, int argc, char** argv);
 
 int main(int argc, char** argv) {
   using namespace thermodec::cli;
+  thermodec::remove_temporaries_on_interrupt("thermodec");
   CLI::App app{
       "thermodec: simulation-driven mesh reduction for radiative thermal analysis of spacecraft.\n"
       "It splits a model into thermal nodes, measures how sensitive each node is to decimation,\n"

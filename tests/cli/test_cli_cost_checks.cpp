@@ -75,8 +75,9 @@ TEST(CliCostChecks, a_million_orbit_positions_on_a_12_face_model_is_refused_nami
   expect_refused(run_cli("simulate -q " + q(cube_on_orbit(d, 1000000)), d), "analysis.steps_per_orbit = 1000000");
   // The same through the command-line override of a reasonable model.
   expect_refused(run_cli("simulate " + q(cube_on_orbit(d, 72)) + " --load-positions 1000000", d), "1000000 load positions");
-  // 10^5 positions: the thermal solver (3 x 10^12 units of work) is what exceeds.
-  expect_refused(run_cli("simulate " + q(cube_on_orbit(d, 100000)), d), "thermal solver work");
+  // 10^5 positions: the thermal solver (3 x 10^12 units of work) is what exceeds (without the
+  // second run and extra samples of noise-targeted sampling, which put the rays over first).
+  expect_refused(run_cli("simulate " + q(cube_on_orbit(d, 100000)) + " --noise-target 0", d), "thermal solver work");
 }
 
 TEST(CliCostChecks, a_load_case_over_the_limit_is_refused_by_reduce_and_named) {
@@ -92,7 +93,7 @@ TEST(CliCostChecks, a_load_case_over_the_limit_is_refused_by_reduce_and_named) {
 TEST(CliCostChecks, force_runs_it_anyway_with_a_warning) {
   const auto d = temp_dir("force");
   // Over the solver limit only; stopped by `timeout` once it is past the check.
-  const CliRun r = run_cli("simulate -q " + q(cube_on_orbit(d, 100000)) + " --force", d, "timeout 4");
+  const CliRun r = run_cli("simulate -q " + q(cube_on_orbit(d, 100000)) + " --noise-target 0 --force", d, "timeout 4");
   EXPECT_EQ(r.exit_code, 124) << "not refused, still running when stopped: " << r.err;
   EXPECT_TRUE(has(r.err, "simulate: warning: estimated cost over the limit, running anyway (--force)")) << r.err;
   EXPECT_TRUE(has(r.err, "thermal solver work")) << r.err;
@@ -121,4 +122,47 @@ TEST(CliCostChecks, help_documents_force_and_the_limits) {
   EXPECT_TRUE(has(r.out, "--force")) << r.out;
   EXPECT_TRUE(has(r.out, "1e+10 rays traced")) << r.out;
   EXPECT_TRUE(has(r.out, "16 GiB")) << r.out;
+}
+
+namespace {
+
+// A flat plate of 2 n^2 triangles in a model file with `rays` IR rays per face.
+fs::path plate_model(const fs::path& d, int n, int rays) {
+  std::string obj;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) obj += "v " + std::to_string(i) + " " + std::to_string(j) + " 0\n";
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i + 1, b = a + 1, c = a + n + 1, e = c + 1;
+      obj += "f " + std::to_string(a) + " " + std::to_string(b) + " " + std::to_string(e) + "\nf " + std::to_string(a) +
+             " " + std::to_string(e) + " " + std::to_string(c) + "\n";
+    }
+  write_text(d / "plate.obj", obj);
+  write_text(d / "plate.json", "{\"mesh\": \"plate.obj\", \"radiation\": {\"rays_per_face\": " + std::to_string(rays) + "}}");
+  return d / "plate.json";
+}
+
+}  // namespace
+
+TEST(CliCostChecks, view_factor_rows_beyond_the_machines_memory_are_refused_unless_forced) {
+  const auto d = temp_dir("rows");
+  // 100 352 faces x 90 000 rays: 9e9 rays, under the ray limit; rows up to 12 B x 9e4 x 1e5 = 101 GiB.
+  const fs::path m = plate_model(d, 224, 90000);
+  const CliRun r = run_cli("simulate " + q(m) + " --noise-target 0 --json " + q(d / "r.json"), d, "timeout 120");
+  if (has(r.err, "running anyway")) GTEST_SKIP() << "this machine has more memory than the bound";
+  expect_refused(r, "view-factor rows up to");
+  EXPECT_TRUE(has(r.err, "this machine's")) << r.err;
+}
+
+TEST(CliCostChecks, the_estimate_includes_noise_targeted_sampling) {
+  const auto d = temp_dir("noise_boosts");
+  // 1374 sides x 5e6 = 6.9e9 IR rays at the model's counts: within the limit once, over it
+  // with the estimating run and the extra samples the noise targeting may add.
+  fs::copy_file(kSample / "satellite.obj", d / "satellite.obj");
+  nlohmann::json m = nlohmann::json::parse(read_text(kSample / "model.json"));
+  m["radiation"]["rays_per_face"] = 5000000;
+  std::ofstream(d / "model.json") << m.dump(1);
+  const CliRun r = run_cli("simulate " + q(d / "model.json") + " --json " + q(d / "r.json"), d, "timeout 120");
+  EXPECT_TRUE(has(r.err, "estimated cost with noise-targeted sampling")) << r.err;
+  expect_refused(r, "rays to trace");
 }

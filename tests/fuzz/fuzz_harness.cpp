@@ -15,6 +15,8 @@
 #include <typeinfo>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/common/printable.h"
+#include "thermodec/mesh/geometry_range.h"
 
 namespace thermodec::fuzz {
 namespace fs = std::filesystem;
@@ -230,6 +232,10 @@ std::string mesh_problem(const Mesh& m) {
   if (nv > 0 && m.V.cols() != 3) return "V has " + std::to_string(m.V.cols()) + " columns";
   if (nf > 0 && m.F.cols() != 3) return "F has " + std::to_string(m.F.cols()) + " columns";
   if (!m.V.allFinite()) return "a non-finite coordinate";
+  if (m.V.size() > 0 && m.V.cwiseAbs().maxCoeff() > kMaxCoordinate) return "a coordinate beyond ±1e12 (areas overflow)";
+  for (const auto* names : {&m.node_names, &m.material_names})
+    for (const auto& n : *names)
+      if (has_control_characters(n)) return "a name with control characters: " + printable(n);
   for (int f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k)
       if (m.F(f, k) < 0 || m.F(f, k) >= nv) return "face " + std::to_string(f) + " has vertex " + std::to_string(m.F(f, k));

@@ -58,7 +58,8 @@ FuzzRun fuzz_reader(const std::vector<std::string>& corpus, const std::filesyste
 std::vector<std::string> corpus_failures(const std::vector<std::string>& corpus, const std::filesystem::path& work_dir,
                                          const std::string& file_name, const Reader& reader);
 
-//! Empty if `mesh` is consistent (3 columns, indices in range, finite coordinates, per-face
+//! Empty if `mesh` is consistent (3 columns, indices in range, finite coordinates within
+//! ±kMaxCoordinate, names without control characters, per-face
 //! attributes sized #F and indexing their name tables), else the first problem found.
 std::string mesh_problem(const Mesh& mesh);
 

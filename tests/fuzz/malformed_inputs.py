@@ -88,7 +88,54 @@ with tempfile.TemporaryDirectory(prefix="thermodec_fuzz_") as root:
                 failures.append(f"case {case} {args[0]}: exit 1 without a message")
             elif p.returncode == 0 and args[0] == "simulate" and "NaN" in open(out).read():
                 failures.append(f"case {case} simulate: NaN in the result")
-print(f"{cases} mutated inputs x 3 commands: {len(failures)} failure(s)")
+
+
+def cube(c, fmt):
+    """A cube with corners at +-c: OBJ text, or a NASTRAN deck (free field)."""
+    corners = [((-1) ** (1 - (i & 1)), (-1) ** (1 - ((i >> 1) & 1)), (-1) ** (1 - ((i >> 2) & 1))) for i in range(8)]
+    faces = [(1, 3, 4), (1, 4, 2), (5, 6, 8), (5, 8, 7), (1, 2, 6), (1, 6, 5),
+             (3, 7, 8), (3, 8, 4), (1, 5, 7), (1, 7, 3), (2, 4, 8), (2, 8, 6)]
+    sgn = lambda s: "" if s > 0 else "-"
+    if fmt == "obj":
+        return "".join(f"v {sgn(x)}{c} {sgn(y)}{c} {sgn(z)}{c}\n" for x, y, z in corners) + \
+            "".join(f"f {a} {b} {d}\n" for a, b, d in faces)
+    return "BEGIN BULK\n" + "".join(f"GRID,{i + 1},,{sgn(x)}{c},{sgn(y)}{c},{sgn(z)}{c}\n" for i, (x, y, z) in enumerate(corners)) + \
+        "".join(f"CTRIA3,{k + 1},1,{a},{b},{d}\n" for k, (a, b, d) in enumerate(faces)) + "ENDDATA\n"
+
+
+# Hostile inputs found by a fault audit: geometry whose areas overflow, names carrying terminal
+# escapes and direction overrides, duplicated and negative NASTRAN ids, a deck cut short, binary
+# bytes and a huge field. Each must be refused (or read) with a message free of control bytes.
+hostile = {
+    "far.obj": "v 1e308 0 0\nv -1e308 0 0\nv 0 1e308 0\nf 1 2 3\n",
+    "cube308.obj": cube("1e308", "obj"),
+    "cube30.obj": cube("1e30", "obj"),
+    "cube308.bdf": cube("1.+308", "bdf"),
+    "escape.bdf": cube("1.", "bdf").replace("BEGIN BULK\n", "BEGIN BULK\n$ thermodec node 1 \x1b[2J\x1b]0;x\x07rad\u202eiator\n"),
+    "escape.obj": "g \x1b[31mred\u202e\n" + cube("1", "obj"),
+    "duplicate.bdf": cube("1.", "bdf").replace("ENDDATA", "CTRIA3,3,1,1,2,6\nENDDATA"),
+    "negative.bdf": cube("1.", "bdf").replace("GRID,1,", "GRID,-1,").replace(",1,3,4", ",-1,3,4"),
+    "cut.bdf": cube("1.", "bdf").replace("ENDDATA\n", ""),
+    "binary.bdf": cube("1.", "bdf").replace("BEGIN BULK\n", "BEGIN BULK\nGRID,1,,".encode().decode("latin-1") +
+                                           "".join(chr(i) for i in range(256)) + "\n" + "Z" * (1 << 20) + ",1\n"),
+}
+with tempfile.TemporaryDirectory(prefix="thermodec_hostile_") as root:
+    for name, text in hostile.items():
+        path = os.path.join(root, name)
+        open(path, "wb").write(text.encode("utf-8", "surrogateescape") if name != "binary.bdf" else text.encode("latin-1"))
+        for args in (["info", path],
+                     ["simulate", "-q", "--rays", "20", "--earth-rays", "16", "--sun-rays", "16", "--noise-target", "0", path]):
+            p = subprocess.run([cli] + args, capture_output=True, timeout=300)
+            said = p.stdout + p.stderr
+            if p.returncode not in (0, 1):
+                failures.append(f"{name} {args[0]}: exit {p.returncode}: {p.stderr[-400:]!r}")
+            elif any(b < 0x20 and b != 0x0a for b in said) or b"\x7f" in said or "\u202e".encode() in said:
+                failures.append(f"{name} {args[0]}: control characters in the output: {said[:300]!r}")
+            elif len(p.stderr) > 4000:
+                failures.append(f"{name} {args[0]}: {len(p.stderr)} bytes of messages")
+    cases += len(hostile)
+
+print(f"{cases} mutated and hostile inputs: {len(failures)} failure(s)")
 for f in failures:
     print(f)
 sys.exit(1 if failures else 0)

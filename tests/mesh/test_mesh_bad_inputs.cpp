@@ -113,3 +113,57 @@ TEST(MeshBadInputs, automatic_nodes_on_a_ten_thousand_page_book_stay_fast) {
   EXPECT_EQ(m.face_node.size(), pages);
   EXPECT_GE(m.face_node.minCoeff(), 0);
 }
+
+TEST(MeshBadInputs, coordinates_whose_areas_overflow_are_refused_by_every_reader) {
+  auto d = temp_dir("overflow");
+  expect_error<InvalidInput>(write_file(d / "far.obj", "v 1e308 0 0\nv -1e308 0 0\nv 0 1e308 0\nf 1 2 3\n"),
+                             {"far.obj", "vertex 0", "beyond"});
+  expect_error<InvalidInput>(
+      write_file(d / "far.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty double x\nproperty double y\n"
+                                "property double z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                                "0 0 0\n1e200 0 0\n0 1e200 0\n3 0 1 2\n"),
+      {"far.ply", "vertex 1"});
+  expect_error<InvalidInput>(write_file(d / "far.stl", "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\n"
+                                                       "vertex 2e12 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid s\n"),
+                             {"far.stl", "vertex"});
+  expect_error<InvalidInput>(write_file(d / "far.bdf", "GRID,1,,0.,0.,0.\nGRID,2,,1.+308,0.,0.\nGRID,3,,0.,1.,0.\n"
+                                                       "CTRIA3,1,1,1,2,3\nENDDATA\n"),
+                             {"far.bdf", "vertex 1"});
+  // 1e12 itself is accepted: areas of 1e24 are finite.
+  EXPECT_NO_THROW(read_mesh(write_file(d / "edge.obj", "v 0 0 0\nv 1e12 0 0\nv 0 1e12 0\nf 1 2 3\n")));
+}
+
+TEST(MeshBadInputs, names_with_control_characters_are_refused_without_echoing_them) {
+  auto d = temp_dir("names");
+  try {
+    read_mesh(write_file(d / "esc.obj", std::string("g a\x1b]0;t\x07\xe2\x80\xae") + "\n" + kTriangle + "f 1 2 3\n"));
+    ADD_FAILURE() << "accepted";
+  } catch (const InvalidInput& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("control characters"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("\\x1b"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\x1b'), std::string::npos);
+    EXPECT_EQ(msg.find("\xe2\x80\xae"), std::string::npos);
+  }
+  expect_error<InvalidInput>(write_file(d / "esc.bdf", "$ thermodec node 1 a\x01" "b\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\n"
+                                                       "GRID,3,,0.,1.,0.\nCTRIA3,1,1,1,2,3\nENDDATA\n"),
+                             {"esc.bdf", "node name", "\\x01"});
+}
+
+TEST(MeshBadInputs, nastran_duplicate_elements_and_non_positive_ids_are_refused) {
+  auto d = temp_dir("bdf_ids");
+  const std::string grids = "GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,0.,1.,0.\nGRID,4,,1.,1.,0.\n";
+  expect_error<InvalidInput>(write_file(d / "dup.bdf", grids + "CTRIA3,7,1,1,2,3\nCQUAD4,7,1,1,2,4,3\nENDDATA\n"),
+                             {"dup.bdf:6", "element 7 is defined twice"});
+  expect_error<InvalidInput>(write_file(d / "neg.bdf", "GRID,-2,,0.,0.,0.\n" + grids + "CTRIA3,1,1,1,2,3\nENDDATA\n"),
+                             {"neg.bdf:1", "ID", "positive"});
+  expect_error<InvalidInput>(write_file(d / "zero.bdf", grids + "CTRIA3,0,1,1,2,3\nENDDATA\n"), {"EID", "positive"});
+  // A field of a megabyte is quoted short.
+  try {
+    read_mesh(write_file(d / "huge.bdf", "GRID,1,," + std::string(1 << 20, '7') + "x,0.,0.\n" + grids + "ENDDATA\n"));
+    ADD_FAILURE() << "accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_LT(std::string(e.what()).size(), 300u) << e.what();
+    EXPECT_NE(std::string(e.what()).find("(1048577 bytes)"), std::string::npos) << e.what();
+  }
+}

@@ -25,6 +25,13 @@ void check_output_file(const fs::path& path, const std::string& what, const std:
   }
   if (!path.has_filename() || path.filename() == "." || path.filename() == "..")
     throw InvalidInput(what + " " + p + ": not a file name");
+  if (extensions.empty() && ext.empty())
+    throw InvalidInput(what + " " + p + ": no file extension; give the output a name with one");
+  try {
+    check_replaceable_output(path);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(what + " " + e.what());
+  }
   for (const auto& in : inputs)
     if (!in.empty() && same_file(path, in)) throw InvalidInput(what + " " + p + ": is an input of this command; refusing to overwrite it");
   // The nearest existing ancestor must be a writable folder (missing folders are created).
@@ -47,6 +54,13 @@ void check_output_folder(const fs::path& dir, const std::vector<std::string>& ow
   }
   if (!fs::is_directory(dir, ec)) throw InvalidInput("output folder " + d + ": exists and is not a folder");
   if (::access(dir.c_str(), W_OK | X_OK) != 0) throw InvalidInput("output folder " + d + ": not writable");
+  // The new result is staged beside the folder and swapped in (common/staged_folder.h).
+  fs::path whole = fs::absolute(dir, ec).lexically_normal();
+  if (!whole.has_filename()) whole = whole.parent_path();  // "out/"
+  const fs::path parent = whole.parent_path();
+  if (::access(parent.c_str(), W_OK | X_OK) != 0)
+    throw InvalidInput("output folder " + d + ": its parent " + parent.string() +
+                       " is not writable (the result is written beside the folder and swapped in)");
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     const std::string name = entry.path().filename().string();
     if (std::find(own_files.begin(), own_files.end(), name) == own_files.end())

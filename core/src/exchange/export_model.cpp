@@ -2,6 +2,7 @@
 
 #include "thermodec/common/atomic_write.h"
 #include "thermodec/common/errors.h"
+#include "thermodec/common/output_paths.h"
 #include "thermodec/exchange/exported_network.h"
 #include "thermodec/exchange/write_csv_tables.h"
 #include "thermodec/exchange/write_esatan_network.h"
@@ -25,10 +26,14 @@ void check_outputs(ExchangeFormat format, const fs::path& out, const std::string
     throw InvalidInput("export vtk: " + out.string() + " is a file; the output must be a folder (created if missing)");
   if (format != ExchangeFormat::vtk && format != ExchangeFormat::csv && folder)
     throw InvalidInput("export: " + out.string() + " is a folder, not a file");
+  // Known extension, not a device or FIFO, a writable folder: all before the simulation.
+  const std::vector<std::string> extensions =
+      format == ExchangeFormat::nastran ? std::vector<std::string>{".bdf", ".nas", ".dat"} : std::vector<std::string>{};
   for (const fs::path& o : export_outputs(format, out, stem)) {
     if (fs::is_directory(o, ec)) throw InvalidInput("export: " + o.string() + " is a folder, not a file");
     for (const fs::path& in : s.protected_inputs)
       if (same_file(in, o)) throw InvalidInput("export: output " + o.string() + " would overwrite the input " + in.string());
+    check_output_file(o, "export: output", extensions, s.protected_inputs);
   }
 }
 

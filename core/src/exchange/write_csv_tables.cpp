@@ -26,7 +26,9 @@ std::vector<std::filesystem::path> write_csv_tables(const std::filesystem::path&
   const std::filesystem::path temperatures = prefix.string() + "_temperatures.csv";
   const std::filesystem::path couplings = prefix.string() + "_couplings.csv";
   const std::filesystem::path loads = prefix.string() + "_loads.csv";
-  write_file_atomically(temperatures, [&](std::ostream& out) {
+  // The three tables replace an earlier export together, once all three are written.
+  AtomicFileSet files;
+  files.add(temperatures, [&](std::ostream& out) {
     out << "time_s";
     for (const auto& name : net.node_names) out << "," << csv_field(name);
     out << "\n";
@@ -36,7 +38,7 @@ std::vector<std::filesystem::path> write_csv_tables(const std::filesystem::path&
       out << "\n";
     }
   }, protected_inputs);
-  write_file_atomically(couplings, [&](std::ostream& out) {
+  files.add(couplings, [&](std::ostream& out) {
     out << "from,to,type,value,unit\n";
     for (int i = 0; i < n; ++i)
       for (int j = i + 1; j < n; ++j)
@@ -50,14 +52,14 @@ std::vector<std::filesystem::path> write_csv_tables(const std::filesystem::path&
         out << csv_field(net.node_names[i]) << ",space,GR," << real(net.to_space_couplings_m2[i]) << ",m^2\n";
     }
   }, protected_inputs);
-  write_file_atomically(loads, [&](std::ostream& out) {
+  files.add(loads, [&](std::ostream& out) {
     out << "time_s,node,solar_W,albedo_W,earth_ir_W,internal_W\n";
     for (int k = 0; k < S; ++k)
       for (int i = 0; i < n; ++i)
         out << real(e.times_s[k]) << "," << csv_field(net.node_names[i]) << "," << real(e.solar_W(i, k)) << ","
             << real(e.albedo_W(i, k)) << "," << real(e.earth_ir_W(i, k)) << "," << real(net.power_W[i]) << "\n";
   }, protected_inputs);
-  return {temperatures, couplings, loads};
+  return files.commit();
 }
 
 }  // namespace thermodec

@@ -64,6 +64,20 @@ void write_vtu(std::ostream& out, const ThermalModel& model, const ExportedNetwo
   out << "      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
 }
 
+// Removes DIR/STEM_NNNN.vtu for NNNN >= steps: what a longer earlier series left.
+void remove_stale_steps(const std::filesystem::path& dir, const std::string& stem, int steps) {
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() <= stem.size() + 5 || name.compare(0, stem.size() + 1, stem + "_") != 0 ||
+        entry.path().extension() != ".vtu")
+      continue;
+    const std::string digits = name.substr(stem.size() + 1, name.size() - stem.size() - 5);
+    if (digits.size() < 4 || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    if (std::stol(digits) >= steps && entry.is_regular_file(ec)) std::filesystem::remove(entry.path(), ec);
+  }
+}
+
 }  // namespace
 
 std::filesystem::path write_vtk_series(const std::filesystem::path& dir, const std::string& stem, const ThermalModel& model,
@@ -77,18 +91,23 @@ std::filesystem::path write_vtk_series(const std::filesystem::path& dir, const s
   const Eigen::VectorXd area = face_areas(model.mesh.V, model.mesh.F);
   const Eigen::MatrixXd external = e.external_W();
   std::string pvd = "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
+  // Every step file and the index replace an earlier series together; steps of a longer earlier
+  // series under the same stem are removed after.
+  AtomicFileSet series;
   for (int k = 0; k < S; ++k) {
     char name[32];
     std::snprintf(name, sizeof name, "_%04d.vtu", k);
     const std::string file = stem + name;
     // The node's absorbed power over its radiating area: what ParaView colours per face.
     const Eigen::VectorXd flux = external.col(k).cwiseQuotient(e.area_m2.cwiseMax(1e-300));
-    write_file_atomically(dir / file, [&](std::ostream& out) { write_vtu(out, model, e, area, flux, k); }, protected_inputs);
+    series.add(dir / file, [&](std::ostream& out) { write_vtu(out, model, e, area, flux, k); }, protected_inputs);
     pvd += "    <DataSet timestep=\"" + real(e.times_s[k]) + "\" part=\"0\" file=\"" + xml_escaped(file) + "\"/>\n";
   }
   pvd += "  </Collection>\n</VTKFile>\n";
   const std::filesystem::path pvd_path = dir / (stem + ".pvd");
-  write_text_atomically(pvd_path, pvd, protected_inputs);
+  series.add(pvd_path, [&](std::ostream& out) { out << pvd; }, protected_inputs);
+  series.commit();
+  remove_stale_steps(dir, stem, S);
   return pvd_path;
 }
 

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "mesh_formats.h"
@@ -66,6 +67,7 @@ struct Deck {
   std::vector<Card> cards;
   // From `$ thermodec` comments: names by PID and MID, back materials of two-sided elements by EID.
   std::map<long long, std::string> node_names, material_names, back_materials;
+  bool ended = false;  // ENDDATA seen
 };
 
 // `$ thermodec node PID NAME`, `$ thermodec material MID NAME`, `$ thermodec back_material EID
@@ -98,7 +100,10 @@ Deck read_deck(std::string_view data, const std::string& file) {
     if (t.empty()) continue;
     if (t.front() == '$') { read_name_comment(t, deck); continue; }
     const std::string head = upper(t.substr(0, std::min<std::size_t>(t.size(), 8)));
-    if (head.rfind("ENDDATA", 0) == 0) break;
+    if (head.rfind("ENDDATA", 0) == 0) {
+      deck.ended = true;
+      break;
+    }
     const bool continuation = line[0] == '+' || line[0] == '*' || line[0] == ',' || line[0] == ' ';
     if (continuation) {
       if (!open) throw line_error(file, reader.line_number(), "continuation line without a card before it");
@@ -146,22 +151,23 @@ class Fields {
     long long v = 0;
     if (s.empty() && blank) return *blank;
     if (s.empty()) fail(k, what, "is blank");
-    if (!parse_long(s, v)) fail(k, what, "is not an integer: '" + s + "'");
+    if (!parse_long(s, v)) fail(k, what, "is not an integer: " + field_text(s));
     return v;
   }
   double real(std::size_t k, const char* what) const {
     const std::string& s = raw(k - 2);
     double v = 0.0;
     if (s.empty()) fail(k, what, "is blank");
-    if (!parse_nastran_real(s, v)) fail(k, what, "is not a number: '" + s + "'");
+    if (!parse_nastran_real(s, v)) fail(k, what, "is not a number: " + field_text(s));
     return v;
   }
   [[noreturn]] void fail(std::size_t k, const char* what, const std::string& why) const {
-    throw line_error(file_, card_.line, card_.name + " " + raw(0) + ": field " + std::to_string(k) + " (" + what + ") " + why);
+    throw line_error(file_, card_.line, label() + ": field " + std::to_string(k) + " (" + what + ") " + why);
   }
   [[noreturn]] void fail(const std::string& why) const {
-    throw line_error(file_, card_.line, card_.name + " " + raw(0) + ": " + why);
+    throw line_error(file_, card_.line, label() + ": " + why);
   }
+  std::string label() const { return printable(card_.name, 16) + " " + printable(raw(0), 16); }
 
  private:
   const Card& card_;
@@ -191,15 +197,19 @@ Mesh parse_bdf(std::string_view data, const std::string& file) {
   struct Element { long long eid, pid; std::vector<long long> grids; const Card* card; };
   std::vector<Element> elements;
   std::map<std::string, int> skipped;
+  std::set<long long> element_ids;
   for (const Card& c : deck.cards) {
     const Fields f(c, file);
     if (c.name == "GRID") {
       const long long id = f.integer(2, "ID");
+      if (id <= 0) f.fail(2, "ID", "must be a positive integer");
       if (f.integer(3, "CP", 0) != 0) f.fail("coordinate system CP " + f.raw(1) + " is not supported (GRIDs must be in the basic system)");
       if (!vertex_of_grid.emplace(id, static_cast<int>(points.size())).second) f.fail("GRID " + std::to_string(id) + " is defined twice");
       points.emplace_back(f.real(4, "X1"), f.real(5, "X2"), f.real(6, "X3"));
     } else if (c.name == "CTRIA3" || c.name == "CTRIAR" || c.name == "CQUAD4" || c.name == "CQUADR") {
       const long long eid = f.integer(2, "EID");
+      if (eid <= 0) f.fail(2, "EID", "must be a positive integer");
+      if (!element_ids.insert(eid).second) f.fail("element " + std::to_string(eid) + " is defined twice");
       Element e{eid, f.integer(3, "PID", eid), {}, &c};  // blank PID = EID (QRG)
       const int corners = c.name[1] == 'T' ? 3 : 4;
       for (int k = 0; k < corners; ++k) e.grids.push_back(f.integer(4 + k, "G"));
@@ -212,10 +222,18 @@ Mesh parse_bdf(std::string_view data, const std::string& file) {
   }
   if (!skipped.empty()) {
     std::string list;
-    for (const auto& [name, n] : skipped) list += (list.empty() ? "" : ", ") + name + " (" + std::to_string(n) + ")";
+    for (const auto& [name, n] : skipped) {
+      if (list.size() > 400) {
+        list += ", ...";
+        break;
+      }
+      list += (list.empty() ? "" : ", ") + printable(name, 16) + " (" + std::to_string(n) + ")";
+    }
     std::cerr << "thermodec: warning: " << file << ": skipped cards that carry no radiating surface: " << list << "\n";
   }
   if (elements.empty()) throw file_error(file, "no CTRIA3/CQUAD4 elements (a radiating surface is needed)");
+  if (!deck.ended)
+    std::cerr << "thermodec: warning: " << file << ": no ENDDATA card: the deck may have been cut short; check that every element is there\n";
 
   Mesh mesh;
   mesh.V.resize(static_cast<Eigen::Index>(points.size()), 3);
@@ -250,7 +268,7 @@ Mesh parse_bdf(std::string_view data, const std::string& file) {
     for (std::size_t k = 0; k < e.grids.size(); ++k) {
       const auto it = vertex_of_grid.find(e.grids[k]);
       if (it == vertex_of_grid.end())
-        throw line_error(file, e.card->line, e.card->name + " " + e.card->fields[0] + ": GRID " + std::to_string(e.grids[k]) +
+        throw line_error(file, e.card->line, printable(e.card->name, 16) + " " + printable(e.card->fields[0], 16) + ": GRID " + std::to_string(e.grids[k]) +
                                                  " is not defined in the file");
       v[k] = it->second;
     }

@@ -65,8 +65,8 @@ Mesh parse_obj(std::string_view data, const std::string& file) {
       if (words.size() < 3) throw line_error(file, ln, "vertex needs 3 coordinates, found " + std::to_string(words.size()));
       for (int c = 0; c < 3; ++c) {
         double x;
-        if (!parse_double(words[c], x)) throw line_error(file, ln, "bad vertex coordinate '" + std::string(words[c]) + "'");
-        if (!std::isfinite(x)) throw line_error(file, ln, "non-finite vertex coordinate '" + std::string(words[c]) + "'");
+        if (!parse_double(words[c], x)) throw line_error(file, ln, "bad vertex coordinate " + field_text(words[c]));
+        if (!std::isfinite(x)) throw line_error(file, ln, "non-finite vertex coordinate " + field_text(words[c]));
         xyz.push_back(x);
       }
       // Optional w or r g b colour values are not needed and ignored.
@@ -78,7 +78,7 @@ Mesh parse_obj(std::string_view data, const std::string& file) {
       for (auto w : words) {
         const std::string_view index_text = w.substr(0, w.find('/'));
         long long i;
-        if (!parse_long(index_text, i)) throw line_error(file, ln, "bad vertex index '" + std::string(w) + "'");
+        if (!parse_long(index_text, i)) throw line_error(file, ln, "bad vertex index " + field_text(w));
         // v, v/vt, v//vn or v/vt/vn: the texture and normal indices are not used, but anything
         // else after the vertex index (`1/a`) is a malformed file, not something to skip.
         if (index_text.size() < w.size()) {
@@ -88,7 +88,7 @@ Mesh parse_obj(std::string_view data, const std::string& file) {
             const std::string_view part = rest_of_index.substr(0, rest_of_index.find('/'));
             long long ignored;
             if (++parts > 2 || (!part.empty() && !parse_long(part, ignored)))
-              throw line_error(file, ln, "bad face corner '" + std::string(w) + "' (expected v, v/vt, v//vn or v/vt/vn)");
+              throw line_error(file, ln, "bad face corner " + field_text(w) + " (expected v, v/vt, v//vn or v/vt/vn)");
             if (part.size() == rest_of_index.size()) break;
             rest_of_index = rest_of_index.substr(part.size() + 1);
           }

@@ -98,7 +98,7 @@ class Body {
         throw line_error(file_, line_, what() + " has too few values (" + std::to_string(words_.size()) + ")");
       const std::string_view w = words_[word_++];
       double v;
-      if (!parse_double(w, v)) throw line_error(file_, line_, what() + ": bad number '" + std::string(w) + "'");
+      if (!parse_double(w, v)) throw line_error(file_, line_, what() + ": bad number " + field_text(w));
       return v;
     }
     const std::size_t n = type_size(t);
@@ -186,7 +186,7 @@ PlyHeader parse_header(LineReader& lines, const std::string& file) {
       if (words[1] == "ascii") h.format = Format::ascii;
       else if (words[1] == "binary_little_endian") h.format = Format::binary_le;
       else if (words[1] == "binary_big_endian") h.format = Format::binary_be;
-      else throw line_error(file, ln, "unknown PLY format '" + std::string(words[1]) + "'");
+      else throw line_error(file, ln, "unknown PLY format " + field_text(words[1]));
       have_format = true;
     } else if (key == "comment" || key == "obj_info") {
       if (words.size() >= 5 && words[1] == "thermodec" && (words[2] == "node" || words[2] == "material")) {
@@ -206,7 +206,7 @@ PlyHeader parse_header(LineReader& lines, const std::string& file) {
       // another is stored: refuse rather than guess which one is meant.
       for (const Element& e : h.elements)
         if (e.name == words[1])
-          throw line_error(file, ln, "element '" + std::string(words[1]) + "' declared twice");
+          throw line_error(file, ln, "element " + field_text(words[1]) + " declared twice");
       h.elements.push_back({std::string(words[1]), count, {}});
     } else if (key == "property") {
       if (h.elements.empty()) throw line_error(file, ln, "property before any element");
@@ -217,7 +217,7 @@ PlyHeader parse_header(LineReader& lines, const std::string& file) {
           throw line_error(file, ln, "unknown PLY type in list property");
         p.name = std::string(words[4]);
       } else if (words.size() == 3) {
-        if (!parse_type(words[1], p.type)) throw line_error(file, ln, "unknown PLY type '" + std::string(words[1]) + "'");
+        if (!parse_type(words[1], p.type)) throw line_error(file, ln, "unknown PLY type " + field_text(words[1]));
         p.name = std::string(words[2]);
       } else {
         throw line_error(file, ln, "expected 'property <type> <name>' or 'property list <count type> <type> <name>'");
@@ -226,7 +226,7 @@ PlyHeader parse_header(LineReader& lines, const std::string& file) {
     } else if (key == "end_header") {
       ended = true;
     } else {
-      throw line_error(file, ln, "unexpected PLY header line '" + std::string(line) + "'");
+      throw line_error(file, ln, "unexpected PLY header line " + field_text(line));
     }
   }
   if (!ended) throw file_error(file, "truncated PLY: no 'end_header'");
@@ -241,9 +241,9 @@ PlyHeader parse_header(LineReader& lines, const std::string& file) {
 void check_counts_fit(const PlyHeader& h, std::size_t body_bytes, const std::string& file) {
   for (const Element& e : h.elements) {
     if (e.count > 0 && e.properties.empty())
-      throw file_error(file, "PLY element '" + e.name + "' declares " + std::to_string(e.count) + " records but no properties");
+      throw file_error(file, "PLY element " + field_text(e.name) + " declares " + std::to_string(e.count) + " records but no properties");
     if (static_cast<unsigned long long>(e.count) > body_bytes)
-      throw file_error(file, "truncated PLY: element '" + e.name + "' declares " + std::to_string(e.count) +
+      throw file_error(file, "truncated PLY: element " + field_text(e.name) + " declares " + std::to_string(e.count) +
                                  " records, more than the " + std::to_string(body_bytes) + " bytes after the header");
   }
 }
@@ -284,7 +284,7 @@ Mesh parse_ply(std::string_view data, const std::string& file) {
       if (pidx < 0 || !e.properties[pidx].is_list) throw file_error(file, "PLY face element lacks a 'vertex_indices' list");
       pnode = e.find("node"), pmat = e.find("material"), pback = e.find("back_material"), pq = e.find("quality");
       for (int p : {pnode, pmat, pback, pq})
-        if (p >= 0 && e.properties[p].is_list) throw file_error(file, "PLY face property '" + e.properties[p].name + "' must be scalar");
+        if (p >= 0 && e.properties[p].is_list) throw file_error(file, "PLY face property " + field_text(e.properties[p].name) + " must be scalar");
       has_node = pnode >= 0, has_material = pmat >= 0, has_back = pback >= 0, has_quality = pq >= 0;
     }
     for (long long r = 0; r < e.count; ++r) {

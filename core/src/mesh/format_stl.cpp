@@ -89,7 +89,7 @@ Mesh parse_ascii_stl(std::string_view data, const std::string& file) {
     if (words.empty()) continue;
     const std::string_view key = words[0];
     auto expect = [&](const char* what) {
-      return line_error(file, ln, std::string("expected ") + what + ", found '" + std::string(trim(raw)) + "'");
+      return line_error(file, ln, std::string("expected ") + what + ", found " + field_text(trim(raw)));
     };
     switch (state) {
       case State::outside:
@@ -124,8 +124,8 @@ Mesh parse_ascii_stl(std::string_view data, const std::string& file) {
         {
           std::array<double, 3> p;
           for (int k = 0; k < 3; ++k) {
-            if (!parse_double(words[1 + k], p[k])) throw line_error(file, ln, "bad vertex coordinate '" + std::string(words[1 + k]) + "'");
-            if (!std::isfinite(p[k])) throw line_error(file, ln, "non-finite vertex coordinate '" + std::string(words[1 + k]) + "'");
+            if (!parse_double(words[1 + k], p[k])) throw line_error(file, ln, "bad vertex coordinate " + field_text(words[1 + k]));
+            if (!std::isfinite(p[k])) throw line_error(file, ln, "non-finite vertex coordinate " + field_text(words[1 + k]));
           }
           corners.push_back(p);
         }

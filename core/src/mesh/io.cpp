@@ -10,7 +10,9 @@
 #include "mesh_formats.h"
 #include "thermodec/common/atomic_write.h"
 #include "thermodec/common/errors.h"
+#include "thermodec/common/printable.h"
 #include "thermodec/mesh/face_geometry.h"
+#include "thermodec/mesh/geometry_range.h"
 #include "thermodec/mesh/weld.h"
 
 namespace thermodec {
@@ -86,6 +88,19 @@ void check_writable(const Mesh& mesh) {
   for (const auto& n : mesh.material_names) mesh_formats::check_name_writable(n, "material");
 }
 
+// The docs and model.json forbid control characters in names: they would reach terminals and
+// other tools' input files as escape sequences.
+void check_names(const Mesh& mesh, const std::string& file) {
+  auto check = [&](const std::vector<std::string>& names, const char* kind) {
+    for (const auto& n : names)
+      if (has_control_characters(n))
+        throw InvalidInput(file + ": " + kind + " name '" + printable(n, 80) +
+                           "' contains control characters (escape sequences, direction overrides); names must be plain text");
+  };
+  check(mesh.node_names, "node");
+  check(mesh.material_names, "material");
+}
+
 }  // namespace
 
 Mesh read_mesh(const std::filesystem::path& path, const MeshReadOptions& options, MeshReadReport& report) {
@@ -100,6 +115,8 @@ Mesh read_mesh(const std::filesystem::path& path, const MeshReadOptions& options
     case MeshFormat::stl: mesh = mesh_formats::parse_stl(data, file); break;
     case MeshFormat::bdf: mesh = mesh_formats::parse_bdf(data, file); break;
   }
+  check_geometry_range(mesh.V, mesh.F, file);
+  check_names(mesh, file);
   report = MeshReadReport{};
   double tolerance = options.weld_tolerance;
   if (std::isnan(tolerance)) throw InvalidInput("weld tolerance is NaN");

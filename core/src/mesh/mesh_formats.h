@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/common/printable.h"
 #include "thermodec/mesh/mesh.h"
 
 namespace thermodec::mesh_formats {
@@ -97,6 +98,10 @@ inline bool parse_long(std::string_view s, long long& value) {
   const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
   return ec == std::errc() && ptr == s.data() + s.size();
 }
+
+// A word of the file quoted in a message: control bytes escaped, at most 40 bytes shown (a
+// binary file or a 1 MB field must not reach the terminal as it is).
+inline std::string field_text(std::string_view word) { return "'" + printable(word, 40) + "'"; }
 
 inline InvalidInput line_error(const std::string& file, int line, const std::string& what) {
   return InvalidInput(file + ":" + std::to_string(line) + ": " + what);

@@ -12,6 +12,7 @@
 #include "model_json.h"
 #include "thermodec/common/errors.h"
 #include "thermodec/mesh/format_bdf.h"
+#include "thermodec/mesh/geometry_range.h"
 #include "thermodec/mesh/io.h"
 #include "thermodec/nodes/automatic_nodes.h"
 
@@ -200,6 +201,7 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
   // The mesh: its groups are the nodes.
   model.mesh = read_mesh(model.mesh_path, options.mesh);
   model.mesh.V *= model.unit_scale;
+  check_geometry_range(model.mesh.V, model.mesh.F, model.mesh_path.string() + " (scaled by unit_scale)");
   ensure_nodes(model.mesh, options.automatic_nodes);
   for (const auto& name : model.mesh.node_names) {
     Node node;

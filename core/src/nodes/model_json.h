@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/common/printable.h"
 #include "thermodec/nodes/thermal_model.h"
 
 namespace thermodec::model_json {
@@ -109,9 +110,8 @@ class Keys {
 
   //! Node and material names end up as whole lines of OBJ and PLY files: one printable line.
   void name(const std::string& key, const std::string& n) const {
-    for (const char c : n)
-      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-        fail(key, "names must not contain control characters (newline, tab, NUL)");
+    if (has_control_characters(n))
+      fail(key, "names must not contain control characters (newline, tab, NUL, escape, direction overrides)");
     if (n.empty() || n.front() == ' ' || n.back() == ' ') fail(key, "names must be non-empty without leading/trailing spaces");
   }
 

@@ -11,6 +11,7 @@
 
 #include "thermodec/common/atomic_write.h"
 #include "thermodec/common/errors.h"
+#include "thermodec/common/interrupt_cleanup.h"
 
 namespace thermodec {
 namespace fs = std::filesystem;
@@ -37,25 +38,23 @@ std::string shell_quote(const std::string& s) {
 
 namespace {
 // A private folder (mkdtemp, mode 0700) for the data file and the picture: nobody else can
-// plant a symlink there, and the child never writes beside the user's files, so a killed
-// parent leaves at most an orphan in the temporary folder. Removed on every exit path.
+// plant a symlink there, and the child never writes beside the user's files. Removed on every
+// exit path, and on SIGINT/SIGTERM (common/interrupt_cleanup.h).
 class PrivateTempDir {
  public:
-  PrivateTempDir() {
-    std::string pattern = (fs::temp_directory_path() / "thermodec_plot_XXXXXX").string();
-    if (!::mkdtemp(pattern.data())) throw IOError("cannot create a private temporary folder in " + fs::temp_directory_path().string());
-    path_ = pattern;
-  }
-  ~PrivateTempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  PrivateTempDir(const PrivateTempDir&) = delete;
-  PrivateTempDir& operator=(const PrivateTempDir&) = delete;
-  const fs::path& path() const { return path_; }
+  PrivateTempDir()
+      : dir_(
+            [] {
+              std::string pattern = (fs::temp_directory_path() / "thermodec_plot_XXXXXX").string();
+              if (!::mkdtemp(pattern.data()))
+                throw IOError("cannot create a private temporary folder in " + fs::temp_directory_path().string());
+              return fs::path(pattern);
+            },
+            true) {}
+  const fs::path& path() const { return dir_.path(); }
 
  private:
-  fs::path path_;
+  TemporaryPath dir_;
 };
 
 // Creates `path` exclusively (O_EXCL | O_NOFOLLOW: never through a planted link).

@@ -9,7 +9,8 @@
 namespace thermodec {
 
 //! Checks that `path` can receive an output file: its extension (lower case, with the dot) is
-//! one of `extensions` (empty = any), it is not an existing folder, its parent is a folder
+//! one of `extensions` (empty = any, but there must be one), it is not an existing folder,
+//! device, FIFO or socket (check_replaceable_output), its parent is a folder
 //! (or can be created: missing parents are created by the atomic writers) that is writable,
 //! and it is none of `inputs`. `what` names the output in messages ("--json", "-o").
 //! \throw InvalidInput naming the path and what is wrong.
@@ -19,7 +20,8 @@ void check_output_file(const std::filesystem::path& path, const std::string& wha
 
 //! Checks that `dir` can receive a command's outputs, whose file names are `own_files`: it
 //! does not exist, or is an empty folder, or a folder holding only files of `own_files`
-//! (an earlier run's outputs). Any input among `own_files` in `dir` is refused.
+//! (an earlier run's outputs). Any input among `own_files` in `dir` is refused. Its parent must
+//! be writable too: the result is staged beside it (common/staged_folder.h).
 //! \throw InvalidInput naming the folder and the first foreign entry.
 void check_output_folder(const std::filesystem::path& dir, const std::vector<std::string>& own_files,
                          const std::vector<std::filesystem::path>& inputs);
