@@ -16,7 +16,7 @@ import numpy as np
 import FreeCAD
 from FreeCAD import Vector
 
-from thermodec_freecad import (coatings, export, objects, plots, references, results, runner, sample,
+from thermodec_freecad import (coatings, export, files, objects, plots, references, results, runner, sample,
                                temperature_field, tessellate, thermal_result)
 from thermodec_freecad.errors import ThermoDecError
 
@@ -52,6 +52,36 @@ class _DocTest(unittest.TestCase):
     def tearDown(self):
         for name in list(FreeCAD.listDocuments()):
             FreeCAD.closeDocument(name)
+
+
+class AtomicOutput(unittest.TestCase):
+    def test_a_planted_link_at_any_temporary_name_is_never_followed(self):
+        folder = _output_dir("atomic_output")
+        victim = os.path.join(folder, "victim.txt")
+        with open(victim, "w") as f:
+            f.write("keep")
+        out = os.path.join(folder, "model.json")
+        for pid in range(os.getpid() - 2, os.getpid() + 3):  # the old predictable names
+            os.symlink(victim, "%s.tmp%d" % (out, pid))
+        files.atomic_write_text(out, "{}\n")
+        with open(victim) as f:
+            self.assertEqual(f.read(), "keep")
+        with open(out) as f:
+            self.assertEqual(f.read(), "{}\n")
+
+    def test_an_existing_output_keeps_its_mode_and_a_fifo_is_refused(self):
+        folder = _output_dir("atomic_output_mode")
+        out = os.path.join(folder, "r.json")
+        with open(out, "w") as f:
+            f.write("old")
+        os.chmod(out, 0o600)
+        files.atomic_write_text(out, "new")
+        self.assertEqual(os.stat(out).st_mode & 0o777, 0o600)
+        fifo = os.path.join(folder, "pipe.json")
+        os.mkfifo(fifo)
+        with self.assertRaises(ThermoDecError):
+            files.atomic_write_text(fifo, "x")
+        self.assertEqual(sorted(os.listdir(folder)), ["pipe.json", "r.json"])
 
 
 class CoatingLibrary(unittest.TestCase):

@@ -15,6 +15,7 @@ import FreeCAD
 
 from . import core, objects, tessellate, units
 from .errors import ThermoDecError
+from .files import atomic_write_text
 
 
 def _environment(env):
@@ -142,10 +143,7 @@ def _refuse_arithmetic_nodes(analysis, nodes_by_name, entries):
 
 
 def _atomic_write(path, text):
-    tmp = "%s.tmp%d" % (path, os.getpid())
-    with open(tmp, "w", encoding="utf-8") as f:
-        f.write(text)
-    os.replace(tmp, path)
+    atomic_write_text(path, text)
 
 
 def core_mesh(V_m, F, face_node, face_material, node_names, material_names):

@@ -12,6 +12,7 @@ import FreeCAD
 
 from . import core, export, objects, temperature_field, tessellate, thermal_result, units
 from .errors import ThermoDecError
+from .files import atomic_write_text
 
 
 def _node_temperatures(temperatures):
@@ -164,11 +165,7 @@ def _progress(message):
 
 
 def _write_json(path, data):
-    tmp = "%s.tmp%d" % (path, os.getpid())
-    with open(tmp, "w", encoding="utf-8") as f:
-        json.dump(data, f, indent=1)
-        f.write("\n")
-    os.replace(tmp, path)
+    atomic_write_text(path, json.dumps(data, indent=1) + "\n")
 
 
 def simulate(analysis, json_path=None):
