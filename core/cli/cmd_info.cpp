@@ -46,6 +46,13 @@ void run_info(const InfoArgs& args) {
   line("model", args.model);
   line("mesh", model.mesh_path.string());
   line("faces", std::to_string(s.faces));
+  // simulate, reduce and decimate clean a raw mesh before building its nodes (load_model.h).
+  const ThermalModel cleaned = load_model(args.model, model_load_options());
+  if (cleaned.mesh_cleanup)
+    line("bare-mesh cleanup", fmt::format("on: simulate, reduce and decimate use {} faces, {} nodes",
+                                          cleaned.mesh.num_faces(), cleaned.nodes.size()));
+  else
+    line("bare-mesh cleanup", "off (grouped mesh, or a model file naming nodes or radiation)");
   line("vertices", s.unreferenced_vertices ? fmt::format("{} ({} unreferenced)", s.vertices, s.unreferenced_vertices)
                                            : std::to_string(s.vertices));
   line("edges", std::to_string(s.edges));
@@ -76,6 +83,7 @@ void run_info(const InfoArgs& args) {
     j["model"] = args.model;
     j["mesh"] = model.mesh_path.string();
     j["faces"] = s.faces;
+    j["bare_mesh_cleanup"] = static_cast<bool>(cleaned.mesh_cleanup);
     j["vertices"] = s.vertices;
     j["unreferenced_vertices"] = s.unreferenced_vertices;
     j["edges"] = s.edges;
