@@ -173,6 +173,10 @@ void add_decimate(CLI::App& app) {
                   "each node's projected area over all directions, which radiation sees; docs/decimation.md)")
       ->check(CLI::IsMember({"geometric", "radiative"}))
       ->capture_default_str();
+  sub->add_option("--max-normal-deviation", args->options.max_normal_deviation_deg,
+                  "refuse a collapse that turns a face by more than this [degrees]")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 179.0));
   sub->add_option("--contour-deviation", args->options.max_contour_deviation,
                   "max deviation of a removed interface vertex, relative to the new segment")
       ->capture_default_str()

@@ -18,7 +18,9 @@
 // whose sphere mean is the same, so one term covers one- and two-sided nodes.
 #include "collapse_cost.h"
 
+#include <array>
 #include <cmath>
+#include <vector>
 
 namespace thermodec::collapse {
 namespace {
@@ -53,11 +55,17 @@ double projected_area_change(const Context& c, const StarChange& s) {
     double sign;
     Vec3 n;
   };
-  std::array<Term, 64> terms;
+  // Stars are small, except around the fan centres of CAD meshes (a vertex of 100 faces).
+  std::array<Term, 64> small;
+  std::vector<Term> large;
+  Term* terms = small.data();
+  if (2 * s.faces.size() > small.size()) {
+    large.resize(2 * s.faces.size());
+    terms = large.data();
+  }
   int nterms = 0;
   for (const auto& f : s.faces) {
     if (!f.removed && f.after == f.before) continue;
-    if (nterms + 2 > static_cast<int>(terms.size())) break;  // stars are far smaller
     terms[nterms++] = {f.node, -1.0, 0.5 * (f.before[1] - f.before[0]).cross(f.before[2] - f.before[0])};
     if (!f.removed) terms[nterms++] = {f.node, 1.0, 0.5 * (f.after[1] - f.after[0]).cross(f.after[2] - f.after[0])};
   }
