@@ -25,6 +25,7 @@ struct DecimateArgs {
   double ratio = -1;
   std::string node_ratios;
   DecimationOptions options;
+  std::string collapse_cost = "geometric";
 };
 
 bool same_file(const fs::path& a, const fs::path& b) {
@@ -87,11 +88,13 @@ void run_decimate(const DecimateArgs& args) {
     if (out.extension() != ".stl") check_output_file(other, "-o (companion file)", {}, inputs);
   }
   const Mesh& mesh = model.mesh;
+  DecimationOptions options = args.options;
+  options.collapse_cost = args.collapse_cost == "radiative" ? CollapseCostKind::radiative : CollapseCostKind::geometric;
   DecimationResult r;
   if (!args.node_ratios.empty()) {
-    r = decimate_nodes(mesh, read_node_ratios(args.node_ratios, mesh.node_names), args.options);
+    r = decimate_nodes(mesh, read_node_ratios(args.node_ratios, mesh.node_names), options);
   } else {
-    r = decimate_to_global_ratio(mesh, args.ratio, args.options);
+    r = decimate_to_global_ratio(mesh, args.ratio, options);
   }
   std::cout << fmt::format("{}: {} -> {} faces ({:.1f} % removed) in {} collapses\n", args.model,
                            mesh.num_faces(), r.mesh.num_faces(),
@@ -103,7 +106,8 @@ void run_decimate(const DecimateArgs& args) {
     const auto& s = r.nodes[n];
     const std::string name = n < mesh.node_names.size() ? mesh.node_names[n] : "(unassigned)";
     std::cout << fmt::format("{:<16} {:>8} {:>8} {:>8} {:>6} {:>14.4f} {:>8}\n", name, s.faces_before, s.target_faces,
-                             s.faces_after, s.faces_removed_free, 100.0 * s.relative_area_change(), s.reached ? "yes" : "no");
+                             s.faces_after, s.faces_removed_free, 100.0 * s.relative_area_change(),
+                             s.reached ? std::string("yes") : std::string("no: ") + collapse_block_name(s.stopped_by()));
   }
   double worst_volume = 0;
   for (size_t k = 0; k < r.closed_volume_before_m3.size(); ++k)
@@ -171,6 +175,15 @@ void add_decimate(CLI::App& app) {
                "on thin tubes (struts, ribs, cables) remove whole cross-sections at once: reaches much "
                "further on bent thin tubes, keeps their area and volume (off by default, and in `reduce`: "
                "measured to move thin ribs' temperatures more than single collapses; docs/decimation.md)");
+  sub->add_option("--collapse-cost", args->collapse_cost,
+                  "ranking of the collapses: geometric (Lindstrom-Turk volume and shape) or radiative (also "
+                  "each node's projected area over all directions, which radiation sees; docs/decimation.md)")
+      ->check(CLI::IsMember({"geometric", "radiative"}))
+      ->capture_default_str();
+  sub->add_option("--max-normal-deviation", args->options.max_normal_deviation_deg,
+                  "refuse a collapse that turns a face by more than this [degrees]")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 179.0));
   sub->add_option("--contour-deviation", args->options.max_contour_deviation,
                   "max deviation of a removed interface vertex, relative to the new segment")
       ->capture_default_str()

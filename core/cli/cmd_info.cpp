@@ -9,6 +9,7 @@
 #include "thermodec/common/version.h"
 #include "thermodec/common/atomic_write.h"
 #include "thermodec/common/printable.h"
+#include "thermodec/common/errors.h"
 #include "thermodec/mesh/mesh_stats.h"
 #include "thermodec/nodes/load_model.h"
 
@@ -51,6 +52,20 @@ void run_info(const InfoArgs& args) {
   line("model", shown(args.model));
   line("mesh", shown(model.mesh_path.string()));
   line("faces", std::to_string(s.faces));
+  // simulate, reduce and decimate clean a raw mesh before building its nodes (load_model.h).
+  // info describes the file even where the cleanup refuses it (the other commands then stop).
+  bool cleans = false;
+  try {
+    const ThermalModel cleaned = load_model(args.model, model_load_options());
+    cleans = cleaned.mesh_cleanup.has_value();
+    if (cleans)
+      line("bare-mesh cleanup", fmt::format("on: simulate, reduce and decimate use {} faces, {} nodes",
+                                            cleaned.mesh.num_faces(), cleaned.nodes.size()));
+    else
+      line("bare-mesh cleanup", "off (grouped mesh, or a model file naming nodes or radiation)");
+  } catch (const Error& e) {
+    line("bare-mesh cleanup", "fails: " + shown(e.what()));
+  }
   line("vertices", s.unreferenced_vertices ? fmt::format("{} ({} unreferenced)", s.vertices, s.unreferenced_vertices)
                                            : std::to_string(s.vertices));
   line("edges", std::to_string(s.edges));
@@ -81,6 +96,7 @@ void run_info(const InfoArgs& args) {
     j["model"] = args.model;
     j["mesh"] = model.mesh_path.string();
     j["faces"] = s.faces;
+    j["bare_mesh_cleanup"] = cleans;
     j["vertices"] = s.vertices;
     j["unreferenced_vertices"] = s.unreferenced_vertices;
     j["edges"] = s.edges;

@@ -41,6 +41,9 @@ struct ReduceCliOptions {
   double record_memory_GiB = 0.0;  // 0: the default (record_budget.h)
   std::vector<std::string> case_files;
   std::vector<double> prediction_targets;  // empty: the default (ReduceSettings, budgets)
+  std::string collapse_cost = "geometric";
+  double max_normal_deviation_deg = DecimationOptions{}.max_normal_deviation_deg;
+  double max_contour_deviation = DecimationOptions{}.max_contour_deviation;
 };
 
 // What `reduce` writes into its folder (report/reduction_report.h); only these may be there.
@@ -93,6 +96,10 @@ void run_reduce(const ReduceCliOptions& o) {
     s.reference.decimation.max_relative_area_change = o.max_area_change;
     s.area_error_fraction = 0.0;
   }
+  s.reference.decimation.collapse_cost =
+      o.collapse_cost == "radiative" ? CollapseCostKind::radiative : CollapseCostKind::geometric;
+  s.reference.decimation.max_normal_deviation_deg = o.max_normal_deviation_deg;
+  s.reference.decimation.max_contour_deviation = o.max_contour_deviation;
   if (o.record_memory_GiB > 0.0) s.reference.record_budget_bytes = static_cast<std::size_t>(o.record_memory_GiB * 1073741824.0);
   // Load cases read (and checked) before any simulation.
   for (const auto& f : o.case_files) s.extra_cases.push_back(load_case(f, model));
@@ -199,6 +206,20 @@ void add_reduce(CLI::App& app) {
   sub->add_option("--max-area-change", o->max_area_change,
                   "bound on each node's relative area change by the decimator, used as given (default: from the "
                   "tolerance, so that area drift dT = T dA/4A costs at most 10 % of it at the hottest node)")
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--collapse-cost", o->collapse_cost,
+                  "ranking of the decimator's collapses: geometric (Lindstrom-Turk volume and shape) or radiative "
+                  "(also each node's projected area over all directions; docs/decimation.md)")
+      ->check(CLI::IsMember({"geometric", "radiative"}))
+      ->capture_default_str();
+  sub->add_option("--max-normal-deviation", o->max_normal_deviation_deg,
+                  "the decimator refuses a collapse that turns a face by more than this [degrees]; CAD meshes of "
+                  "long thin triangles reach further with a wider bound (docs/decimation.md, \"Reach\")")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 179.0));
+  sub->add_option("--contour-deviation", o->max_contour_deviation,
+                  "max deviation of a removed interface or boundary vertex from the new segment, relative to its length")
+      ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--record-memory", o->record_memory_GiB,
                   "memory for the reference's reusable ray records [GiB]: 2/17 for Earth ray geometry, the rest "

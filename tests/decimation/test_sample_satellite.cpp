@@ -208,6 +208,13 @@ TEST(DecimateCli, writes_a_model_that_loads_and_reports_every_node) {
   ASSERT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --ratio 0.5 --tube-sections -o \"" +
                         (dir / "sections.json").string() + "\"", out), 0) << out;
   EXPECT_EQ(load_model(dir / "sections.json").nodes.size(), full.nodes.size());
+  // The radiative ranking, and the reason a node stops short of its target (the instrument's
+  // corners are frozen: measured "no: frozen_vertices" at 0.6).
+  ASSERT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --ratio 0.6 --collapse-cost radiative -o \"" +
+                        (dir / "radiative.json").string() + "\"", out), 0) << out;
+  EXPECT_NE(out.find("no: frozen_vertices"), std::string::npos) << out;
+  EXPECT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --ratio 0.6 --collapse-cost quadric -o \"" +
+                        (dir / "q.json").string() + "\"", out), 1) << out;
   // Errors exit 1 with a message: unknown node, missing ratio, overwriting the input.
   std::ofstream(dir / "bad.json") << "{\"no_such_node\": 0.5}";
   EXPECT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --node-ratios \"" + (dir / "bad.json").string() +

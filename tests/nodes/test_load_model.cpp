@@ -127,6 +127,45 @@ TEST(LoadModel, mesh_without_groups_gets_automatic_nodes_on_every_face) {
   EXPECT_EQ(m.mesh.face_material, Eigen::VectorXi::Zero(12));
 }
 
+// A raw CAD export wrapped in a model file is loaded as it is given bare: cleaned (the open
+// panel made two-sided) before its automatic nodes are built, so it reduces the same way.
+TEST(LoadModel, raw_mesh_in_a_model_file_is_cleaned_as_when_given_bare) {
+  const fs::path d = temp_dir("raw_in_model");
+  Mesh m = load_model(kData / "satellite.obj").mesh;  // a closed cube
+  m.node_names.clear();
+  m.face_node.setConstant(-1);
+  m.face_material.setConstant(-1);
+  m.face_back_material.setConstant(-1);
+  const int nv = m.num_vertices(), nf = m.num_faces();
+  m.V.conservativeResize(nv + 3, 3);  // an open one-sided triangle beside it
+  m.V.row(nv) << 3, 0, 0;
+  m.V.row(nv + 1) << 4, 0, 0;
+  m.V.row(nv + 2) << 3, 1, 0;
+  m.F.conservativeResize(nf + 1, 3);
+  m.F.row(nf) << nv, nv + 1, nv + 2;
+  for (Eigen::VectorXi* a : {&m.face_node, &m.face_material, &m.face_back_material}) {
+    a->conservativeResize(nf + 1);
+    (*a)[nf] = -1;
+  }
+  write_mesh(d / "part.stl", m);
+  const ThermalModel bare = load_model(d / "part.stl");
+  std::ofstream(d / "model.json") << json({{"mesh", "part.stl"}}).dump();
+  const ThermalModel wrapped = load_model(d / "model.json");
+  ASSERT_TRUE(bare.mesh_cleanup.has_value());
+  ASSERT_TRUE(wrapped.mesh_cleanup.has_value());
+  EXPECT_EQ(wrapped.mesh_cleanup->open_sheet_faces_made_two_sided, 1);
+  EXPECT_EQ(wrapped.mesh.V, bare.mesh.V);
+  EXPECT_EQ(wrapped.mesh.F, bare.mesh.F);
+  EXPECT_EQ(wrapped.mesh.face_node, bare.mesh.face_node);
+  EXPECT_EQ(wrapped.mesh.face_back_material, bare.mesh.face_back_material);
+  EXPECT_EQ(wrapped.nodes.size(), bare.nodes.size());
+  // A model file that sets its own sampling keeps the mesh as written.
+  std::ofstream(d / "model.json") << json({{"mesh", "part.stl"}, {"radiation", {{"rays_per_face", 500}}}}).dump();
+  const ThermalModel own = load_model(d / "model.json");
+  EXPECT_FALSE(own.mesh_cleanup.has_value());
+  EXPECT_EQ(own.mesh.face_back_material.maxCoeff(), -1);
+}
+
 TEST(LoadModel, usemtl_overrides_node_material_and_unlisted_groups_get_defaults) {
   const fs::path d = temp_dir("override");
   std::ofstream(d / "m.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"

@@ -494,8 +494,16 @@ TEST(ReduceCli, writes_loadable_model_and_report_with_required_keys) {
   for (const char* key : {"strategy", "tolerance_K", "faces_before", "faces_after", "max_temperature_difference_K",
                           "noise_floor_K", "nodes"})
     EXPECT_TRUE(j.contains(key)) << key;
-  for (const char* key : {"faces_before", "faces_after", "ratio", "max_abs_dT_K"})
+  for (const char* key : {"faces_before", "faces_after", "ratio", "max_abs_dT_K", "target_faces", "faces_removed",
+                          "stopped_by", "blocked_edges"})
     EXPECT_TRUE(j["nodes"]["panel"].contains(key)) << key;
+  // Reach: what the ratio removed, and why a node ended above its target (or "none").
+  for (const auto& [name, n] : j["nodes"].items()) {
+    EXPECT_EQ(n["faces_removed"].get<int>(), n["faces_before"].get<int>() - n["faces_after"].get<int>()) << name;
+    const bool reached = n["faces_after"].get<int>() <= n["target_faces"].get<int>();
+    EXPECT_EQ(n["blocked_edges"].empty(), reached) << name;
+    if (reached) EXPECT_EQ(n["stopped_by"], "none") << name;
+  }
   EXPECT_LE(j["max_temperature_difference_K"].get<double>(), 0.5);
   const ThermalModel reduced = load_model(out / "model.json");
   EXPECT_EQ(reduced.mesh.num_faces(), j["faces_after"].get<int>());

@@ -23,6 +23,11 @@ bool NodeCollapse::IsFeasible(vcg::BaseParameterClass* pp) {
     std::push_heap(heap.begin(), heap.end());
     return false;
   }
+  return constraints_hold(c);
+}
+
+bool NodeCollapse::constraints_hold(Context& c) {
+  auto refuse = [&](CollapseBlock why) { return refused_ = why, false; };
   // Budgets: each node pays for its removed faces, except one whose geometry the collapse
   // leaves unchanged (exact_per_node_); somebody must pay, or the collapse serves no one.
   bool paid = false;
@@ -30,17 +35,19 @@ bool NodeCollapse::IsFeasible(vcg::BaseParameterClass* pp) {
     if (c.node_faces[d.key] - static_cast<int>(d.value) >= c.node_target[d.key])
       paid = true;
     else if (!is_exact_for(d.key) || c.node_faces[d.key] - static_cast<int>(d.value) < c.opt.min_faces_per_node)
-      return false;
+      return refuse(CollapseBlock::neighbour_budget);
   }
-  if (!paid) return false;
+  if (!paid) return refuse(CollapseBlock::neighbour_budget);
   for (const auto& d : removed_per_region_)
-    if (c.region_faces[d.key] - static_cast<int>(d.value) < 1) return false;
+    if (c.region_faces[d.key] - static_cast<int>(d.value) < 1) return refuse(CollapseBlock::last_region_face);
   for (const auto& d : area_delta_)
-    if (!c.area_within_bound(d.key, d.value)) return false;
+    if (!c.area_within_bound(d.key, d.value)) return refuse(CollapseBlock::area_bound);
   for (const auto& d : volume_delta_)
-    if (!c.volume_within_bound(d.key, d.value)) return false;
+    if (!c.volume_within_bound(d.key, d.value)) return refuse(CollapseBlock::volume_bound);
   // A section collapse checked its topology when it was evaluated (section_collapse.cpp).
-  return section_.n > 0 || link_condition(c);
+  if (section_.n == 0 && !link_condition(c)) return refuse(CollapseBlock::topology);
+  refused_ = CollapseBlock::none;
+  return true;
 }
 
 bool NodeCollapse::is_fresh(const Context& c) const {

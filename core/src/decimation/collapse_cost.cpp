@@ -1,129 +1,100 @@
-// The cost of a candidate collapse (Lindstrom-Turk: volume preservation and optimisation,
-// boundary preservation, triangle shape), its validity (no flipped or degenerate face) and the
-// per-node, per-region and per-part bookkeeping it would change. The cost is a float priority
-// in vcg's heap, made scale-free by 1 / (bbox diagonal)^6.
+// The cost of a candidate collapse: the order in which the valid collapses run.
+//
+// geometric: Lindstrom-Turk (volume preservation and optimisation, boundary preservation,
+// triangle shape), in length^6, made scale-free by 1 / (bbox diagonal)^6 because vcg's heap
+// stores float priorities.
 //  P. Lindstrom, G. Turk, "Fast and memory efficient polygonal simplification", IEEE Vis 1998.
-#include <algorithm>
-#include <cmath>
-#include <limits>
+//
+// radiative: what a thermal node exchanges with its surroundings at a distance (the Sun, the
+// planet, far nodes) goes through its projected area P(d) = sum_f max(0, N_f . d) in each
+// direction d, N_f being a face's area vector. A collapse that keeps the shape in the volume
+// sense may still tilt or fold area (a crease flattened on a thin fin, a ridge cut on a
+// corrugated panel) and change P in some directions: the node then absorbs and sees
+// differently. The term is the mean over the unit sphere of (P_after(d) - P_before(d))^2,
+// relative to the node's area squared. Its closed form uses the degree-1 arc-cosine kernel
+// (Cho & Saul, "Kernel methods for deep learning", 2009): for a direction uniform on the
+// sphere, E[max(0, a.d) max(0, b.d)] = (|a x b| + (pi - theta) a.b) / (6 pi), theta the angle
+// between a and b; no direction sampling, so no aliasing and no seed. Back faces see P(-d),
+// whose sphere mean is the same, so one term covers one- and two-sided nodes.
+#include "collapse_cost.h"
 
-#include "node_collapse.h"
+#include <array>
+#include <cmath>
+#include <vector>
 
 namespace thermodec::collapse {
+namespace {
 
-void NodeCollapse::evaluate(Context& c, VVertex* gone, VVertex* kept, bool optimal) {
-  valid_ = false;
-  _priority = std::numeric_limits<float>::max();
-  section_ = Section();
-  pos.V(0) = gone;
-  pos.V(1) = kept;
-  removed_per_node_.clear();
-  removed_per_region_.clear();
-  area_delta_.clear();
-  volume_delta_.clear();
-  exact_per_node_.clear();
+// E over d uniform on the unit sphere of max(0, a.d) max(0, b.d) [m^4 for area vectors].
+double arccos_kernel(const Vec3& a, const Vec3& b) {
+  const double cross = a.cross(b).norm(), dot = a.dot(b);
+  const double theta = std::atan2(cross, dot);
+  return (cross + (M_PI - theta) * dot) / (6.0 * M_PI);
+}
 
-  const Vec3 pg = to_eigen(gone->cP()), pk = to_eigen(kept->cP());
-
-  // Faces of the two stars (the removed ones are in both; list them once).
-  auto& star_ = c.star;
-  star_.clear();
-  for (vcg::face::VFIterator<VFace> it(gone); !it.End(); ++it) star_.push_back(it.F());
-  for (vcg::face::VFIterator<VFace> it(kept); !it.End(); ++it)
-    if (it.V1() != gone && it.V2() != gone) star_.push_back(it.F());
-
-  double boundary_cost = 0;
-  bool straight = false;  // gone lies on a straight contour (free_exact_contour_collapses)
-  if (!place(c, gone, kept, optimal, pg, pk, boundary_cost, straight)) return;
-
-  // Validity (no flips, no degenerate faces) and cost. On a straight contour, also whether
-  // each node's faces around `gone` are coplanar and keep their total area: then moving
-  // `gone` onto `kept` (in the same plane, on the same line) re-triangulates the same
-  // polygon and that node's geometry is unchanged.
-  struct NodePlane {
-    int node;
-    Vec3 normal;
-    bool coplanar;
-    double area_before, area_after;
-  };
-  std::array<NodePlane, 4> planes;
-  int nplanes = 0;
-  auto plane_of = [&](int node, const Vec3& n0) -> NodePlane* {
-    for (int i = 0; i < nplanes; ++i)
-      if (planes[i].node == node) return &planes[i];
-    if (nplanes == 4) return nullptr;
-    const double len = n0.norm();
-    planes[nplanes] = {node, len > 0 ? Vec3(n0 / len) : Vec3::Zero(), len > 0, 0.0, 0.0};
-    return &planes[nplanes++];
-  };
-  double vol_cost = 0, vol_change = 0, shape = 0, mean_area2 = 0;
-  for (VFace* f : star_) {
-    const int fidx = c.fi(f);
-    const int region = c.face_region[fidx], node = c.region_node[region];
-    std::array<Vec3, 3> p, q;
-    bool has_gone = false, has_kept = false;
-    for (int j = 0; j < 3; ++j) {
-      p[j] = to_eigen(f->cP(j));
-      q[j] = p[j];
-      if (f->cV(j) == gone) q[j] = x_, has_gone = true;
-      if (f->cV(j) == kept) {
-        has_kept = true;
-        if (optimal) q[j] = x_;
-      }
-    }
-    const Vec3 n0 = (p[1] - p[0]).cross(p[2] - p[0]);
-    const double a0 = 0.5 * n0.norm();
-    mean_area2 += a0;
-    NodePlane* plane = nullptr;
-    if (straight && has_gone) {
-      plane = plane_of(node, n0);
-      if (plane == nullptr) {
-        straight = false;
-      } else {
-        const double len = n0.norm();
-        if (!(len > 0) || (n0 / len - plane->normal).norm() > c.opt.exact_contour_tolerance) plane->coplanar = false;
-        plane->area_before += a0;
-      }
-    }
-    // LT volume terms: tetrahedron between the new vertex and the old face.
-    const double tet = n0.dot(x_ - p[0]) / 6.0;
-    vol_cost += tet * tet;
-    vol_change += tet;
-    if (has_gone && has_kept) {  // this face disappears
-      removed_per_node_.add(node, 1.0);
-      removed_per_region_.add(region, 1.0);
-      area_delta_.add(node, -a0);
-      volume_delta_.add(c.face_component[fidx], -p[0].dot(p[1].cross(p[2])) / 6.0);
-      continue;
-    }
-    const Vec3 n1 = (q[1] - q[0]).cross(q[2] - q[0]);
-    const double n1sq = n1.squaredNorm();
-    if (n1sq <= c.degenerate_area2) return;
-    if (n0.dot(n1) < c.cos_normal * std::sqrt(n0.squaredNorm() * n1sq)) return;
-    area_delta_.add(node, 0.5 * std::sqrt(n1sq) - a0);
-    if (plane != nullptr) plane->area_after += 0.5 * std::sqrt(n1sq);
-    volume_delta_.add(c.face_component[fidx],
-              (q[0].dot(q[1].cross(q[2])) - p[0].dot(p[1].cross(p[2]))) / 6.0);
-    for (int j = 0; j < 3; ++j)
-      if (f->cV(j) != gone && f->cV(j) != kept) shape += (q[j] - x_).squaredNorm();
+double geometric_cost(const Context& c, const StarChange& s) {
+  double vol_cost = 0, vol_change = 0;
+  for (const auto& f : s.faces) {
+    vol_cost += f.swept_m3 * f.swept_m3;
+    vol_change += f.swept_m3;
   }
-  if (removed_per_node_.empty()) return;  // not an edge of a face (cannot happen) -> skip
-  if (removed_per_node_.overflow || removed_per_region_.overflow || area_delta_.overflow ||
-      volume_delta_.overflow)
-    return;
-  if (straight)
-    for (int i = 0; i < nplanes; ++i) {
-      const NodePlane& p = planes[i];
-      const bool exact = p.coplanar && std::abs(p.area_after - p.area_before) <=
-                                           c.opt.exact_contour_tolerance * p.area_before;
-      exact_per_node_.add(p.node, exact ? 1.0 : 0.0);
+  double cost = vol_cost + vol_change * vol_change + s.boundary_m6;
+  if (s.shape_m2 != 0.0) {
+    const double mean_area = s.star_area_m2 / static_cast<double>(s.star_faces);
+    cost += c.opt.shape_weight * s.shape_m2 * (mean_area * mean_area);
+  }
+  return cost * c.cost_scale;
+}
+
+}  // namespace
+
+double projected_area_change(const Context& c, const StarChange& s) {
+  // Signed area vectors per node: -N_before for every changed face, +N_after for a survivor.
+  struct Term {
+    int node;
+    double sign;
+    Vec3 n;
+  };
+  // Stars are small, except around the fan centres of CAD meshes (a vertex of 100 faces).
+  std::array<Term, 64> small;
+  std::vector<Term> large;
+  Term* terms = small.data();
+  if (2 * s.faces.size() > small.size()) {
+    large.resize(2 * s.faces.size());
+    terms = large.data();
+  }
+  int nterms = 0;
+  for (const auto& f : s.faces) {
+    if (!f.removed && f.after == f.before) continue;
+    terms[nterms++] = {f.node, -1.0, 0.5 * (f.before[1] - f.before[0]).cross(f.before[2] - f.before[0])};
+    if (!f.removed) terms[nterms++] = {f.node, 1.0, 0.5 * (f.after[1] - f.after[0]).cross(f.after[2] - f.after[0])};
+  }
+  double total = 0;
+  std::array<int, 4> done{};
+  int ndone = 0;
+  for (int i = 0; i < nterms; ++i) {
+    const int node = terms[i].node;
+    bool seen = false;
+    for (int k = 0; k < ndone; ++k) seen |= done[k] == node;
+    if (seen || ndone == 4) continue;
+    done[ndone++] = node;
+    double sum = 0;  // sum_ij s_i s_j K(N_i, N_j) over this node's terms [m^4]
+    for (int a = i; a < nterms; ++a) {
+      if (terms[a].node != node) continue;
+      sum += terms[a].n.squaredNorm() / 6.0;  // K(N, N) = |N|^2 / 6
+      for (int b = a + 1; b < nterms; ++b)
+        if (terms[b].node == node) sum += 2.0 * terms[a].sign * terms[b].sign * arccos_kernel(terms[a].n, terms[b].n);
     }
-  mean_area2 /= static_cast<double>(star_.size());
-  mean_area2 *= mean_area2;
-  const double cost = vol_cost + vol_change * vol_change + boundary_cost +
-                      c.opt.shape_weight * shape * mean_area2;
-  _priority = static_cast<ScalarType>(cost * c.cost_scale);
-  valid_ = std::isfinite(_priority);
+    const double area = c.node_area0[node];
+    if (area > 0 && sum > 0) total += sum / (area * area);
+  }
+  return total;
+}
+
+double collapse_cost(const Context& c, const StarChange& change) {
+  const double geometric = geometric_cost(c, change);
+  if (c.opt.collapse_cost == CollapseCostKind::geometric) return geometric;
+  return geometric + c.opt.radiative_cost_weight * projected_area_change(c, change);
 }
 
 }  // namespace thermodec::collapse

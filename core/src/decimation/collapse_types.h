@@ -33,6 +33,27 @@ enum VertexClass : uint8_t { kFree = 0, kContour = 1, kFrozen = 2 };
 
 inline Vec3 to_eigen(const vcg::Point3d& p) { return Vec3(p[0], p[1], p[2]); }
 
+//! One face around a candidate collapse, before and after it (collapse_cost.h).
+struct StarFaceChange {
+  std::array<Vec3, 3> before, after;  //!< corners [m]; `after` unused when removed
+  int node = 0;                       //!< the face's node group
+  bool removed = false;               //!< the face disappears with the collapse
+  double swept_m3 = 0;                //!< signed volume the face sweeps (LT volume terms)
+};
+
+//! What a candidate collapse does to its star, as its cost sees it (collapse_cost.h).
+struct StarChange {
+  std::vector<StarFaceChange> faces;  //!< in star order (the cost's sums follow it)
+  double star_area_m2 = 0;            //!< summed input area of the star's faces (shape term scale)
+  int star_faces = 0;                 //!< faces in the star (shape term scale)
+  double boundary_m6 = 0;             //!< LT boundary term of a contour collapse
+  double shape_m2 = 0;                //!< sum |q - x|^2 over the link corners of surviving faces
+  void clear() {
+    faces.clear();
+    star_area_m2 = 0, star_faces = 0, boundary_m6 = 0, shape_m2 = 0;
+  }
+};
+
 // Everything the collapses share for one decimation call (vcg passes it as the parameter
 // object, so no static state: concurrent calls are safe).
 struct Context : vcg::BaseParameterClass {
@@ -56,6 +77,7 @@ struct Context : vcg::BaseParameterClass {
   std::vector<char> comp_closed;
   std::vector<int> absorbed_by;  // removed face -> face that took over its area (provenance)
   std::vector<VFace*> star;      // scratch for evaluate()
+  StarChange change;             // scratch for evaluate(): what the candidate does (its cost's input)
   std::vector<VVertex*> scratch_v[3];
   std::vector<std::pair<VVertex*, VVertex*>> scratch_e[2];
   std::vector<VVertex*> section_scratch[2];  // for the thin-tube section collapse

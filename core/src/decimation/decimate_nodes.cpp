@@ -169,6 +169,7 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     throw InvalidInput("decimate: unassigned_ratio must be in [0, 1]");
   if (!(options.max_relative_area_change >= 0) || !(options.max_relative_volume_change >= 0) ||
       !(options.max_contour_deviation >= 0) || !(options.exact_contour_tolerance >= 0) ||
+      !(options.radiative_cost_weight >= 0) ||
       options.min_faces_per_node < 1)
     throw InvalidInput("decimate: tolerances must be >= 0 and min_faces_per_node >= 1");
 
@@ -214,7 +215,11 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     collapses = opt.nPerformedOps;
   }
 
-  return assemble_result(mesh, m, c, collapses, groups, group_of, ncomp);
+  const auto blocked = collapse::explain_reach(m, c);
+  DecimationResult res = assemble_result(mesh, m, c, collapses, groups, group_of, ncomp);
+  for (int g = 0; g < groups; ++g)
+    if (!res.nodes[g].reached) res.nodes[g].blocked_edges = blocked[g];
+  return res;
 }
 
 DecimationResult decimate_to_global_ratio(const Mesh& mesh, double global_ratio,

@@ -11,6 +11,7 @@ namespace thermodec::collapse {
 NodeCollapse::ScalarType NodeCollapse::ComputePriority(vcg::BaseParameterClass* pp) {
   auto& c = *static_cast<Context*>(pp);
   valid_ = false;
+  refused_ = CollapseBlock::none;
   _priority = std::numeric_limits<float>::max();
   VVertex* a = pos.V(0);
   VVertex* b = pos.V(1);
@@ -25,7 +26,8 @@ NodeCollapse::ScalarType NodeCollapse::ComputePriority(vcg::BaseParameterClass* 
         const int node = c.region_node[c.face_region[c.fi(it.F())]];
         ++(c.node_faces[node] <= c.node_target[node] ? spent : with_budget);
       }
-    if (with_budget == 0 || (spent > 0 && !c.opt.free_exact_contour_collapses)) return _priority;
+    if (with_budget == 0 || (spent > 0 && !c.opt.free_exact_contour_collapses))
+      return set_refused(CollapseBlock::neighbour_budget), _priority;
   }
   const uint8_t ca = c.vclass[c.vi(a)], cb = c.vclass[c.vi(b)];
   // On a thin tube, the whole cross-section goes (section_collapse.cpp), in the cheaper direction.
@@ -35,7 +37,7 @@ NodeCollapse::ScalarType NodeCollapse::ComputePriority(vcg::BaseParameterClass* 
     const bool backward = cb == kFree && other.evaluate_section(c, b, a);
     if (backward && (!forward || other._priority < _priority)) *this = other;
     if (forward || backward) return _priority;
-    if (on_thin_tube(c, a, b) || on_thin_tube(c, b, a)) return _priority;
+    if (on_thin_tube(c, a, b) || on_thin_tube(c, b, a)) return set_refused(CollapseBlock::thin_tube), _priority;
   }
   if (ca == kFree && cb == kFree) {
     evaluate(c, a, b, /*optimal=*/true);
@@ -45,8 +47,8 @@ NodeCollapse::ScalarType NodeCollapse::ComputePriority(vcg::BaseParameterClass* 
     evaluate(c, b, a, false);
   } else {
     // Both ends constrained: only along a contour edge, never between two frozen vertices.
-    if (ca == kFrozen && cb == kFrozen) return _priority;
-    if (!is_contour_edge(c, a, b)) return _priority;
+    if ((ca == kFrozen && cb == kFrozen) || !is_contour_edge(c, a, b))
+      return set_refused(CollapseBlock::frozen_vertices), _priority;
     if (ca == kContour && cb == kContour) {
       evaluate(c, a, b, false);
       if (c.vclass[c.vi(b)] == kContour) {

@@ -20,6 +20,12 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   }
 
   bool valid() const { return valid_; }
+  //! Why the last evaluation or constraint check refused this collapse (none if it did not).
+  CollapseBlock refused() const { return refused_; }
+
+  //! The constraints that depend on the state of the other collapses (budgets, regions, area
+  //! and volume bounds, topology), checked when the collapse comes off the heap; sets refused().
+  bool constraints_hold(Context& c);
 
   //! Most vertices on one cross-section loop of a thin tube (section_collapse.cpp).
   static constexpr int kMaxSection = 12;
@@ -51,6 +57,10 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
       if (d.key == node) return d.value > 0;
     return false;
   }
+
+  // Clears the candidate for an evaluation of the collapse of `gone` into `kept`.
+  void reset(VVertex* gone, VVertex* kept);
+  void set_refused(CollapseBlock why) { valid_ = false, refused_ = why; }
 
   // Does the edge (a, b) separate two regions, or bound the surface (1 face or > 2 faces)?
   static bool is_contour_edge(const Context& c, VVertex* a, VVertex* b);
@@ -142,10 +152,15 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
 
   Section section_;
   bool valid_ = false;
+  CollapseBlock refused_ = CollapseBlock::none;
   int evaluated_at_ = 0;
   Vec3 x_ = Vec3::Zero();
   Deltas removed_per_node_, removed_per_region_, area_delta_, volume_delta_;
   Deltas exact_per_node_;  // node -> 1 if this collapse leaves its geometry unchanged
 };
+
+//! For each node group still above its target after the collapses, how many of its remaining
+//! edges each CollapseBlock refuses (decimation_reach.cpp); zeros for the others.
+std::vector<std::array<int, kCollapseBlocks>> explain_reach(VMesh& m, Context& c);
 
 }  // namespace thermodec::collapse

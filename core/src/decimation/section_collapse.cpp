@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 
+#include "collapse_cost.h"
 #include "node_collapse.h"
 
 namespace thermodec::collapse {
@@ -238,14 +239,8 @@ bool NodeCollapse::section_keeps_volume(const Context& c, const Vec3& shift) con
 }
 
 bool NodeCollapse::evaluate_section(Context& c, VVertex* gone, VVertex* kept) {
-  valid_ = false;
-  _priority = std::numeric_limits<float>::max();
-  removed_per_node_.clear(), removed_per_region_.clear(), area_delta_.clear(), volume_delta_.clear();
-  exact_per_node_.clear();
-  section_ = Section();
+  reset(gone, kept);
   if (!find_section(c, gone, kept, section_)) return false;
-  pos.V(0) = gone;
-  pos.V(1) = kept;
   Section& s = section_;
   // The faces around both loops, each once.
   auto& star = c.star;
@@ -255,44 +250,48 @@ bool NodeCollapse::evaluate_section(Context& c, VVertex* gone, VVertex* kept) {
       for (vcg::face::VFIterator<VFace> it(v); !it.End(); ++it) star.push_back(it.F());
   std::sort(star.begin(), star.end());
   star.erase(std::unique(star.begin(), star.end()), star.end());
-  if (!section_topology_ok(c)) return section_.n = 0, false;
+  if (!section_topology_ok(c)) return section_.n = 0, set_refused(CollapseBlock::topology), false;
   s.centre.setZero();
   for (int j = 0; j < s.n; ++j) s.centre += to_eigen(s.kept[j]->cP());
   s.centre /= s.n;
   s.shift = c.opt.area_neutral_placement ? section_restoring_shift(c) : Vec3::Zero();
 
-  // Validity and deltas, as for a single collapse (collapse_cost.cpp); the cost is the
-  // Lindstrom-Turk volume objective with each face's swept volume taken about the kept
-  // loop's centroid (the collapse moves no single point).
-  double vol_cost = 0, vol_change = 0;
+  // Validity and deltas, as for a single collapse (collapse_evaluate.cpp); the geometric cost's
+  // volume terms take each face's swept volume about the kept loop's centroid (the collapse
+  // moves no single point).
+  StarChange& change = c.change;
+  change.clear();
   for (VFace* f : star) {
     const int fidx = c.fi(f);
     const int region = c.face_region[fidx], node = c.region_node[region];
-    const Vec3 p0 = to_eigen(f->cP(0)), p1 = to_eigen(f->cP(1)), p2 = to_eigen(f->cP(2));
-    const Vec3 q0 = section_position(f->cV(0), s.shift), q1 = section_position(f->cV(1), s.shift),
-               q2 = section_position(f->cV(2), s.shift);
+    StarFaceChange fc;
+    fc.node = node;
+    for (int j = 0; j < 3; ++j) fc.before[j] = to_eigen(f->cP(j)), fc.after[j] = section_position(f->cV(j), s.shift);
+    const Vec3 &p0 = fc.before[0], &p1 = fc.before[1], &p2 = fc.before[2];
+    const Vec3 &q0 = fc.after[0], &q1 = fc.after[1], &q2 = fc.after[2];
     if (q0 == p0 && q1 == p1 && q2 == p2) continue;  // not moved (a kept loop that does not move)
     const Vec3 n0 = (p1 - p0).cross(p2 - p0), n1 = (q1 - q0).cross(q2 - q0);
-    const double swept = ((q0 - s.centre).dot((q1 - s.centre).cross(q2 - s.centre)) -
-                          (p0 - s.centre).dot((p1 - s.centre).cross(p2 - s.centre))) / 6.0;
-    vol_cost += swept * swept;
-    vol_change += swept;
+    fc.swept_m3 = ((q0 - s.centre).dot((q1 - s.centre).cross(q2 - s.centre)) -
+                   (p0 - s.centre).dot((p1 - s.centre).cross(p2 - s.centre))) / 6.0;
     volume_delta_.add(c.face_component[fidx], (q0.dot(q1.cross(q2)) - p0.dot(p1.cross(p2))) / 6.0);
     if (section_removes(f)) {
+      fc.removed = true;
       removed_per_node_.add(node, 1.0);
       removed_per_region_.add(region, 1.0);
       area_delta_.add(node, -0.5 * n0.norm());
+      change.faces.push_back(fc);
       continue;
     }
     const double n1sq = n1.squaredNorm();
-    if (n1sq <= c.degenerate_area2) return section_.n = 0, false;
-    if (n0.dot(n1) < c.cos_normal * std::sqrt(n0.squaredNorm() * n1sq)) return section_.n = 0, false;
+    if (n1sq <= c.degenerate_area2 || n0.dot(n1) < c.cos_normal * std::sqrt(n0.squaredNorm() * n1sq))
+      return section_.n = 0, set_refused(CollapseBlock::normal_deviation), false;
     area_delta_.add(node, 0.5 * std::sqrt(n1sq) - 0.5 * n0.norm());
+    change.faces.push_back(fc);
   }
   if (removed_per_node_.empty() || removed_per_node_.overflow || removed_per_region_.overflow ||
       area_delta_.overflow || volume_delta_.overflow)
-    return section_.n = 0, false;
-  _priority = static_cast<ScalarType>((vol_cost + vol_change * vol_change) * c.cost_scale);
+    return section_.n = 0, set_refused(CollapseBlock::topology), false;
+  _priority = static_cast<ScalarType>(collapse_cost(c, change));
   valid_ = std::isfinite(_priority);
   if (!valid_) section_.n = 0;
   return valid_;

@@ -42,21 +42,22 @@ bool NodeCollapse::place(Context& c, VVertex* gone, VVertex* kept, bool optimal,
     // Shape optimisation: sum |x - p_j|^2 over link vertices -> H = nlink I, g = sum p_j.
     if (nlink > 0) k.add_objective(Eigen::Matrix3d::Identity() * nlink, centroid);
     x_ = k.n == 3 ? k.solve() : 0.5 * (pg + pk);
-    if (!x_.allFinite()) return false;
+    if (!x_.allFinite()) return set_refused(CollapseBlock::topology), false;
     if (c.opt.area_neutral_placement) place_area_neutral(c);
   } else {
     x_ = pk;
     if (c.vclass[c.vi(gone)] == kContour) {
       // The contour loses `gone`; it must stay nearly straight there (shape error bound).
       VVertex* w = other_contour_neighbour(c, gone, kept);
-      if (w == nullptr || w == kept) return false;
+      if (w == nullptr) return set_refused(CollapseBlock::frozen_vertices), false;
+      if (w == kept) return set_refused(CollapseBlock::topology), false;
       const Vec3 pw = to_eigen(w->cP());
       const Vec3 seg = pw - pk;
       const double len2 = seg.squaredNorm();
-      if (!(len2 > 0)) return false;
+      if (!(len2 > 0)) return set_refused(CollapseBlock::topology), false;
       const double t = std::clamp((pg - pk).dot(seg) / len2, 0.0, 1.0);
       const double dev = (pg - (pk + t * seg)).norm();
-      if (dev > c.opt.max_contour_deviation * std::sqrt(len2)) return false;
+      if (dev > c.opt.max_contour_deviation * std::sqrt(len2)) return set_refused(CollapseBlock::contour_deviation), false;
       straight = c.opt.free_exact_contour_collapses && dev <= c.opt.exact_contour_tolerance * std::sqrt(len2);
       // LT boundary preservation: squared swept area of the contour, times a length^2.
       const double swept = 0.5 * (pg - pk).cross(pw - pk).norm();

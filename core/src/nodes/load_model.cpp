@@ -202,6 +202,17 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
   model.mesh = read_mesh(model.mesh_path, options.mesh);
   model.mesh.V *= model.unit_scale;
   check_geometry_range(model.mesh.V, model.mesh.F, model.mesh_path.string() + " (scaled by unit_scale)");
+  // A raw CAD export (no groups) in a model file that names no nodes and sets no sampling is
+  // cleaned as it is when given bare (and so gets the bare-mesh sample budgets): the same mesh
+  // reduces the same way either way.
+  Eigen::VectorXi two_sided;
+  const bool grouped = model.mesh.face_node.size() > 0 && model.mesh.face_node.maxCoeff() >= 0;
+  if (options.clean_bare_mesh && !grouped && !j.contains("nodes") && !j.contains("radiation")) {
+    BareMeshCleanupResult cleaned = cleanup_bare_mesh(model.mesh, options.cleanup);
+    model.mesh = std::move(cleaned.mesh);
+    two_sided = std::move(cleaned.two_sided);
+    model.mesh_cleanup = cleaned.report;
+  }
   ensure_nodes(model.mesh, options.automatic_nodes);
   for (const auto& name : model.mesh.node_names) {
     Node node;
@@ -250,6 +261,8 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
     }
   }
   resolve_faces(model, sides, model.mesh_path.string());
+  for (int f = 0; f < two_sided.size(); ++f)  // as for a bare mesh (model_from_bare_mesh)
+    if (two_sided[f] && model.mesh.face_back_material[f] < 0) model.mesh.face_back_material[f] = model.mesh.face_material[f];
 
   if (j.contains("conductances")) {
     const json& list = j.at("conductances");

@@ -295,6 +295,10 @@ void rebuild_and_report(ReductionRun& run, const std::vector<std::unique_ptr<Red
     nr.max_abs_dT_K = node_max[k];
     nr.area_before_m2 = st.area_before_m2;
     nr.area_after_m2 = st.area_after_m2;
+    nr.target_faces = st.target_faces;
+    nr.stopped_by = collapse_block_name(st.stopped_by());
+    for (int b = 0; b < kCollapseBlocks; ++b)
+      if (st.blocked_edges[b] > 0) nr.blocked_edges.emplace_back(collapse_block_name(static_cast<CollapseBlock>(b)), st.blocked_edges[b]);
     run.nodes.push_back(nr);
   }
 }

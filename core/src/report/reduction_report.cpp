@@ -72,11 +72,16 @@ json reduction_report_json(const ReductionRun& run) {
                      {"max_temperature_difference_at", {{"node", c.max_difference_node}, {"time_s", c.max_difference_time_s}}}});
   j["load_cases"] = cases;
   json nodes = json::object();
-  for (const auto& n : run.nodes)
+  for (const auto& n : run.nodes) {
     nodes[n.name] = {{"faces_before", n.faces_before}, {"faces_after", n.faces_after}, {"ratio", n.ratio},
                      {"requested_ratio", n.requested_ratio}, {"predicted_ratio", n.predicted_ratio},
                      {"max_abs_dT_K", n.max_abs_dT_K}, {"area_before_m2", n.area_before_m2},
-                     {"area_after_m2", n.area_after_m2}};
+                     {"area_after_m2", n.area_after_m2}, {"target_faces", n.target_faces},
+                     {"faces_removed", n.faces_before - n.faces_after}, {"stopped_by", n.stopped_by}};
+    json blocked = json::object();
+    for (const auto& [why, edges] : n.blocked_edges) blocked[why] = edges;
+    nodes[n.name]["blocked_edges"] = blocked;
+  }
   j["nodes"] = nodes;
   json curves = json::array();
   for (const auto& c : run.curves) curves.push_back(curve_json(c, run));
@@ -235,6 +240,11 @@ std::string reduction_summary(const ReductionRun& run) {
     std::snprintf(buf, sizeof buf, "  %-16s %5d -> %5d faces  ratio %.2f  max|dT| %.4f K\n", n.name.c_str(),
                   n.faces_before, n.faces_after, n.ratio, n.max_abs_dT_K);
     o << buf;
+    if (n.stopped_by != "none") {  // the decimator ended above the faces the ratio asked for
+      std::snprintf(buf, sizeof buf, "  %-16s asked %.2f (%d faces), stopped by %s\n", "", n.requested_ratio,
+                    n.target_faces, n.stopped_by.c_str());
+      o << buf;
+    }
   }
   return o.str();
 }

@@ -24,13 +24,37 @@
 //!    forbids face flips, and every node's area and every closed component's enclosed volume
 //!    stay within the stated relative tolerances of their input values.
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 #include "thermodec/mesh/mesh.h"
 
 namespace thermodec {
 
+//! How candidate collapses are ranked (the order in which they run; never whether they may).
+enum class CollapseCostKind {
+  //! Lindstrom-Turk: swept volume, boundary and triangle-shape terms (shape preservation).
+  geometric,
+  //! The geometric cost plus `radiative_cost_weight` times the change of each touched node's
+  //! projected area over all directions, relative to the node's area (docs/decimation.md):
+  //! collapses that tilt or fold a node's surface, and so change what it sees and absorbs,
+  //! run last, whatever volume they sweep.
+  radiative,
+};
+
 struct DecimationOptions {
+  //! Ranking of the candidate collapses (collapse_cost.h); the constraints below are the same
+  //! for every kind.
+  CollapseCostKind collapse_cost = CollapseCostKind::geometric;
+  //! radiative: weight of the projected-area term against the geometric one, both
+  //! dimensionless (the geometric cost is in units of the bounding-box diagonal^6; the
+  //! radiative one is the mean over all directions of the squared change of a node's projected
+  //! area, divided by the node's area squared). At 1e6 the radiative term decides wherever it
+  //! is not zero, even on a small closed convex part (whose projected area moves only to second
+  //! order when its faces tilt), and the geometric cost orders the collapses that leave it zero
+  //! (inside flat panels).
+  double radiative_cost_weight = 1e6;
+
   //! Hard bound on |area_after - area_before| / area_before of every node.
   double max_relative_area_change = 0.005;
   //! Place the vertex of a collapse inside one region where the node's area comes back to
@@ -87,6 +111,23 @@ struct DecimationOptions {
   double exact_contour_tolerance = 1e-6;
 };
 
+//! Why a collapse that would remove a node's faces is refused (decimation reach).
+enum class CollapseBlock : int {
+  neighbour_budget,   //!< another node on the edge has spent its face budget
+  last_region_face,   //!< a region (node, material, back material) would lose its last face
+  area_bound,         //!< a node's area would leave max_relative_area_change
+  volume_bound,       //!< a closed part's volume would leave max_relative_volume_change
+  contour_deviation,  //!< an interface or boundary vertex is a kink beyond max_contour_deviation
+  frozen_vertices,    //!< both ends frozen or on contours, not along one contour
+  normal_deviation,   //!< a face would turn past max_normal_deviation_deg or degenerate
+  topology,           //!< link condition (the collapse would change the topology)
+  thin_tube,          //!< an edge along a thin tube's cross-section loop (collapse_tube_sections)
+  none,               //!< allowed: the node stopped at its target, not against a constraint
+};
+constexpr int kCollapseBlocks = static_cast<int>(CollapseBlock::none) + 1;
+//! "area_bound", "contour_deviation", ...: the enumerator's name.
+const char* collapse_block_name(CollapseBlock block);
+
 //! What decimation did to one node (index = node index; the last entry is the unassigned
 //! group, face_node == -1, when the input has such faces).
 struct NodeDecimationStats {
@@ -102,6 +143,13 @@ struct NodeDecimationStats {
   //! therefore lower than faces_before for such a node even at ratio 0, and can be lower than
   //! target_faces.
   int faces_removed_free = 0;
+  //! Reach: when the node ends above its target, for each CollapseBlock, how many of the
+  //! edges of its remaining faces are refused for that reason (the first failing check, in
+  //! the order evaluated: budgets and vertex classes, contour, normals, then region, area,
+  //! volume, topology); all zero when the node reached its target.
+  std::array<int, kCollapseBlocks> blocked_edges{};
+  //! The reason that refuses most of this node's remaining edges (none if reached).
+  CollapseBlock stopped_by() const;
   double relative_area_change() const {
     return area_before_m2 > 0 ? (area_after_m2 - area_before_m2) / area_before_m2 : 0.0;
   }

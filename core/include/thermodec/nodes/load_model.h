@@ -23,7 +23,9 @@ struct ModelLoadOptions {
   MeshReadOptions mesh;
   //! A bare mesh without groups (a raw CAD export, e.g. STL, given as the model) is cleaned
   //! before its automatic nodes are built (mesh/bare_mesh_cleanup.h); the counts land in
-  //! ThermalModel::mesh_cleanup. Grouped meshes and model files are never cleaned: their
+  //! ThermalModel::mesh_cleanup. So is the mesh of a model file that has no groups and whose
+  //! file names no nodes and sets no "radiation" (the same mesh then reduces the same way given
+  //! bare or in a model file). Grouped meshes and other model files are never cleaned: their
   //! sidedness and faces are the user's.
   bool clean_bare_mesh = true;
   BareMeshCleanupOptions cleanup;

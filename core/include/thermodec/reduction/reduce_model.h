@@ -5,6 +5,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "thermodec/nodes/load_case.h"
@@ -96,6 +97,12 @@ struct NodeReduction {
   double predicted_ratio = 0.0;   //!< informed: the paper's prediction from the curve alone
   double max_abs_dT_K = 0.0;      //!< this node's max |dT| over the orbit in the verified model
   double area_before_m2 = 0.0, area_after_m2 = 0.0;
+  //! Reach: faces the requested ratio asked to keep, and, when the decimator ended above
+  //! that, what refused the node's remaining edges (NodeDecimationStats::blocked_edges, by
+  //! collapse_block_name) and the most frequent reason ("none" when the target was reached).
+  int target_faces = 0;
+  std::string stopped_by = "none";
+  std::vector<std::pair<std::string, int>> blocked_edges;
 };
 
 struct PredictionPoint {

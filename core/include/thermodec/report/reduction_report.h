@@ -13,7 +13,8 @@ namespace thermodec {
 //! report.json content: strategy, tolerance_K, faces_before, faces_after,
 //! max_temperature_difference_K (+ node and time), noise_floor_K, nodes{name: {faces_before,
 //! faces_after, ratio, requested_ratio, predicted_ratio, max_abs_dT_K, area_before_m2,
-//! area_after_m2}}, sensitivity curves, predicted-vs-real points, search history, timings.
+//! area_after_m2, target_faces, faces_removed, stopped_by, blocked_edges{reason: edges}}},
+//! sensitivity curves, predicted-vs-real points, search history, timings.
 nlohmann::json reduction_report_json(const ReductionRun& run);
 
 //! Files written into `out_dir` (atomically; `protected_inputs` are never overwritten; the
