@@ -25,6 +25,11 @@ def fail(message):
     sys.exit(1)
 
 
+def temperatures(result):
+    """nodes x times [K] of a result JSON (docs/thermal.md, "Result file")."""
+    return np.array([result["temperatures_K"][n] for n in result["nodes"]], dtype=float)
+
+
 def main(cli, server, model_file, mesh, work):
     os.makedirs(work, exist_ok=True)
     seed = 1
@@ -36,8 +41,8 @@ def main(cli, server, model_file, mesh, work):
         fail("thermodec simulate failed:\n" + out.stderr)
     with open(cli_json) as f:
         ref = json.load(f)
-    T_cli = np.array(ref["temperature_K"], dtype=float)
     nodes = ref["nodes"]
+    T_cli = temperatures(ref)
     print("CLI: %d nodes x %d times, %.17g .. %.17g K" % (T_cli.shape[0], T_cli.shape[1], T_cli.min(), T_cli.max()))
 
     # 2. The Python module.
@@ -71,7 +76,7 @@ def main(cli, server, model_file, mesh, work):
         fail("meshlabserver failed (exit %d):\n%s" % (out.returncode, log[-3000:]))
     with open(ml_json) as f:
         ml = json.load(f)
-    T_ml = np.array(ml["temperature_K"], dtype=float)
+    T_ml = temperatures(ml)
     if ml["nodes"] != nodes or T_ml.shape != T_cli.shape or not np.array_equal(T_ml, T_cli):
         fail("MeshLab's temperatures differ from the CLI's (max |dT| %s K)"
              % (np.abs(T_ml - T_cli).max() if T_ml.shape == T_cli.shape else "shape"))
