@@ -60,11 +60,11 @@ ModelFileChoice found_model_file(MeshModel& layer) {
 void add_model_file_parameter(RichParameterList& params, MeshModel& layer, const QString& help) {
   // MeshLab's file widget shows a file only once browsed for: the label names the one it holds.
   const ModelFileChoice found = found_model_file(layer);
-  const QString label = found.path.isEmpty()
-                            ? QString("Model file (none found: defaults)")
-                            : QString("Model file (%1, %2)").arg(QFileInfo(found.path).fileName(), found.how);
-  params.addParam(RichOpenFile("model_file", found.path, QStringList() << "thermodec model (*.json)", label,
-                               help + html_escaped(found.path.isEmpty() ? QString() : " Now: " + found.path)));
+  const QString label = found.path.isEmpty() ? QString("Model file (none: defaults)")
+                                             : QString("Model file (%1)").arg(QFileInfo(found.path).fileName());
+  params.addParam(RichOpenFile(
+      "model_file", found.path, QStringList() << "thermodec model (*.json)", label,
+      help + html_escaped(found.path.isEmpty() ? QString() : " Now: " + found.path + " (" + found.how + ").")));
 }
 
 QString text_parameter(const RichParameterList& params, const QString& name) {
