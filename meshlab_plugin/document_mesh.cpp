@@ -255,7 +255,7 @@ std::vector<MeshModel*> add_layers(MeshDocument& md, const DocumentMesh& dm,
   std::vector<int> all(mesh.num_faces());
   for (int f = 0; f < mesh.num_faces(); ++f) all[f] = f;
   MeshModel* source = dm.layer != nullptr ? dm.layer : md.mm();
-  MeshModel* layer = md.addNewMesh("", result_label(layer_stem(*source) + " " + suffix), false);
+  MeshModel* layer = md.addNewMesh("", result_label(result_stem(*source) + " " + suffix), false);
   fill_layer(layer->cm, mesh, all);
   layer->cm.Tr = source->cm.Tr;
   tag_result_layer(*layer, suffix.toStdString(), *source);
@@ -281,6 +281,16 @@ QString layer_stem(const MeshModel& layer) {
 }
 
 QString result_label(const QString& text) { return text + ".ply"; }
+
+QString result_stem(MeshModel& layer) {
+  // A result of a result is named after the first input ("satellite reduced", not "satellite
+  // mean temperature 240.50 to 266.03 K reduced").
+  if (is_result_layer(layer)) {
+    const QFileInfo file(layer_file(layer));
+    if (!file.completeBaseName().isEmpty()) return file.completeBaseName();
+  }
+  return layer_stem(layer);
+}
 
 void tag_result_layer(MeshModel& layer, const std::string& what, MeshModel& source) {
   set_mesh_attribute(layer.cm, kResult, what);

@@ -103,6 +103,9 @@ std::vector<MeshModel*> add_layers(MeshDocument& md, const DocumentMesh& dm,
 
 //! A layer's name without a mesh-file extension ("satellite.ply" -> "satellite").
 QString layer_stem(const MeshModel& layer);
+//! The name a result of `layer` starts with: the layer's stem, or for a layer a Thermal filter
+//! made, the stem of the file its nodes came from.
+QString result_stem(MeshModel& layer);
 //! A result label MeshLab's layer list shows whole: `text` + ".ply" (the list drops the last
 //! extension, so without it "... 206.93 K" would show as "... 206").
 QString result_label(const QString& text);
