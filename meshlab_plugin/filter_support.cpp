@@ -77,7 +77,9 @@ QString text_parameter(const RichParameterList& params, const QString& name) {
 
 ModelFileChoice choose_model_file(const RichParameterList& params, MeshModel& layer) {
   ModelFileChoice c{text_parameter(params, "model_file"), "given"};
-  if (c.path.isEmpty()) c = found_model_file(layer);
+  const ModelFileChoice found = found_model_file(layer);
+  // The dialog's default is the file found: say how it was found, not "given".
+  if (c.path.isEmpty() || QFileInfo(c.path) == QFileInfo(found.path)) c = found;
   if (!c.path.isEmpty()) {
     c.path = QFileInfo(c.path).absoluteFilePath();
     set_layer_model_file(layer, c.path);
