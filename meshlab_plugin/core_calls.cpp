@@ -21,6 +21,7 @@
 #include "thermodec/report/plot.h"
 #include "thermodec/report/reduction_report.h"
 #endif
+#include "thermodec/thermal/result_json.h"
 #include "thermodec/thermal/simulate_model.h"
 
 namespace fs = std::filesystem;
@@ -67,6 +68,38 @@ std::vector<int> majority_per_node(const thermodec::Mesh& mesh, const Eigen::Vec
   return best;
 }
 
+// Whether the document's mesh is `model`'s own (MeshLab keeps coordinates in single
+// precision): same faces in the same order on the same corners, each on its model node.
+bool is_models_own_mesh(const thermodec::Mesh& doc, const thermodec::ThermalModel& model,
+                        const std::vector<int>& model_node) {
+  const thermodec::Mesh& m = model.mesh;
+  if (m.num_faces() != doc.num_faces()) return false;
+  for (int f = 0; f < m.num_faces(); ++f) {
+    if (m.face_node[f] != model_node[doc.face_node[f]]) return false;
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c)
+        if (double(float(m.V(m.F(f, k), c))) != doc.V(doc.F(f, k), c)) return false;
+  }
+  return true;
+}
+
+// One line on the defaults a document without a model file is simulated with.
+std::string defaults_description(const thermodec::ThermalModel& model) {
+  char buf[400];
+  const thermodec::Material& mat = model.materials.at(model.default_material);
+  const auto& env = model.environment;
+  std::snprintf(buf, sizeof buf,
+                "no model file: thermodec's defaults for a bare mesh: %s analysis, %s, coating '%s' "
+                "(alpha %.2f, eps %.2f) on every face, no capacitance, power or conduction",
+                model.analysis.type == thermodec::AnalysisType::steady ? "steady-state" : "orbit transient",
+                env.type == thermodec::EnvironmentType::orbit
+                    ? (std::to_string(int(env.altitude_km)) + " km circular orbit, inclination " +
+                       std::to_string(int(env.inclination_deg)) + " deg, nadir pointing").c_str()
+                    : "fixed sun",
+                mat.name.c_str(), mat.absorptivity, mat.emissivity);
+  return buf;
+}
+
 }  // namespace
 
 // The thermal model of the document (see simulate_document): model_node[i] receives the model
@@ -90,7 +123,7 @@ thermodec::ThermalModel document_model(const thermodec::Mesh& mesh, const std::v
       model_node[i] = index_of_node(model, mesh.node_names[i]);
       if (model_node[i] < 0) model_node[i] = i;  // same order when names were not kept
     }
-    description = "core defaults (no model file)";
+    description = defaults_description(model);
   } else {
     model = thermodec::load_model(model_file);
     const int n_model = static_cast<int>(model.nodes.size());
@@ -100,6 +133,12 @@ thermodec::ThermalModel document_model(const thermodec::Mesh& mesh, const std::v
       if (model_node[i] < 0)
         throw thermodec::InvalidInput(model_file + ": the model has no node '" + mesh.node_names[i] +
                                       "' (" + std::to_string(n_model) + " nodes)");
+    }
+    description = model_file;
+    if (is_models_own_mesh(mesh, model, model_node)) {
+      description += " (its own mesh: exact coordinates and per-face coatings)";
+      if (rays_per_face > 0) model.radiation.rays_per_face = rays_per_face;
+      return model;
     }
     const std::vector<int> front = majority_per_node(model.mesh, model.mesh.face_material, n_model);
     const std::vector<int> back = majority_per_node(model.mesh, model.mesh.face_back_material, n_model);
@@ -116,7 +155,6 @@ thermodec::ThermalModel document_model(const thermodec::Mesh& mesh, const std::v
       m.face_back_material[f] = back[n];
     }
     model.mesh = std::move(m);
-    description = model_file;
   }
   if (rays_per_face > 0) model.radiation.rays_per_face = rays_per_face;
   return model;
@@ -143,22 +181,33 @@ std::vector<int> one_to_one(const std::vector<int>& model_node, const thermodec:
 
 }  // namespace
 
-NodeTemperatures simulate_document(const thermodec::Mesh& mesh, const std::vector<int>& node_ids,
-                                   bool ids_index_model_nodes, const std::string& model_file,
-                                   int rays_per_face,
-                                   const std::function<void(const std::string&)>& progress) {
+NodeTemperatures simulate_document(const DocumentModelRequest& request, const std::string& result_file) {
+  const thermodec::Mesh& mesh = *request.mesh;
   const int doc_nodes = static_cast<int>(mesh.node_names.size());
   NodeTemperatures out;
   out.nodes = mesh.node_names;
   std::vector<int> model_node;
-  const thermodec::ThermalModel model = document_model(mesh, node_ids, ids_index_model_nodes, model_file,
-                                                       rays_per_face, model_node, out.model_description);
+  thermodec::ThermalModel model = document_model(mesh, request.node_ids, request.ids_index_model_nodes,
+                                                 request.model_file, request.rays_per_face, model_node,
+                                                 out.model_description);
+  if (request.seed >= 0) model.radiation.seed = static_cast<std::uint64_t>(request.seed);
   out.model_nodes.resize(doc_nodes);
   for (int i = 0; i < doc_nodes; ++i) out.model_nodes[i] = model.nodes[model_node[i]].name;
 
   thermodec::ModelSimulationSettings settings;
-  settings.progress = progress;
-  const thermodec::SimulationResult r = thermodec::simulate_model(model, settings);
+  settings.progress = request.progress;
+  thermodec::apply_bare_mesh_ray_budgets(model, settings);  // as `thermodec simulate` (no-op for model files)
+  const thermodec::FrontEndSimulation sim = thermodec::simulate_as_front_end(model, settings);
+  if (sim.sampling) out.sampling = sim.sampling->describe(model.nodes);
+  const thermodec::SimulationResult& r = sim.result;
+  if (!result_file.empty()) {
+    nlohmann::json j = thermodec::result_to_json(r);
+    j["model"] = request.model_file;
+    j["settings"] = {{"rays_per_face", model.radiation.rays_per_face}, {"seed", model.radiation.seed}};
+    std::vector<fs::path> inputs;
+    if (!request.model_file.empty()) inputs.push_back(request.model_file);
+    thermodec::write_text_atomically(result_file, j.dump(1) + "\n", inputs);
+  }
   out.transient = r.transient;
   out.times = static_cast<int>(r.times_s.size());
   out.orbits = r.orbits;
@@ -183,9 +232,10 @@ DocumentReduction reduce_document(const DocumentModelRequest& request, double to
                                   const std::vector<std::string>& case_files) {
   std::vector<int> model_node;
   std::string description;
-  const thermodec::ThermalModel model =
+  thermodec::ThermalModel model =
       document_model(*request.mesh, request.node_ids, request.ids_index_model_nodes, request.model_file,
                      request.rays_per_face, model_node, description);
+  if (request.seed >= 0) model.radiation.seed = static_cast<std::uint64_t>(request.seed);
   const std::vector<int> doc_node = one_to_one(model_node, model);
 
   thermodec::ReduceSettings settings;
@@ -216,9 +266,10 @@ DocumentSensitivity sensitivity_document(const DocumentModelRequest& request, do
     throw thermodec::InvalidInput("tolerance_K must be finite and > 0, got " + std::to_string(tolerance_K));
   std::vector<int> model_node;
   std::string description;
-  const thermodec::ThermalModel model =
+  thermodec::ThermalModel model =
       document_model(*request.mesh, request.node_ids, request.ids_index_model_nodes, request.model_file,
                      request.rays_per_face, model_node, description);
+  if (request.seed >= 0) model.radiation.seed = static_cast<std::uint64_t>(request.seed);
   const std::vector<int> doc_node = one_to_one(model_node, model);
 
   // Same sweep as `thermodec reduce --strategy informed` (cap = 2 x tolerance).

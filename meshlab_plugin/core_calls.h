@@ -10,6 +10,17 @@
 
 namespace thermodec_meshlab {
 
+//! What the document asks of a core call: its mesh and nodes, the model file and overrides.
+struct DocumentModelRequest {
+  const thermodec::Mesh* mesh = nullptr;  //!< document mesh, face_node set for every face
+  std::vector<int> node_ids;
+  bool ids_index_model_nodes = false;
+  std::string model_file;                 //!< empty = core defaults
+  int rays_per_face = 0;                  //!< > 0 overrides the model's
+  long long seed = -1;                    //!< >= 0 overrides the model's radiation.seed
+  std::function<void(const std::string&)> progress;
+};
+
 //! Per-node temperatures of one simulation, in the order of the document's nodes.
 struct NodeTemperatures {
   std::vector<std::string> nodes;            //!< document node names
@@ -24,35 +35,26 @@ struct NodeTemperatures {
   int hottest = 0;                           //!< node with the highest max_K
   unsigned long long seed = 0;               //!< Monte Carlo seed the simulation used
   int rays_per_face = 0;                     //!< rays per face the simulation used
+  std::string sampling;                      //!< noise-targeted sampling's decision, one line
 };
 
-//! Simulates the document's mesh (face_node set for every face; node_names) as
-//! `thermodec simulate` would. With `model_file` empty, the core's bare-mesh defaults apply
-//! (load_model of the mesh alone: default coating, orbit environment, steady analysis).
-//! Otherwise the model file gives materials, nodes (capacitance, power, fixed temperature),
-//! conductances, environment, analysis and radiation settings; its mesh is replaced by the
-//! document's, each document node being the model node of the same name, or, when
-//! `ids_index_model_nodes` and no name matches, the model node at position node_ids[i]
-//! (face quality written by `thermodec convert` is that position). Faces take their node's
-//! most common front and back material in the model (per-face coatings inside a node are not
-//! carried by MeshLab's PLY import). `rays_per_face` > 0 overrides the model's.
+//! Simulates the document's mesh as `thermodec simulate` does (the core's
+//! simulate_as_front_end: noise-targeted sampling with the core's defaults, then the chain):
+//! the same model and seed give the CLI's temperatures bit for bit. With `model_file` empty,
+//! the core's bare-mesh defaults apply (load_model of the mesh alone: default coating, orbit
+//! environment, steady analysis), stated in model_description. Otherwise the model file gives
+//! materials, nodes (capacitance, power, fixed temperature), conductances, environment,
+//! analysis and radiation settings. When the document's mesh is the model's own mesh (same
+//! faces in the same order, vertices equal to MeshLab's single precision, same nodes), the
+//! model is simulated as it is (its exact coordinates and per-face coatings); else the
+//! document's mesh replaces the model's, each document node being the model node of the same
+//! name, or, when `ids_index_model_nodes` and no name matches, the model node at position
+//! node_ids[i] (face quality written by `thermodec convert` is that position), faces taking
+//! their node's most common front and back material. `result_file`, if not empty, receives
+//! the result JSON (as `thermodec simulate --json`).
 //! \throw thermodec::InvalidInput (unreadable/bad model file, a node the model lacks, ...),
 //! thermodec::IOError, thermodec::SolverError.
-NodeTemperatures simulate_document(const thermodec::Mesh& mesh, const std::vector<int>& node_ids,
-                                   bool ids_index_model_nodes, const std::string& model_file,
-                                   int rays_per_face,
-                                   const std::function<void(const std::string&)>& progress);
-
-//! What the document asks of a reduction or sensitivity run (see simulate_document for how
-//! the model is built from the document and `model_file`).
-struct DocumentModelRequest {
-  const thermodec::Mesh* mesh = nullptr;  //!< document mesh, face_node set for every face
-  std::vector<int> node_ids;
-  bool ids_index_model_nodes = false;
-  std::string model_file;                 //!< empty = core defaults
-  int rays_per_face = 0;                  //!< > 0 overrides the model's
-  std::function<void(const std::string&)> progress;
-};
+NodeTemperatures simulate_document(const DocumentModelRequest& request, const std::string& result_file = {});
 
 //! Result of reduce_document.
 struct DocumentReduction {

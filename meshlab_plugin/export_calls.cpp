@@ -15,7 +15,7 @@ std::vector<std::string> export_document(const DocumentModelRequest& request, co
                      request.rays_per_face, model_node, description);
   thermodec::ExportSettings settings;
   settings.simulation.progress = request.progress;
-  settings.noise_target_K = what.noise_target_K;
+  settings.noise.target_K = what.noise_target_K;
   settings.title = request.model_file.empty() ? "MeshLab document (core defaults)"
                                               : "MeshLab document with " + request.model_file;
   if (!request.model_file.empty()) settings.protected_inputs.push_back(request.model_file);

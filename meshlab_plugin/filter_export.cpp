@@ -13,6 +13,7 @@
 #ifdef THERMODEC_FILTER_EXPORT
 #include "document_mesh.h"
 #include "export_calls.h"
+#include "filter_support.h"
 #endif
 
 namespace {
@@ -54,7 +55,7 @@ QString ThermodecFilterPlugin::export_info() const {
          "layout, e.g. an .mlp project).";
 }
 
-void ThermodecFilterPlugin::export_parameters(RichParameterList& params) const {
+void ThermodecFilterPlugin::export_parameters(MeshModel& m, RichParameterList& params) const {
   QStringList formats;
   for (const char* f : kFormats) formats << f;
   params.addParam(RichEnum("format", 0, formats, "Format",
@@ -65,10 +66,10 @@ void ThermodecFilterPlugin::export_parameters(RichParameterList& params) const {
                              "The file to write (vtk: the folder; csv: the prefix of "
                              "<prefix>_temperatures.csv, _couplings.csv and _loads.csv). Empty: "
                              "beside the current layer's file, named after it."));
-  params.addParam(RichString("model_file", "", "Model file (model.json)",
-                             "Optional thermodec model file giving materials, node capacitances and "
-                             "powers, conductances, environment, analysis and radiation settings (as in "
-                             "Thermal: simulate). Empty: the core defaults."));
+  thermodec_meshlab::add_model_file_parameter(params, m,
+                           "thermodec model file giving materials, node capacitances and powers, "
+                           "conductances, environment, analysis and radiation settings (found and matched "
+                           "as in Thermal: simulate). Empty and none found: the core defaults.");
   params.addParam(RichInt("rays_per_face", 0, "Rays per face",
                           "Monte Carlo rays per face for the radiative couplings; 0 = the model's "
                           "setting. Not used by nastran."));
@@ -90,10 +91,10 @@ bool ThermodecFilterPlugin::export_for_tools(MeshDocument& md, const RichParamet
     throw thermodec::InvalidInput("noise_target_K must be >= 0 (0 = off)");
   if (md.mm() == nullptr) throw thermodec::InvalidInput("the document has no mesh layer");
 
-  QString out = params.getString("output").trimmed();
-  const QFileInfo layer_file(md.mm()->fullName());
+  QString out = text_parameter(params, "output");
+  const QFileInfo layer_file(thermodec_meshlab::layer_file(*md.mm()));
   if (out.isEmpty()) {
-    if (md.mm()->fullName().isEmpty() || !layer_file.dir().exists())
+    if (layer_file.filePath().isEmpty() || !layer_file.dir().exists())
       throw thermodec::InvalidInput("output: the current layer has no file to put the export beside; set output");
     out = default_output(layer_file, format);
   }
@@ -105,20 +106,31 @@ bool ThermodecFilterPlugin::export_for_tools(MeshDocument& md, const RichParamet
   request.mesh = &dm.mesh;
   request.node_ids = dm.node_ids;
   request.ids_index_model_nodes = dm.source == NodeSource::FaceQuality;
-  request.model_file = params.getString("model_file").trimmed().toStdString();
+  const ModelFileChoice model = choose_model_file(params, dm.layer != nullptr ? *dm.layer : *md.mm());
+  request.model_file = model.path.toStdString();
+  Log(model.path.isEmpty() ? GLLogStream::WARNING : GLLogStream::FILTER, "Thermal: export for other tools: %s",
+      model.path.isEmpty() ? "no model file given or found beside the mesh: thermodec's defaults for a bare mesh"
+                           : qUtf8Printable(model.path + " (" + model.how + ")"));
   request.rays_per_face = params.getInt("rays_per_face");
-  int step = 0;
-  request.progress = [&](const std::string& what) {
-    step = std::min(step + 15, 90);
-    progress(cb, step, what.c_str());
-    Log("  %s", what.c_str());
-  };
   DocumentExport what;
   what.format = format.toStdString();
   what.out = out.toStdString();
   what.stem = layer_file.completeBaseName().isEmpty() ? "model" : layer_file.completeBaseName().toStdString();
-  what.noise_target_K = params.getFloat("noise_target_K");
-  const std::vector<std::string> files = export_document(request, what);
+  // The dialog's single-precision value as the decimal it shows (0.0025, not 0.00249999994):
+  // the same target as `thermodec export`, so the same samples.
+  what.noise_target_K = QString::number(params.getFloat("noise_target_K"), 'g', 7).toDouble();
+  std::vector<std::string> files;
+  const StageOf stages = ordered_stages({{"sampling: estimating", 1}, {"building ray scene", 2}, {"view factors", 4},
+                                         {"IR Gebhart", 28}, {"external loads", 32}, {"thermal solve", 44},
+                                         {"sampling:", 47}, {"building ray scene", 48}, {"view factors", 50},
+                                         {"IR Gebhart", 82}, {"external loads", 86}, {"thermal solve", 97}});
+  run_with_progress(
+      cb, stages,
+      [&](const std::function<void(const std::string&)>& report) {
+        request.progress = report;
+        files = export_document(request, what);
+      },
+      [this](const std::string& m) { Log("  %s", m.c_str()); });
 
   Log("Thermal: export for other tools (%s, %d faces, %d nodes): %s", qUtf8Printable(format),
       dm.mesh.num_faces(), int(dm.mesh.node_names.size()), qUtf8Printable(out));

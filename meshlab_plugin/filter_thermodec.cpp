@@ -4,7 +4,11 @@
 #include <exception>
 #include <string>
 
+#include <QDir>
+#include <QFileInfo>
+
 #include "document_mesh.h"
+#include "filter_support.h"
 #include "thermodec/common/errors.h"
 #ifdef THERMODEC_FILTER_ASSIGN_NODES
 #include "thermodec/nodes/automatic_nodes.h"
@@ -17,8 +21,6 @@
 #include "thermodec/decimation/decimate_nodes.h"
 #endif
 #if defined(THERMODEC_FILTER_SIMULATE) || defined(THERMODEC_FILTER_REDUCE)
-#include <QDir>
-#include <QFileInfo>
 #include <vcg/complex/algorithms/update/color.h>
 
 #include "core_calls.h"
@@ -27,6 +29,14 @@
 using namespace thermodec_meshlab;
 
 namespace {
+
+// How every Thermal filter finds the nodes (document_mesh.h, mesh_with_nodes).
+const char* const kNodesHelp =
+    "<br>Nodes: the current layer's face quality holds node ids (see <i>Thermal: assign nodes</i>; "
+    "a PLY written by <code>thermodec convert</code> also names them in its header), or, for a "
+    "layer a Thermal filter made, the ids it keeps; without ids, every layer is one node (the "
+    "one-file-per-node layout, e.g. an .mlp project). Layers made by Thermal filters are never "
+    "taken for nodes, so the filters run in any order.";
 
 // MeshLab's progress callback may be null (scripted calls); never dereference it blindly.
 inline void progress(vcg::CallBackPos* cb, int percent, const char* what) {
@@ -88,9 +98,7 @@ QString ThermodecFilterPlugin::filterInfo(FilterIDType filter) const {
              "extraction: a face is kept if a ray leaving it escapes to infinity) and drops "
              "internal ones, e.g. walls hidden inside closed solids. The result is added as new "
              "layer(s) named '... external'; kept/dropped faces per node go to the log. Works "
-             "with or without nodes." "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
-             "nodes</i>); with several layers, every layer is one node (the one-file-per-node "
-             "layout, e.g. an .mlp project).";
+             "with or without nodes." + QString(kNodesHelp);
     case FP_DECIMATE_RATIO:
       return "Node-preserving decimation of the thermal model's shared mesh (thermodec): removes "
              "the given fraction of all faces, spread over the nodes by the paper's global-ratio "
@@ -98,9 +106,7 @@ QString ThermodecFilterPlugin::filterInfo(FilterIDType filter) const {
              "node's area or closed volume beyond the stated tolerances. The result is added as "
              "new layer(s) named '... decimated'; faces per node before/after go to the log. "
              "(To reduce as far as a temperature tolerance allows, use <i>Thermal: "
-             "physics-informed decimation</i>.)" "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
-             "nodes</i>); with several layers, every layer is one node (the one-file-per-node "
-             "layout, e.g. an .mlp project).";
+             "physics-informed decimation</i>.)" + QString(kNodesHelp);
     case FP_SENSITIVITY:
       return "The paper's per-node sensitivity analysis (thermodec): each node alone is "
              "decimated by increasing ratios, the rest of the model unchanged, and the largest "
@@ -108,9 +114,7 @@ QString ThermodecFilterPlugin::filterInfo(FilterIDType filter) const {
              "exceeds twice the tolerance. Curves are written as sensitivity.csv and "
              "sensitivity.png in the output folder (default: beside the current layer's file); "
              "a summary per node goes to the log. Simulation settings as in <i>Thermal: "
-             "simulate</i>." "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
-             "nodes</i>); with several layers, every layer is one node (the one-file-per-node "
-             "layout, e.g. an .mlp project).";
+             "simulate</i>." + QString(kNodesHelp);
     case FP_REDUCE:
       return "Simulation-driven reduction (thermodec reduce, paper IV-V): decimates every node as "
              "far as the temperature tolerance allows and verifies the result by a full "
@@ -119,38 +123,26 @@ QString ThermodecFilterPlugin::filterInfo(FilterIDType filter) const {
              "off and spare tolerance used; <i>uniform</i>: one ratio for all nodes. The reduced "
              "mesh is added as new layer(s) '... reduced'; model.json + reduced.obj, report.json "
              "and plots go to the output folder (default: beside the current layer's file); the "
-             "summary goes to the log. Simulation settings as in <i>Thermal: simulate</i>." "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
-             "nodes</i>); with several layers, every layer is one node (the one-file-per-node "
-             "layout, e.g. an .mlp project).";
+             "summary goes to the log. Simulation settings as in <i>Thermal: simulate</i>." + QString(kNodesHelp);
     case FP_EXPORT: return export_info();
     case FP_SIMULATE:
-      return "Radiative thermal simulation of the nodes (thermodec simulate: Monte Carlo "
-             "radiative couplings, orbit or fixed-sun loads, steady or orbit-periodic "
-             "transient solve). Per-node min/mean/max temperatures [K] go to the log; the chosen "
-             "statistic is written to the face quality [K] and shown with a colour map (one "
-             "layer: in a new layer '... temperature', so the node ids stay; several layers: in "
-             "place). Materials, environment and analysis come from an optional thermodec "
-             "model.json (its mesh is replaced by the document's), else the core defaults." "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
-             "nodes</i>); with several layers, every layer is one node (the one-file-per-node "
-             "layout, e.g. an .mlp project).";
+      return "Radiative thermal simulation of the nodes, the same as <code>thermodec simulate</code> "
+             "(Monte Carlo radiative couplings, orbit or fixed-sun loads, steady or orbit-periodic "
+             "transient solve, noise-targeted sampling): the same model and seed give the same "
+             "temperatures. The result is a new layer '&lt;layer&gt; temperature &lt;min&gt; to "
+             "&lt;max&gt; K' whose face quality holds the chosen statistic [K] with a colour ramp "
+             "(blue cold, red hot); the input layer is hidden. Per-node min/mean/max [K] and the "
+             "range go to the log. Materials, environment and analysis come from the model file "
+             "(chosen, else the one used last with the layer, else a model JSON beside the mesh "
+             "naming a mesh of the same name); without one, the defaults used are stated in the log."+ QString(kNodesHelp);
   }
   assert(false);
   return QString();
 }
 
-MeshFilterInterface::FilterClass ThermodecFilterPlugin::getClass(QAction* action) {
-  switch (ID(action)) {
-    case FP_ASSIGN_NODES: return FilterClass(Quality | FaceColoring);
-    case FP_EXTRACT_EXTERNAL: return FilterClass(Cleaning | Layer);
-    case FP_DECIMATE_RATIO: return FilterClass(Remeshing | Layer);
-    case FP_SIMULATE: return FilterClass(Quality | FaceColoring | Measure);
-    case FP_SENSITIVITY: return Measure;
-    case FP_REDUCE: return FilterClass(Remeshing | Layer);
-    case FP_EXPORT: return Measure;  // writes files only
-  }
-  assert(false);
-  return Quality;
-}
+// Every Thermal filter in one submenu (Filters > Quality Measure and Computations): the class
+// only places the menu entry; what the GUI refreshes after a filter is its postCondition.
+MeshFilterInterface::FilterClass ThermodecFilterPlugin::getClass(QAction* /*action*/) { return Measure; }
 
 MeshFilterInterface::FILTER_ARITY ThermodecFilterPlugin::filterArity(QAction* action) const {
   switch (ID(action)) {
@@ -211,7 +203,7 @@ int ThermodecFilterPlugin::postCondition(QAction* action) const {
   return MeshModel::MM_NONE;
 }
 
-void ThermodecFilterPlugin::initParameterSet(QAction* action, MeshModel& /*m*/,
+void ThermodecFilterPlugin::initParameterSet(QAction* action, MeshModel& m,
                                              RichParameterList& params) {
   switch (ID(action)) {
     case FP_ASSIGN_NODES: {
@@ -283,13 +275,13 @@ void ThermodecFilterPlugin::initParameterSet(QAction* action, MeshModel& /*m*/,
     }
     case FP_SIMULATE: {
 #ifdef THERMODEC_FILTER_SIMULATE
-      params.addParam(RichString(
-          "model_file", "", "Model file (model.json)",
-          "Optional thermodec model file (docs/model-format.md) giving materials, node "
-          "capacitances/powers, conductances, environment, analysis and radiation settings; "
-          "its mesh is replaced by the document's, nodes matched by name (layer label or "
-          "node_<id>) or else by id = position in the model. Empty: the core defaults (one "
-          "default coating, 500 km orbit, steady state)."));
+      add_model_file_parameter(
+          params, m,
+          "thermodec model file (docs/model-format.md) giving materials, node capacitances/powers, "
+          "conductances, environment, analysis and radiation settings. Its mesh is used when the layer "
+          "is that mesh (e.g. satellite.ply beside model.json); otherwise the layer's mesh replaces it, "
+          "nodes matched by name (PLY header, layer label or node_&lt;id&gt;) or else by id = position "
+          "in the model. Empty and none found: the core defaults (stated in the log).");
       params.addParam(RichInt(
           "rays_per_face", 0, "Rays per face",
           "Monte Carlo rays per face for the radiative couplings; 0 = the model's setting "
@@ -298,10 +290,16 @@ void ThermodecFilterPlugin::initParameterSet(QAction* action, MeshModel& /*m*/,
           "face_value", 1, QStringList() << "min" << "mean" << "max", "Face value",
           "Which temperature over the orbit goes to the face quality [K]: each face shows its "
           "node's minimum, mean or maximum (steady analysis: all equal)."));
+      params.addParam(RichInt("seed", -1, "Seed",
+                              "Monte Carlo seed of rays and sun/Earth samples; -1 = the model's "
+                              "(as <code>thermodec simulate --seed</code>)."));
+      params.addParam(RichSaveFile("result_file", "", "*.json", "Result file (JSON)",
+                                   "Optional: the result as <code>thermodec simulate --json</code> "
+                                   "writes it (temperatures per node and time, loads, residuals)."));
 #endif
       break;
     }
-    case FP_EXPORT: export_parameters(params); break;
+    case FP_EXPORT: export_parameters(m, params); break;
     case FP_SENSITIVITY:
     case FP_REDUCE: {
 #ifdef THERMODEC_FILTER_REDUCE
@@ -318,21 +316,22 @@ void ThermodecFilterPlugin::initParameterSet(QAction* action, MeshModel& /*m*/,
             "strategy", 0, QStringList() << "informed" << "uniform", "Strategy",
             "informed: per-node ratios predicted from sensitivity curves, then verified and "
             "adjusted; uniform: the same ratio for every node (the paper's baseline)."));
-      params.addParam(RichString(
-          "model_file", "", "Model file (model.json)",
-          "Optional thermodec model file: materials, capacitances, powers, conductances, "
-          "environment, analysis and radiation settings (nodes matched as in Thermal: "
-          "simulate). Empty: the core defaults."));
+      add_model_file_parameter(params, m,
+                               "thermodec model file: materials, capacitances, powers, conductances, "
+                               "environment, analysis and radiation settings (found and matched as in "
+                               "Thermal: simulate). Empty and none found: the core defaults.");
       params.addParam(RichInt(
           "rays_per_face", 0, "Rays per face",
           "Monte Carlo rays per face for the radiative couplings; 0 = the model's setting. "
           "Fewer rays are faster but raise the noise floor the tolerance must exceed."));
       params.addParam(RichString(
           "output_dir", "", "Output folder",
-          reduce ? "Folder for model.json, reduced.obj, report.json and the plots. Empty: "
-                   "'<layer file>_thermodec_reduction' beside the current layer's file."
-                 : "Folder for sensitivity.csv and sensitivity.png. Empty: "
-                   "'<layer file>_thermodec_sensitivity' beside the current layer's file."));
+          html_escaped(reduce ? "Folder for model.json, reduced.obj, report.json and the plots. Empty: "
+                                "'<layer file>_thermodec_reduction' beside the layer's file (for a "
+                                "layer a Thermal filter made: its input's file)."
+                              : "Folder for sensitivity.csv and sensitivity.png. Empty: "
+                                "'<layer file>_thermodec_sensitivity' beside the layer's file (for a "
+                                "layer a Thermal filter made: its input's file).")));
       if (reduce)
         params.addParam(RichString(
             "case_files", "", "Load case files",
@@ -392,6 +391,7 @@ bool ThermodecFilterPlugin::assign_nodes(MeshDocument& md, const RichParameterLi
   for (size_t f = 0; f < node.size(); ++f) node[f] = dm.mesh.face_node[f];
   set_face_quality(dm, node);
   paint_nodes(dm);
+  set_node_names(*md.mm(), {});  // new ids: names from the file's header no longer apply
 
   std::vector<int> faces_per_node(dm.mesh.node_names.size(), 0);
   for (size_t f = 0; f < node.size(); ++f) ++faces_per_node[dm.mesh.face_node[f]];
@@ -480,21 +480,40 @@ bool ThermodecFilterPlugin::decimate_ratio(MeshDocument& md, const RichParameter
 bool ThermodecFilterPlugin::simulate(MeshDocument& md, const RichParameterList& params,
                                      vcg::CallBackPos* cb) {
 #ifdef THERMODEC_FILTER_SIMULATE
-  const std::string model_file = params.getString("model_file").trimmed().toStdString();
   const int rays = params.getInt("rays_per_face");
   const int face_value = params.getEnum("face_value");
+  const int seed = params.hasParameter("seed") ? params.getInt("seed") : -1;
+  const std::string result_file = text_parameter(params, "result_file").toStdString();
   if (rays < 0) throw thermodec::InvalidInput("rays_per_face must be >= 0 (0 = the model's)");
 
   progress(cb, 0, "Thermal: gathering nodes");
   const DocumentMesh dm = mesh_with_nodes(md);
-  int step = 0;
-  const NodeTemperatures t = simulate_document(
-      dm.mesh, dm.node_ids, dm.source == NodeSource::FaceQuality, model_file, rays,
-      [&](const std::string& what) {
-        step = std::min(step + 15, 90);
-        progress(cb, step, what.c_str());
-        Log("  %s", what.c_str());
-      });
+  MeshModel& input = dm.layer != nullptr ? *dm.layer : *md.mm();
+  const ModelFileChoice model = choose_model_file(params, input);
+  DocumentModelRequest request;
+  request.mesh = &dm.mesh;
+  request.node_ids = dm.node_ids;
+  request.ids_index_model_nodes = dm.source == NodeSource::FaceQuality;
+  request.model_file = model.path.toStdString();
+  request.rays_per_face = rays;
+  request.seed = seed;
+  if (!model.path.isEmpty() && model.how != "given")
+    Log("Thermal: simulate: model file %s (%s)", qUtf8Printable(model.path), qUtf8Printable(model.how));
+  NodeTemperatures t;
+  // The chain's stages, twice with noise-targeted sampling (an estimate, then the simulation).
+  const StageOf stages = ordered_stages({{"sampling: estimating", 1}, {"building ray scene", 2}, {"view factors", 4},
+                                         {"IR Gebhart", 28}, {"external loads", 32}, {"thermal solve", 44},
+                                         {"sampling:", 47}, {"building ray scene", 48}, {"view factors", 50},
+                                         {"IR Gebhart", 82}, {"external loads", 86}, {"thermal solve", 97}});
+  run_with_progress(
+      cb, stages,
+      [&](const std::function<void(const std::string&)>& report) {
+        request.progress = report;
+        t = simulate_document(request, result_file);
+      },
+      [this](const std::string& m) { Log("  %s", m.c_str()); });
+  if (model.path.isEmpty())
+    Log(GLLogStream::WARNING, "%s", ("Thermal: simulate: " + t.model_description).c_str());
 
   Log("Thermal: simulate (%s): %s, %d time(s)%s, %d rays per face, seed %llu", t.model_description.c_str(),
       t.transient ? "orbit-periodic transient" : "steady state", t.times,
@@ -502,6 +521,7 @@ bool ThermodecFilterPlugin::simulate(MeshDocument& md, const RichParameterList& 
                                        .arg(t.orbits).arg(t.periodicity_residual_K, 0, 'g', 3))
                   : "",
       t.rays_per_face, t.seed);
+  if (!t.sampling.empty()) Log("  %s", t.sampling.c_str());
   Log("  node: min / mean / max [K]");
   for (size_t n = 0; n < t.nodes.size(); ++n)
     Log("  %s%s: %.2f / %.2f / %.2f", t.nodes[n].c_str(),
@@ -519,17 +539,26 @@ bool ThermodecFilterPlugin::simulate(MeshDocument& md, const RichParameterList& 
   };
   const std::string lo_node = label(range.first - node_value.begin());
   const std::string hi_node = label(range.second - node_value.begin());
+  const char* statistic = face_value == 0 ? "min" : face_value == 2 ? "max" : "mean";
 
-  // One layer: the temperatures go to a copy, so that the node ids stay in the original's
-  // quality. Several layers: the nodes are the layers, so the quality is free to use.
+  // Node ids: the temperatures go to a new layer that keeps the ids as its own, so that the
+  // input layer stays as it was. Several layers: the nodes are the layers, so their quality is
+  // free to use.
   std::vector<MeshModel*> layers;
   if (dm.source == NodeSource::FaceQuality) {
-    layers = add_layers(md, dm, dm.mesh, "temperature");
+    const QString suffix = QString("%1 temperature %2 to %3 K").arg(statistic).arg(lo, 0, 'f', 2).arg(*range.second, 0, 'f', 2);
+    layers = add_layers(md, dm, dm.mesh, suffix);
     MeshModel* layer = layers.front();
-    for (size_t f = 0; f < value.size(); ++f) layer->cm.face[f].Q() = CMeshO::ScalarType(value[f]);
+    std::vector<int> ids(value.size());
+    for (size_t f = 0; f < value.size(); ++f) {
+      layer->cm.face[f].Q() = CMeshO::ScalarType(value[f]);
+      ids[f] = dm.node_ids[dm.mesh.face_node[f]];
+    }
+    set_layer_node_ids(*layer, ids);
   } else {
     set_face_quality(dm, value);
-    for (MeshModel* layer : md.meshList) layers.push_back(layer);
+    for (MeshModel* layer : md.meshList)
+      if (!is_result_layer(*layer)) layers.push_back(layer);
   }
   for (MeshModel* layer : layers) {
     layer->updateDataMask(MeshModel::MM_FACEQUALITY | MeshModel::MM_FACECOLOR);
@@ -540,7 +569,8 @@ bool ThermodecFilterPlugin::simulate(MeshDocument& md, const RichParameterList& 
   Log("Thermal: temperature range over the orbit: %.2f K (min, node %s) .. %.2f K (max, node %s)",
       t.min_K[t.coldest], label(t.coldest).c_str(), t.max_K[t.hottest], label(t.hottest).c_str());
   Log("  face quality = node %s temperature [K], colour ramp %.2f K (blue, node %s) .. %.2f K (red, node %s)",
-      face_value == 0 ? "min" : face_value == 2 ? "max" : "mean", lo, lo_node.c_str(), hi, hi_node.c_str());
+      statistic, lo, lo_node.c_str(), hi, hi_node.c_str());
+  if (!result_file.empty()) Log("  wrote %s", result_file.c_str());
   progress(cb, 100, "Thermal: simulated");
   return true;
 #else
@@ -554,13 +584,36 @@ namespace {
 // The output folder: the parameter, or "<layer file stem>_thermodec_<what>" beside the current
 // layer's file (the paper's users keep results next to the project).
 std::string output_dir(MeshDocument& md, const RichParameterList& params, const char* what) {
-  const QString given = params.getString("output_dir").trimmed();
+  const QString given = text_parameter(params, "output_dir");
   if (!given.isEmpty()) return QDir(given).absolutePath().toStdString();
-  const QFileInfo file(md.mm()->fullName());
-  if (md.mm()->fullName().isEmpty() || !file.dir().exists())
-    throw thermodec::InvalidInput("output_dir: the current layer has no file to put the results "
-                                  "beside; set output_dir");
+  MeshModel* from = md.mm();
+  QString path = layer_file(*from);
+  for (MeshModel* layer : md.meshList)  // a project of node layers: the first with a file
+    if (path.isEmpty() && !is_result_layer(*layer)) path = layer->fullName();
+  const QFileInfo file(path);
+  if (path.isEmpty() || !file.dir().exists())
+    throw thermodec::InvalidInput("output_dir: no layer has a file to put the results beside; set output_dir");
   return file.dir().filePath(file.completeBaseName() + "_thermodec_" + what).toStdString();
+}
+
+// The core request of a reduction or sensitivity run, with the model file chosen.
+DocumentModelRequest reduction_request(MeshDocument& md, const DocumentMesh& dm, const RichParameterList& params,
+                                       ModelFileChoice& model) {
+  if (params.getInt("rays_per_face") < 0)
+    throw thermodec::InvalidInput("rays_per_face must be >= 0 (0 = the model's)");
+  model = choose_model_file(params, dm.layer != nullptr ? *dm.layer : *md.mm());
+  DocumentModelRequest request;
+  request.mesh = &dm.mesh;
+  request.node_ids = dm.node_ids;
+  request.ids_index_model_nodes = dm.source == NodeSource::FaceQuality;
+  request.model_file = model.path.toStdString();
+  request.rays_per_face = params.getInt("rays_per_face");
+  return request;
+}
+
+std::string model_line(const ModelFileChoice& model) {
+  if (model.path.isEmpty()) return "no model file given or found beside the mesh: thermodec's defaults for a bare mesh";
+  return "model file " + model.path.toStdString() + " (" + model.how.toStdString() + ")";
 }
 
 }  // namespace
@@ -573,19 +626,26 @@ bool ThermodecFilterPlugin::sensitivity(MeshDocument& md, const RichParameterLis
   const std::string out_dir = output_dir(md, params, "sensitivity");
   progress(cb, 0, "Thermal: gathering nodes");
   const DocumentMesh dm = mesh_with_nodes(md);
-  if (params.getInt("rays_per_face") < 0)
-    throw thermodec::InvalidInput("rays_per_face must be >= 0 (0 = the model's)");
-  DocumentModelRequest request;
-  request.mesh = &dm.mesh;
-  request.node_ids = dm.node_ids;
-  request.ids_index_model_nodes = dm.source == NodeSource::FaceQuality;
-  request.model_file = params.getString("model_file").trimmed().toStdString();
-  request.rays_per_face = params.getInt("rays_per_face");
-  request.progress = [&](const std::string& what) {
-    progress(cb, 50, what.c_str());
-    Log("  %s", what.c_str());
+  ModelFileChoice model;
+  DocumentModelRequest request = reduction_request(md, dm, params, model);
+  Log(model.path.isEmpty() ? GLLogStream::WARNING : GLLogStream::FILTER,
+      "%s", ("Thermal: sensitivity analysis: " + model_line(model)).c_str());
+  DocumentSensitivity s;
+  const StageOf stages = [](const std::string& m) -> double {
+    if (m.find("reference") != std::string::npos) return 2;
+    const auto at = m.find("sensitivity: ");
+    int done = 0, total = 0;
+    if (at != std::string::npos && std::sscanf(m.c_str() + at, "sensitivity: %d of %d", &done, &total) == 2 && total > 0)
+      return 5.0 + 90.0 * done / total;
+    return -1;
   };
-  const DocumentSensitivity s = sensitivity_document(request, tolerance, out_dir);
+  run_with_progress(
+      cb, stages,
+      [&](const std::function<void(const std::string&)>& report) {
+        request.progress = report;
+        s = sensitivity_document(request, tolerance, out_dir);
+      },
+      [this](const std::string& m) { Log("  %s", m.c_str()); });
 
   Log("Thermal: sensitivity analysis (tolerance %.3g K, sweeps stop above %.3g K): %s",
       tolerance, 2 * tolerance, out_dir.c_str());
@@ -622,22 +682,33 @@ bool ThermodecFilterPlugin::reduce(MeshDocument& md, const RichParameterList& pa
     throw thermodec::InvalidInput("rays_per_face must be >= 0 (0 = the model's)");
   progress(cb, 0, "Thermal: gathering nodes");
   const DocumentMesh dm = mesh_with_nodes(md);
-  DocumentModelRequest request;
-  request.mesh = &dm.mesh;
-  request.node_ids = dm.node_ids;
-  request.ids_index_model_nodes = dm.source == NodeSource::FaceQuality;
-  request.model_file = params.getString("model_file").trimmed().toStdString();
-  request.rays_per_face = params.getInt("rays_per_face");
-  int step = 0;
-  request.progress = [&](const std::string& what) {
-    step = std::min(step + 5, 90);
-    progress(cb, step, what.c_str());
-    Log("  %s", what.c_str());
-  };
+  ModelFileChoice model;
+  DocumentModelRequest request = reduction_request(md, dm, params, model);
+  Log(model.path.isEmpty() ? GLLogStream::WARNING : GLLogStream::FILTER,
+      "%s", ("Thermal: physics-informed decimation: " + model_line(model)).c_str());
   std::vector<std::string> case_files;
-  for (const QString& f : params.getString("case_files").split(';', Qt::SkipEmptyParts))
+  for (const QString& f : text_parameter(params, "case_files").split(';', Qt::SkipEmptyParts))
     if (!f.trimmed().isEmpty()) case_files.push_back(f.trimmed().toStdString());
-  const DocumentReduction r = reduce_document(request, tolerance, informed, out_dir, plots, case_files);
+  DocumentReduction r;
+  // reduce's stages (reduction/reduce_model.cpp); the sweep reports its nodes as "k/n".
+  const StageOf ordered = ordered_stages({{"sampling: estimating", 2}, {"reference:", 6}, {"noise floor:", 10},
+                                          {"noise floor ", 22}, {"decimation:", 25}, {"sensitivity analysis", 27},
+                                          {"uniform reduction", 30}, {"prediction and reduction", 60},
+                                          {"verification:", 85}, {"verification: max", 98}});
+  const StageOf stages = [ordered](const std::string& m) -> double {
+    const auto at = m.find("sensitivity: ");
+    int done = 0, total = 0;
+    if (at != std::string::npos && std::sscanf(m.c_str() + at, "sensitivity: %d/%d", &done, &total) == 2 && total > 0)
+      return 27.0 + 33.0 * done / total;
+    return ordered(m);
+  };
+  run_with_progress(
+      cb, stages,
+      [&](const std::function<void(const std::string&)>& report) {
+        request.progress = report;
+        r = reduce_document(request, tolerance, informed, out_dir, plots, case_files);
+      },
+      [this](const std::string& m) { Log("  %s", m.c_str()); });
   const auto layers = add_layers(md, dm, r.mesh, "reduced");
 
   Log("Thermal: physics-informed decimation (%s, tolerance %.3g K): %d -> %d faces, verified "

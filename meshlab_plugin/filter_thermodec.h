@@ -49,6 +49,6 @@ class ThermodecFilterPlugin : public QObject, public MeshFilterInterface {
   bool reduce(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
   // "Thermal: export for other tools", in filter_export.cpp.
   QString export_info() const;
-  void export_parameters(RichParameterList& params) const;
+  void export_parameters(MeshModel& m, RichParameterList& params) const;
   bool export_for_tools(MeshDocument& md, const RichParameterList& params, vcg::CallBackPos* cb);
 };

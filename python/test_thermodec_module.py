@@ -135,6 +135,31 @@ class LoadCases(unittest.TestCase):
                 thermodec.load_case(case_path, model)
 
 
+class SimulateIsTheCliSimulate(unittest.TestCase):
+    # (Bit-identity with `thermodec simulate`, export and MeshLab on the sample: the CTest test
+    # meshlab.front_doors_give_bit_identical_temperatures.)
+    def test_seed_argument_is_the_models_seed(self):
+        with tempfile.TemporaryDirectory() as folder:
+            model = thermodec.load_model(write_cube_model(folder, '{"mesh": "cube.obj"}'))
+            model.radiation.rays_per_face = 64
+            model.radiation.min_rays_per_node = 0
+            a = thermodec.simulate_model(model, seed=7, noise_target_K=0.0)
+            model.radiation.seed = 7
+            b = thermodec.simulate_model(model, noise_target_K=0.0)
+            np.testing.assert_array_equal(a.temperature_K, b.temperature_K)
+            self.assertEqual(model.radiation.seed, 7)
+
+    def test_noise_targeting_is_on_by_default(self):
+        with tempfile.TemporaryDirectory() as folder:
+            model = thermodec.load_model(write_cube_model(folder, '{"mesh": "cube.obj"}'))
+            model.radiation.rays_per_face = 64
+            model.radiation.min_rays_per_node = 0
+            messages = []
+            r = thermodec.simulate_model(model, messages.append)
+            self.assertEqual(list(r.nodes), ["cube"])
+            self.assertTrue(any(m.startswith("sampling:") for m in messages), messages)
+
+
 class BadFilesRaiseInsteadOfCrashing(unittest.TestCase):
     """Front ends (FreeCAD, scripts) call the core through this module: files that once crashed
     or hung the host process must raise a thermodec error."""

@@ -7,6 +7,8 @@
 // `model.nodes.append(n)` and `model.nodes[0].power_W = 5` change the model in place.
 #include <pybind11/eigen.h>
 #include <pybind11/functional.h>
+#include <optional>
+
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
@@ -394,7 +396,8 @@ void bind_functions(py::module_& m) {
 
   // thermal/simulate_model.h, thermal/result_json.h
   m.def("simulate_model",
-        [](const ThermalModel& model, std::function<void(const std::string&)> progress) {
+        [](ThermalModel model, std::function<void(const std::string&)> progress, std::optional<std::uint64_t> seed,
+           double noise_target_K) {
           ModelSimulationSettings settings;
           if (progress) {
             settings.progress = [progress](const std::string& message) {
@@ -402,12 +405,19 @@ void bind_functions(py::module_& m) {
               progress(message);
             };
           }
+          if (seed) model.radiation.seed = *seed;
+          NoiseTargeting noise;
+          noise.target_K = noise_target_K;
           py::gil_scoped_release unlocked;
-          return simulate_model(model, settings);
+          return simulate_as_front_end(model, settings, noise).result;
         },
-        py::arg("model"), py::arg("progress") = nullptr,
-        "The reference simulation (`thermodec simulate`): couplings, external loads, solve. "
-        "progress(message) is called with stage names. Raises InvalidInput, SolverError.");
+        py::arg("model"), py::arg("progress") = nullptr, py::arg("seed") = py::none(),
+        py::arg("noise_target_K") = NoiseTargeting{}.target_K,
+        "The simulation `thermodec simulate` runs (thermal/simulate_model.h, simulate_as_front_end): "
+        "noise-targeted sampling (noise_target_K [K], 0 = off; boosts already in the model are kept), "
+        "then couplings, external loads, solve; bit-identical to the CLI's for the same model and seed "
+        "(seed: None = the model's radiation.seed). progress(message) is called with stage names. "
+        "Raises InvalidInput, SolverError.");
   // exchange/export_model.h
   m.def("export_model",
         [](const ThermalModel& model, const std::string& format, const std::filesystem::path& out, const std::string& stem,

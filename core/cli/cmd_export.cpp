@@ -20,7 +20,7 @@ struct ExportOptions {
   int rays_per_face = 0;  // 0 = the model's
   bool raw_mesh = false;
   bool quiet = false;
-  double noise_target_K = ExportSettings{}.noise_target_K;  // as `simulate`
+  double noise_target_K = NoiseTargeting{}.target_K;  // as `simulate`
 };
 
 const char* const kFormatHelp =
@@ -47,7 +47,7 @@ void run_export(const ExportOptions& o) {
   ExportSettings settings;
   settings.protected_inputs = {o.model, model.mesh_path};
   settings.title = o.model;
-  settings.noise_target_K = o.noise_target_K;
+  settings.noise.target_K = o.noise_target_K;
   if (!o.raw_mesh) apply_bare_mesh_ray_budgets(model, settings.simulation);
   if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
   // The outputs are checked before the cost estimate and the simulation (export_model checks

@@ -29,16 +29,7 @@ struct SimulateOptions {
   bool raw_mesh = false;
   ExternalLoadSettings loads;
   bool sun_rays_set = false;
-  // A standard-error target per node: the largest |dT| over every pair of 8 seeds, every node
-  // and every time step comes out at ~3-4x the per-node standard error (docs/thermal.md,
-  // "Noise-targeted sampling"), so 0.0025 K keeps the sample's seed-to-seed floor under 0.01 K.
-  double noise_target_K = 0.0025;
-  double noise_budget = 32.0;
-  // ...and at most this many extra IR rays, and extra sun/Earth samples: the sample satellite
-  // needs 1.4e8 / 6.9e7 for its target (~10 s on 2 cores); a large CAD mesh, whose totals are
-  // many times the sample's, gets the multiple this leaves (its simulation stays within
-  // ~15 s of extra tracing instead of 32x its own run time).
-  double noise_max_samples = 2e8;
+  NoiseTargeting noise;  // the core's defaults, shared by every front end (thermal/simulate_model.h)
   long long seed = -1;          // -1 = the model's radiation.seed
   int load_positions = 0;       // 0 = the model's analysis.steps_per_orbit
   double time_tolerance_K = 0;  // 0 = the model's analysis.time_tolerance_K
@@ -77,19 +68,15 @@ void run_simulate(const SimulateOptions& o) {
   nlohmann::json extra;
   // Noise-targeted sampling: one simulation at the model's counts estimates each node's
   // temperature noise; the nodes above the target get more samples (docs/thermal.md).
-  if (o.noise_target_K > 0.0 && !has_sampling_boosts(model)) {
-    if (settings.progress) settings.progress("sampling: estimating each node's Monte Carlo noise");
-    const SamplingBoosts b = decide_sampling_boosts(model, settings, o.noise_target_K, o.noise_budget, o.noise_max_samples);
+  if (const auto b = apply_noise_targeting(model, settings, o.noise)) {
     nlohmann::json boosts = nlohmann::json::object(), estimates = nlohmann::json::object();
-    for (std::size_t k = 0; k < b.boost.size(); ++k) {
-      estimates[model.nodes[k].name] = {{"ir", b.ir_standard_error_K[k]}, {"loads", b.load_standard_error_K[k]}};
-      model.nodes[k].sampling_boost = b.boost[k];
-      if (b.boost[k] != Node::SamplingBoost{})
-        boosts[model.nodes[k].name] = {{"ir", b.boost[k].ir}, {"loads", b.boost[k].loads}};
+    for (std::size_t k = 0; k < b->boost.size(); ++k) {
+      estimates[model.nodes[k].name] = {{"ir", b->ir_standard_error_K[k]}, {"loads", b->load_standard_error_K[k]}};
+      if (b->boost[k] != Node::SamplingBoost{})
+        boosts[model.nodes[k].name] = {{"ir", b->boost[k].ir}, {"loads", b->boost[k].loads}};
     }
-    if (settings.progress) settings.progress(b.describe(model.nodes));
-    extra["sampling"] = {{"noise_target_K", b.target_K}, {"extra_ir_rays", b.extra_ir_rays},
-                         {"extra_load_samples", b.extra_load_samples}, {"sampling_boost", boosts},
+    extra["sampling"] = {{"noise_target_K", b->target_K}, {"extra_ir_rays", b->extra_ir_rays},
+                         {"extra_load_samples", b->extra_load_samples}, {"sampling_boost", boosts},
                          {"estimated_standard_error_K", estimates}};
   }
   SimulationResult result;
@@ -170,18 +157,18 @@ void add_simulate(CLI::App& app) {
   sub->add_flag("--noise-floor", opts->noise_floor,
                 "run with several seeds (--noise-runs) and report the max |dT| over every pair of runs, the median pair and the run time");
   sub->add_option("--noise-runs", opts->noise_runs, "runs for --noise-floor")->check(CLI::Range(2, 100));
-  sub->add_option("--noise-target", opts->noise_target_K,
+  sub->add_option("--noise-target", opts->noise.target_K,
                   "noise-targeted sampling: nodes whose estimated Monte Carlo temperature standard error exceeds "
                   "this get more samples (IR rays and sun/Earth samples separately) [K]; the largest seed-to-seed "
                   "|dT| (--noise-floor) is ~3-4x it (0 = off; boosts in the model file are kept)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1e3));
-  sub->add_option("--noise-budget", opts->noise_budget,
+  sub->add_option("--noise-budget", opts->noise.budget,
                   "noise-targeted sampling: at most this many extra IR rays, and extra sun/Earth samples, as a "
                   "multiple of the model's totals (the target is raised until the boosts fit)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1e3));
-  sub->add_option("--noise-max-samples", opts->noise_max_samples,
+  sub->add_option("--noise-max-samples", opts->noise.max_samples,
                   "noise-targeted sampling: at most this many extra IR rays, and extra sun/Earth samples, in all")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1e15));

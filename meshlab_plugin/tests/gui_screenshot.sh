@@ -4,7 +4,7 @@
 # and saves a screenshot of the main window. Used by CTest (meshlab.gui_*) and to make
 # docs/img/meshlab.png.
 #
-#   gui_screenshot.sh MESHLAB OUT.png [--expect-log REGEX]... FILE [-- XKEYS-STEP...]
+#   gui_screenshot.sh MESHLAB OUT.png [--expect-log REGEX]... [--reject-log REGEX]... FILE [-- XKEYS-STEP...]
 #     FILE: a mesh or a .mlp project; XKEYS-STEP: see xkeys.py (screen pixels of a fresh
 #     1280x800 Xvfb screen without a window manager, MeshLab's default layout).
 # Re-executes itself through xvfb-run unless THERMODEC_IN_XVFB is set.
@@ -15,8 +15,14 @@ fi
 here=$(cd "$(dirname "$0")" && pwd)
 meshlab=$1 out=$2
 shift 2
-expect_logs=()
-while [ "${1:-}" = "--expect-log" ]; do expect_logs+=("$2"); shift 2; done
+expect_logs=() reject_logs=()
+while :; do
+  case "${1:-}" in
+    --expect-log) expect_logs+=("$2"); shift 2 ;;
+    --reject-log) reject_logs+=("$2"); shift 2 ;;
+    *) break ;;
+  esac
+done
 file=$1
 shift
 [ "${1:-}" = "--" ] && shift
@@ -48,6 +54,8 @@ fi
 sleep "${THERMODEC_SCREENSHOT_DELAY:-2}"
 # The main window only (there is no window manager to size it to the screen).
 window=$(xwininfo -root -tree | grep '"MeshLab [0-9]' | head -1 | awk '{print $1}')
+# THERMODEC_SCREENSHOT_ROOT=1: the whole screen instead (an open dialog is a window of its own).
+[ -n "${THERMODEC_SCREENSHOT_ROOT:-}" ] && window=root
 import -window "$window" "$tmp/shot.png"
 mv "$tmp/shot.png" "$out"
 
@@ -63,6 +71,13 @@ for re in "${expect_logs[@]}"; do
   if ! grep -Eq -- "$re" "$tmp/meshlab.log"; then
     echo "FAIL: MeshLab's log does not match '$re'" >&2
     tail -20 "$tmp/meshlab.log" >&2
+    exit 1
+  fi
+done
+for re in "${reject_logs[@]}"; do
+  if grep -Eq -- "$re" "$tmp/meshlab.log"; then
+    echo "FAIL: MeshLab's output matches '$re':" >&2
+    grep -E -m3 -- "$re" "$tmp/meshlab.log" >&2
     exit 1
   fi
 done

@@ -64,15 +64,10 @@ std::vector<fs::path> export_model(ThermalModel model, ExchangeFormat format, co
     write_nastran_bulk(out, model, s.protected_inputs);
     return {out};
   }
-  ModelSimulationSettings settings = s.simulation;
-  if (s.noise_target_K > 0.0 && !has_sampling_boosts(model)) {
-    if (settings.progress) settings.progress("sampling: estimating each node's Monte Carlo noise");
-    const SamplingBoosts b = decide_sampling_boosts(model, settings, s.noise_target_K, s.noise_budget, s.noise_max_samples);
-    for (std::size_t k = 0; k < b.boost.size(); ++k) model.nodes[k].sampling_boost = b.boost[k];
-    if (settings.progress) settings.progress(b.describe(model.nodes));
-  }
-  NodeCouplings couplings;
-  const SimulationResult result = simulate_model(model, settings, &couplings);
+  // The simulation every front end's "simulate" runs (noise targeting, then the chain).
+  const FrontEndSimulation sim = simulate_as_front_end(model, s.simulation, s.noise);
+  const NodeCouplings& couplings = sim.couplings;
+  const SimulationResult& result = sim.result;
   const ExportedNetwork network = exported_network(model, couplings, result, s.title);
   switch (format) {
     case ExchangeFormat::esatan: write_esatan_network(out, network, s.protected_inputs); return {out};

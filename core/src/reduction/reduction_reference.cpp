@@ -89,13 +89,11 @@ ReductionReference::ReductionReference(const ThermalModel& model, const Reductio
   impl_->settings.simulation.loads.ray_record_budget_bytes = budget.load_bytes(impl_->radiation->record_bytes());
   impl_->settings.simulation.loads.earth_ray_geometry_budget_bytes = budget.earth_geometry_bytes;
   // The reference's loads, recording their samples so that trials re-sample only what a
-  // change can reach; with the prepared couplings they make the reference simulation itself
-  // (the same rays, samples and solve as simulate_model).
+  // change can reach; with the prepared couplings they make the reference simulation itself:
+  // simulate_model's chain (chain_loads, solve_chain) with couplings that record their rays.
   const RayScene scene(model.mesh);
   const FaceViewFactors& vf = impl_->radiation->face_view_factors();
-  ExternalLoadSettings ls = impl_->settings.simulation.loads;
-  ls.seed = model.radiation.seed;
-  const Loads loads = external_loads(model, scene, vf.sides, ls.solar_reflections ? &vf : nullptr, ls, {}, &impl_->load_samples);
+  const Loads loads = chain_loads(model, scene, vf, impl_->settings.simulation, &impl_->load_samples);
   RecordUse& use = impl_->records;
   use.ir_bytes = impl_->radiation->record_bytes();
   use.ir_needed_bytes = impl_->radiation->record_bytes_needed();
@@ -107,7 +105,7 @@ ReductionReference::ReductionReference(const ThermalModel& model, const Reductio
   use.view_factor_bytes = static_cast<std::size_t>(vf.F.nonZeros()) * (sizeof(double) + sizeof(int));
   for (const auto& hits : impl_->load_samples.earth) use.earth_hit_bytes += hits.size() * sizeof(hits.front());
   impl_->result = reference_result ? *reference_result
-                                   : simulate(model, impl_->radiation->couplings(), loads, settings.simulation.solver);
+                                   : solve_chain(model, impl_->radiation->couplings(), loads, impl_->settings.simulation);
 }
 
 ReductionReference::~ReductionReference() = default;
@@ -137,10 +135,10 @@ Eigen::VectorXd ReductionReference::max_ratio_per_node() const {
 }
 
 namespace {
-// Simulates `cand` (the reference model with another mesh or other sampling salts): fully, or
-// reusing the reference's rays and load samples. Same chain as simulate_model; incrementally,
-// the IR couplings reuse the reference's rays and the loads are sampled with the same per-side
-// seeds, so unchanged faces see unchanged rays.
+// Simulates `cand` (the reference model with another mesh or other sampling salts): fully
+// (simulate_model), or reusing the reference's rays and load samples: the IR couplings reuse
+// the reference's rays and the loads are sampled with the chain's settings and per-side seeds
+// (chain_load_settings), so unchanged faces see unchanged rays, then solved by solve_chain.
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -166,8 +164,7 @@ SimulationResult simulate_candidate(const ThermalModel& cand, const RadiationRef
   reuse.changed_region = change.box;
   reuse.changed_faces = &changed_faces;
   LoadReuse* reusing = change.box.isEmpty() ? nullptr : &reuse;
-  ExternalLoadSettings load_settings = settings.loads;
-  load_settings.seed = cand.radiation.seed;
+  const ExternalLoadSettings load_settings = chain_load_settings(cand, settings);
   FaceViewFactors vf;
   NodeCouplings couplings;
   Loads loads;
@@ -198,7 +195,7 @@ SimulationResult simulate_candidate(const ThermalModel& cand, const RadiationRef
     t.loads_s += since(r0);
   }
   t0 = Clock::now();
-  SimulationResult r = simulate(cand, couplings, loads, settings.solver);
+  SimulationResult r = solve_chain(cand, couplings, loads, settings);
   t.solve_s = since(t0);
   return r;
 }

@@ -19,17 +19,64 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
+
+// Progress lines stamped with the seconds since the chain started.
+struct Stamped {
+  const std::function<void(const std::string&)>& progress;
+  Clock::time_point t0 = Clock::now();
+  void operator()(const std::string& what) const {
+    if (!progress) return;
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "[%7.2f s] ", seconds_since(t0));
+    progress(buf + what);
+  }
+};
+
+// chain_loads and solve_chain with progress stamped from `say`'s start (the whole chain's).
+Loads loads_stamped(const ThermalModel& model, const RayScene& scene, const FaceViewFactors& view_factors,
+                    const ModelSimulationSettings& settings, LoadSamples* record, const Stamped& say) {
+  const ExternalLoadSettings s = chain_load_settings(model, settings);
+  std::function<void(const std::string&)> sub;
+  if (settings.progress) sub = [&](const std::string& m) { say("  " + m); };
+  return external_loads(model, scene, view_factors.sides, s.solar_reflections ? &view_factors : nullptr, s, sub,
+                        record);
+}
+
+SimulationResult solve_stamped(const ThermalModel& model, const NodeCouplings& couplings, const Loads& loads,
+                               const ModelSimulationSettings& settings, const Stamped& say) {
+  SimulationSettings solver = settings.solver;
+  if (settings.progress) {
+    const auto user_hook = solver.transient.on_orbit;
+    solver.transient.on_orbit = [&say, user_hook](int orbit, double residual) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "  orbit %d: max |T(P) - T(0)| = %.3g K", orbit, residual);
+      say(buf);
+      if (user_hook) user_hook(orbit, residual);
+    };
+  }
+  return simulate(model, couplings, loads, solver);
+}
 }  // namespace
+
+ExternalLoadSettings chain_load_settings(const ThermalModel& model, const ModelSimulationSettings& settings) {
+  ExternalLoadSettings s = settings.loads;
+  s.seed = model.radiation.seed;
+  return s;
+}
+
+Loads chain_loads(const ThermalModel& model, const RayScene& scene, const FaceViewFactors& view_factors,
+                  const ModelSimulationSettings& settings, LoadSamples* record) {
+  return loads_stamped(model, scene, view_factors, settings, record, Stamped{settings.progress});
+}
+
+SimulationResult solve_chain(const ThermalModel& model, const NodeCouplings& couplings, const Loads& loads,
+                             const ModelSimulationSettings& settings) {
+  return solve_stamped(model, couplings, loads, settings, Stamped{settings.progress});
+}
 
 SimulationResult simulate_model(const ThermalModel& model, const ModelSimulationSettings& settings,
                                 NodeCouplings* couplings_out) {
-  const auto t0 = Clock::now();
-  auto say = [&](const std::string& what) {
-    if (!settings.progress) return;
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "[%7.2f s] ", seconds_since(t0));
-    settings.progress(buf + what);
-  };
+  const Stamped say{settings.progress};
   say("building ray scene (" + std::to_string(model.mesh.num_faces()) + " faces)");
   const RayScene scene(model.mesh);
   const SurfaceSides sides = surface_sides(model);
@@ -42,25 +89,31 @@ SimulationResult simulate_model(const ThermalModel& model, const ModelSimulation
   const GebhartFactors gebhart = gebhart_factors(view_factors, eps, node_groups(sides, num_nodes), num_nodes + 1);
   NodeCouplings couplings = aggregate_couplings(view_factors, eps, gebhart, num_nodes);
   couplings.diagnostics.untraceable_faces = scene.num_skipped_faces();
-  const bool reflections = settings.loads.solar_reflections;
-  ExternalLoadSettings load_settings = settings.loads;
-  load_settings.seed = model.radiation.seed;
   say("external loads");
-  const Loads loads = external_loads(model, scene, sides, reflections ? &view_factors : nullptr, load_settings,
-                                     [&](const std::string& m) { say("  " + m); });
+  const Loads loads = loads_stamped(model, scene, view_factors, settings, nullptr, say);
   say("thermal solve");
-  SimulationSettings solver = settings.solver;
-  const auto user_hook = solver.transient.on_orbit;
-  solver.transient.on_orbit = [&](int orbit, double residual) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "  orbit %d: max |T(P) - T(0)| = %.3g K", orbit, residual);
-    say(buf);
-    if (user_hook) user_hook(orbit, residual);
-  };
-  SimulationResult r = simulate(model, couplings, loads, solver);
+  SimulationResult r = solve_stamped(model, couplings, loads, settings, say);
   say("done");
   if (couplings_out) *couplings_out = std::move(couplings);
   return r;
+}
+
+std::optional<SamplingBoosts> apply_noise_targeting(ThermalModel& model, const ModelSimulationSettings& settings,
+                                                    const NoiseTargeting& targeting) {
+  if (!(targeting.target_K > 0.0) || has_sampling_boosts(model)) return std::nullopt;
+  if (settings.progress) settings.progress("sampling: estimating each node's Monte Carlo noise");
+  SamplingBoosts b = decide_sampling_boosts(model, settings, targeting.target_K, targeting.budget, targeting.max_samples);
+  for (std::size_t k = 0; k < b.boost.size() && k < model.nodes.size(); ++k) model.nodes[k].sampling_boost = b.boost[k];
+  if (settings.progress) settings.progress(b.describe(model.nodes));
+  return b;
+}
+
+FrontEndSimulation simulate_as_front_end(ThermalModel& model, const ModelSimulationSettings& settings,
+                                         const NoiseTargeting& targeting) {
+  FrontEndSimulation out;
+  out.sampling = apply_noise_targeting(model, settings, targeting);
+  out.result = simulate_model(model, settings, &out.couplings);
+  return out;
 }
 
 bool has_sampling_boosts(const ThermalModel& model) {

@@ -18,10 +18,8 @@ ExchangeFormat exchange_format(const std::string& name);
 
 struct ExportSettings {
   ModelSimulationSettings simulation;  //!< progress messages go through simulation.progress
-  //! Noise-targeted sampling as in `simulate` (thermal/simulate_model.h); 0 = off.
-  double noise_target_K = 0.0025;
-  double noise_budget = 32.0;
-  double noise_max_samples = 2e8;
+  //! Noise-targeted sampling as in `simulate` (thermal/simulate_model.h); target_K 0 = off.
+  NoiseTargeting noise;
   std::string title;                   //!< written in the files' header comments
   std::vector<std::filesystem::path> protected_inputs;  //!< never overwritten
 };

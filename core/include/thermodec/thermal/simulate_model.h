@@ -5,12 +5,15 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "thermodec/environment/external_loads.h"
+#include "thermodec/radiation/face_view_factors.h"
 #include "thermodec/radiation/radiative_couplings.h"
+#include "thermodec/rays/ray_scene.h"
 #include "thermodec/thermal/simulate.h"
 
 namespace thermodec {
@@ -22,11 +25,27 @@ struct ModelSimulationSettings {
   std::function<void(const std::string&)> progress;
 };
 
-//! Runs the chain with model.radiation (rays, seed) for couplings and load sampling.
+//! Runs the chain with model.radiation (rays, seed) for couplings and load sampling:
+//! couplings from face_view_factors, then chain_loads and solve_chain.
 //! \throw InvalidInput / SolverError from the stages.
 //! `couplings_out`, if given, receives the node couplings the solve used.
 SimulationResult simulate_model(const ThermalModel& model, const ModelSimulationSettings& settings = {},
                                 NodeCouplings* couplings_out = nullptr);
+
+//! The load settings of a simulation of `model`: settings.loads with the model's Monte Carlo
+//! seed (model.radiation.seed). The one place a simulation's load sampling takes its seed.
+ExternalLoadSettings chain_load_settings(const ThermalModel& model, const ModelSimulationSettings& settings);
+
+//! The chain's external loads, given its ray scene and face view factors (which also carry
+//! the solar reflections): sampled with chain_load_settings. `record`, if given, receives the
+//! samples for later incremental re-sampling (environment/external_loads.h).
+Loads chain_loads(const ThermalModel& model, const RayScene& scene, const FaceViewFactors& view_factors,
+                  const ModelSimulationSettings& settings, LoadSamples* record = nullptr);
+
+//! The chain's last step: the thermal solve of `model` with these couplings and loads
+//! (progress: one line per transient orbit).
+SimulationResult solve_chain(const ThermalModel& model, const NodeCouplings& couplings, const Loads& loads,
+                             const ModelSimulationSettings& settings);
 
 //! Noise-targeted sampling (docs/thermal.md, "Noise-targeted sampling"): simulates the model
 //! once at its own sample counts, estimates each node's temperature standard error from the
@@ -60,6 +79,42 @@ SamplingBoosts decide_sampling_boosts(const ThermalModel& model, const ModelSimu
 
 //! Whether any node of `model` already has a sampling boost (e.g. from its model file).
 bool has_sampling_boosts(const ThermalModel& model);
+
+//! Noise-targeted sampling as every front end's "simulate" applies it: the CLI's `simulate`
+//! and `export`, the Python module, MeshLab and FreeCAD (reduce has its own target, a fraction
+//! of its tolerance).
+struct NoiseTargeting {
+  //! Standard-error target per node [K]; 0 = off. The largest |dT| over every pair of 8 seeds,
+  //! every node and every time step comes out at ~3-4x the per-node standard error
+  //! (docs/thermal.md, "Noise-targeted sampling"), so 0.0025 K keeps the sample's
+  //! seed-to-seed floor under 0.01 K.
+  double target_K = 0.0025;
+  //! At most this many extra IR rays, and extra sun/Earth samples, as a multiple of the
+  //! model's totals (the target is raised until the boosts fit)...
+  double budget = 32.0;
+  //! ...and at most this many in all: the sample satellite needs 1.4e8 / 6.9e7 for its target
+  //! (~10 s on 2 cores); a large CAD mesh, whose totals are many times the sample's, gets the
+  //! multiple this leaves (its simulation stays within ~15 s of extra tracing instead of 32x
+  //! its own run time).
+  double max_samples = 2e8;
+};
+
+//! Decides the boosts (decide_sampling_boosts) and stores them in model.nodes[k].sampling_boost.
+//! Nothing happens, and nothing is returned, when targeting is off (target_K <= 0) or the model
+//! already has boosts (its file's are kept). Progress: the estimate and the decision.
+std::optional<SamplingBoosts> apply_noise_targeting(ThermalModel& model, const ModelSimulationSettings& settings,
+                                                    const NoiseTargeting& targeting = {});
+
+//! One simulation as a front end runs it ("simulate this model"): apply_noise_targeting, then
+//! simulate_model. The same model, settings and seed give bit-identical temperatures in every
+//! front end. `model` receives the boosts decided.
+struct FrontEndSimulation {
+  SimulationResult result;
+  NodeCouplings couplings;
+  std::optional<SamplingBoosts> sampling;  //!< what noise targeting decided (none: off or kept)
+};
+FrontEndSimulation simulate_as_front_end(ThermalModel& model, const ModelSimulationSettings& settings = {},
+                                         const NoiseTargeting& targeting = {});
 
 //! Ray budgets for a bare mesh (a model loaded from a mesh file, ThermalModel::mesh_cleanup
 //! set), sized by its face count F so that a simulation's cost stays bounded while the noise
