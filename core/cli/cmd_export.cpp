@@ -56,8 +56,8 @@ void run_export(const ExportOptions& o) {
     check_output_file(out, "export: output", format == ExchangeFormat::nastran ? std::vector<std::string>{".bdf", ".nas", ".dat"}
                                                                                 : std::vector<std::string>{},
                       {});  // an input in the way: export_model says so, before any work too
-  const NoiseTargetingBound noise = settings.noise_target_K > 0.0 && !has_sampling_boosts(model)
-                                        ? NoiseTargetingBound{settings.noise_budget, settings.noise_max_samples}
+  const NoiseTargetingBound noise = settings.noise.target_K > 0.0 && !has_sampling_boosts(model)
+                                        ? NoiseTargetingBound{settings.noise.budget, settings.noise.max_samples}
                                         : NoiseTargetingBound{};
   if (format != ExchangeFormat::nastran)
     guard_simulation_cost("export", model, settings.simulation, o.quiet, {}, SimulationCostScope::simulation, noise);
