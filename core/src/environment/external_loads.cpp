@@ -51,6 +51,21 @@ LoadRun::LoadRun(const ThermalModel& model_in, const RayScene& scene_in, const S
     st.sun_direction_body = env.sun_direction.normalized();
     states.push_back(st);
   }
+  positions = steps;
+  // Eclipse edges: the sunlit side of each shadow switch, traced like one more position.
+  if (orbit && settings.eclipse_edges && flux > 0.0) {
+    edge_times_s = eclipse_switch_times_s(env, loads.period_s);
+    for (Eigen::Index e = 0; e < edge_times_s.size(); ++e) {
+      OrbitState st = orbit_state(env, edge_times_s[e]);
+      st.in_shadow = false;
+      states.push_back(st);
+    }
+    steps += static_cast<int>(edge_times_s.size());
+    loads.in_shadow.assign(steps, 0);
+    for (auto* m : {&loads.solar_W, &loads.albedo_W, &loads.earth_ir_W, &loads.reflected_solar_W,
+                   &loads.sampling_standard_error_W})
+      *m = Eigen::MatrixXd::Zero(num_nodes, steps);
+  }
 
   // Reuse: map sides to the reference's by identity; a side is reusable for a ray family only
   // if the family cannot reach the changed region (conservative sphere tests, ChangeReach).
@@ -165,17 +180,36 @@ void finish_run(LoadRun& run) {
   loads.sampling_standard_error_W = (loads.sampling_standard_error_W + run.sun_variance).cwiseSqrt();
   // The orbit mean's: the Earth rays are the same at every step (their errors add as standard
   // deviations); shadow passes with their own points are independent (variances add).
+  // Over the positions only (the eclipse edges, after them, are not orbit samples).
+  const int S = run.positions;
   if (run.shadow_division > 1)
-    loads.orbit_mean_standard_error_W =
-        (run.sun_variance.rowwise().sum() / double(steps * steps) + earth_sd.rowwise().mean().cwiseAbs2()).cwiseSqrt();
+    loads.orbit_mean_standard_error_W = (run.sun_variance.leftCols(S).rowwise().sum() / double(S * S) +
+                                         earth_sd.leftCols(S).rowwise().mean().cwiseAbs2())
+                                            .cwiseSqrt();
   else
-    loads.orbit_mean_standard_error_W = loads.sampling_standard_error_W.rowwise().mean();
+    loads.orbit_mean_standard_error_W = loads.sampling_standard_error_W.leftCols(S).rowwise().mean();
   for (int s = 0; s < ns; ++s) {
     const int node = run.sides.node[s];
     if (node < 0 || node >= num_nodes) continue;
     loads.solar_W.row(node) += run.alpha[s] * run.incident_direct.row(s);
     loads.albedo_W.row(node) += run.alpha[s] * run.incident_albedo.row(s);
   }
+}
+
+// Moves the eclipse edges' columns (after the positions') into Loads::edge_*.
+void split_edges(LoadRun& run) {
+  Loads& loads = run.loads;
+  const int S = run.positions, E = run.steps - run.positions;
+  if (E == 0) return;
+  loads.edge_times_s = run.edge_times_s;
+  loads.edge_solar_W = loads.solar_W.rightCols(E);
+  loads.edge_albedo_W = loads.albedo_W.rightCols(E);
+  loads.edge_earth_ir_W = loads.earth_ir_W.rightCols(E);
+  loads.edge_reflected_solar_W = loads.reflected_solar_W.rightCols(E);
+  for (auto* m : {&loads.solar_W, &loads.albedo_W, &loads.earth_ir_W, &loads.reflected_solar_W,
+                 &loads.sampling_standard_error_W})
+    *m = Eigen::MatrixXd(m->leftCols(S));
+  loads.in_shadow.resize(S);
 }
 
 }  // namespace
@@ -217,6 +251,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     if (progress) progress("solar reflections");
     add_solar_reflections(run.loads, model, sides, *view_factors, incident, run.ref, samples);
   }
+  load_rays::split_edges(run);
   if (solar_incident_W) *solar_incident_W = incident;
   return std::move(run.loads);
 }

@@ -61,6 +61,9 @@ struct ExternalLoadSettings {
   //! side (no pilot), with the same per-node minimum and noise-targeted boosts.
   int earth_min_rays_per_node = 200000;
   int steps_per_orbit = 0;        //!< orbit samples; 0 = model.analysis.steps_per_orbit
+  //! Also trace the loads at every eclipse entry and exit, on the sunlit side (Loads::edge_*):
+  //! two more sun passes per orbit.
+  bool eclipse_edges = true;
   //! Steady analysis of an orbit whose sun moves in body axes: each shadow pass draws its own
   //! sample points, fewer of them (shadow_pass_division). false: every pass traces the same
   //! points, all of them (what a transient analysis always does).

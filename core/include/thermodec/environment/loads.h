@@ -31,8 +31,20 @@ struct Loads {
   //! S flags: spacecraft in the Earth's shadow.
   std::vector<char> in_shadow;
 
+  //! Eclipse edges (an orbit with eclipse, ExternalLoadSettings::eclipse_edges): the E shadow
+  //! entry and exit instants [s] in [0, P), sorted (environment/orbit.h, eclipse_switch_times_s),
+  //! and the loads there on the sunlit side, N x E per component [W]: what the direct sun reaches
+  //! just before entry and just after exit, so that the interpolation between positions
+  //! (thermal/orbit_transient.h) ends each sunlit arc on a traced value instead of an
+  //! extrapolated one. Empty when not traced.
+  Eigen::VectorXd edge_times_s;
+  Eigen::MatrixXd edge_solar_W, edge_albedo_W, edge_earth_ir_W, edge_reflected_solar_W;
+
   //! Sum of the components, N x S [W].
   Eigen::MatrixXd total_W() const { return solar_W + albedo_W + earth_ir_W + reflected_solar_W; }
+  //! Sum of the components at the eclipse edges, N x E [W].
+  Eigen::MatrixXd edge_total_W() const { return edge_solar_W + edge_albedo_W + edge_earth_ir_W + edge_reflected_solar_W; }
+  bool has_edges() const { return edge_times_s.size() > 0 && edge_solar_W.cols() == edge_times_s.size(); }
   int num_steps() const { return static_cast<int>(times_s.size()); }
 };
 
