@@ -663,20 +663,20 @@ TEST(OrbitLoads, eclipse_edges_carry_the_sunlit_direct_sun_at_the_exact_switch_i
   const double P = orbit_period_s(model.environment.altitude_km);
   const Eigen::VectorXd switches = eclipse_switch_times_s(model.environment, P);
   ASSERT_EQ(switches.size(), 2);
-  ASSERT_TRUE(l.has_edges());
-  EXPECT_EQ(l.edge_times_s, switches);
+  ASSERT_TRUE(l.has_knots());
+  EXPECT_EQ(l.knot_times_s, switches);
   EXPECT_EQ(l.num_steps(), 12);  // the edges do not add positions
   const double S = solar_flux_on_day_W_per_m2(model.environment.day_of_year);
   for (int e = 0; e < 2; ++e) {
     const Eigen::Vector3d s = orbit_state(model.environment, switches[e]).sun_direction_body;
     double projected = 0.0;
     for (int k = 0; k < 3; ++k) projected += std::abs(s[k]);  // unit cube faces, both signs of each axis
-    EXPECT_NEAR(l.edge_solar_W(0, e), 0.5 * S * projected, 1e-9 * S);
-    EXPECT_GT(l.edge_albedo_W(0, e) + l.edge_earth_ir_W(0, e), 0.0);
+    EXPECT_NEAR(l.knot_solar_W(0, e), 0.5 * S * projected, 1e-9 * S);
+    EXPECT_GT(l.knot_albedo_W(0, e) + l.knot_earth_ir_W(0, e), 0.0);
   }
   ExternalLoadSettings off;
   off.eclipse_edges = false;
   const Loads plain = loads_of(model, off);
-  EXPECT_FALSE(plain.has_edges());
+  EXPECT_FALSE(plain.has_knots());
   EXPECT_EQ(plain.total_W(), l.total_W());  // the positions' loads do not depend on the edges
 }

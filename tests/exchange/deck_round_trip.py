@@ -25,7 +25,7 @@ try:
     import numpy as np
     from scipy.integrate import solve_ivp
 except ImportError as e:
-    print("SKIP: python module missing: %s (pip install scipy)" % e)
+    print("SKIP: python module missing: %s (apt-get install python3-scipy: scripts/setup does)" % e)
     sys.exit(77)
 
 TOLERANCE_K = 0.05

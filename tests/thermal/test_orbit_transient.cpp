@@ -160,9 +160,9 @@ TEST(OrbitTransient, orbit_mean_of_a_switched_load_is_the_exact_sunlit_fraction)
   ASSERT_GT(std::abs(1.0 - double(dark) / S - exact), 1e-3);  // the plain mean is off
   EXPECT_NEAR(orbit_mean_loads(loads, sw).solar_W(0, 0), exact, 1e-6);
   // With traced eclipse edges (the same 1 W) the mean is the same.
-  loads.edge_times_s = sw;
-  loads.edge_solar_W = Eigen::MatrixXd::Ones(1, 2);
-  loads.edge_albedo_W = loads.edge_earth_ir_W = loads.edge_reflected_solar_W = Eigen::MatrixXd::Zero(1, 2);
+  loads.knot_times_s = sw;
+  loads.knot_solar_W = Eigen::MatrixXd::Ones(1, 2);
+  loads.knot_albedo_W = loads.knot_earth_ir_W = loads.knot_reflected_solar_W = Eigen::MatrixXd::Zero(1, 2);
   EXPECT_NEAR(orbit_mean_loads(loads, sw).solar_W(0, 0), exact, 1e-6);
 }
 
@@ -183,9 +183,9 @@ TEST(OrbitTransient, sunlit_arc_interpolates_to_its_traced_edges) {
     loads.in_shadow.push_back(orbit_state(env, loads.times_s[k]).in_shadow);
     if (!loads.in_shadow.back()) loads.solar_W(0, k) = 10.0;
   }
-  loads.edge_times_s = sw;
-  loads.edge_solar_W = Eigen::MatrixXd::Constant(1, 2, 30.0);
-  loads.edge_albedo_W = loads.edge_earth_ir_W = loads.edge_reflected_solar_W = Eigen::MatrixXd::Zero(1, 2);
+  loads.knot_times_s = sw;
+  loads.knot_solar_W = Eigen::MatrixXd::Constant(1, 2, 30.0);
+  loads.knot_albedo_W = loads.knot_earth_ir_W = loads.knot_reflected_solar_W = Eigen::MatrixXd::Zero(1, 2);
   const double dt = P / S;
   for (int e = 0; e < 2; ++e) {
     const double t = sw[e];

@@ -12,6 +12,7 @@
 #include <unordered_map>
 
 #include "load_run.h"
+#include "sun_kinks.h"
 #include "thermodec/common/errors.h"
 
 namespace thermodec {
@@ -52,15 +53,30 @@ LoadRun::LoadRun(const ThermalModel& model_in, const RayScene& scene_in, const S
     states.push_back(st);
   }
   positions = steps;
-  // Eclipse edges: the sunlit side of each shadow switch, traced like one more position.
-  if (orbit && settings.eclipse_edges && flux > 0.0) {
-    edge_times_s = eclipse_switch_times_s(env, loads.period_s);
-    for (Eigen::Index e = 0; e < edge_times_s.size(); ++e) {
-      OrbitState st = orbit_state(env, edge_times_s[e]);
-      st.in_shadow = false;
+  // Sunlit knots: the sunlit side of each shadow switch, and the kinks of the direct sun where a
+  // face side turns edge-on to it, traced like more positions (after them).
+  if (orbit && flux > 0.0) {
+    std::vector<std::pair<double, bool>> knots;  // (time, forced sunlit)
+    if (settings.eclipse_edges) {
+      const Eigen::VectorXd sw = eclipse_switch_times_s(env, loads.period_s);
+      for (Eigen::Index e = 0; e < sw.size(); ++e) knots.emplace_back(sw[e], true);
+    }
+    if (settings.kink_knot_threshold_K > 0.0) {
+      const std::vector<int> node_of_side(sides.node.data(), sides.node.data() + sides.node.size());
+      const int cap = settings.max_kink_knots >= 0 ? settings.max_kink_knots : positions;
+      for (const double t : sun_kink_times_s(model, geo, node_of_side, alpha, flux, positions,
+                                             settings.kink_knot_threshold_K, cap))
+        knots.emplace_back(t, false);
+    }
+    std::sort(knots.begin(), knots.end());
+    knot_times_s.resize(static_cast<Eigen::Index>(knots.size()));
+    for (std::size_t e = 0; e < knots.size(); ++e) {
+      knot_times_s[static_cast<Eigen::Index>(e)] = knots[e].first;
+      OrbitState st = orbit_state(env, knots[e].first);
+      if (knots[e].second) st.in_shadow = false;
       states.push_back(st);
     }
-    steps += static_cast<int>(edge_times_s.size());
+    steps += static_cast<int>(knots.size());
     loads.in_shadow.assign(steps, 0);
     for (auto* m : {&loads.solar_W, &loads.albedo_W, &loads.earth_ir_W, &loads.reflected_solar_W,
                    &loads.sampling_standard_error_W})
@@ -180,7 +196,7 @@ void finish_run(LoadRun& run) {
   loads.sampling_standard_error_W = (loads.sampling_standard_error_W + run.sun_variance).cwiseSqrt();
   // The orbit mean's: the Earth rays are the same at every step (their errors add as standard
   // deviations); shadow passes with their own points are independent (variances add).
-  // Over the positions only (the eclipse edges, after them, are not orbit samples).
+  // Over the positions only (the knots, after them, are not orbit samples).
   const int S = run.positions;
   if (run.shadow_division > 1)
     loads.orbit_mean_standard_error_W = (run.sun_variance.leftCols(S).rowwise().sum() / double(S * S) +
@@ -196,16 +212,16 @@ void finish_run(LoadRun& run) {
   }
 }
 
-// Moves the eclipse edges' columns (after the positions') into Loads::edge_*.
-void split_edges(LoadRun& run) {
+// Moves the knots' columns (after the positions') into Loads::knot_*.
+void split_knots(LoadRun& run) {
   Loads& loads = run.loads;
   const int S = run.positions, E = run.steps - run.positions;
   if (E == 0) return;
-  loads.edge_times_s = run.edge_times_s;
-  loads.edge_solar_W = loads.solar_W.rightCols(E);
-  loads.edge_albedo_W = loads.albedo_W.rightCols(E);
-  loads.edge_earth_ir_W = loads.earth_ir_W.rightCols(E);
-  loads.edge_reflected_solar_W = loads.reflected_solar_W.rightCols(E);
+  loads.knot_times_s = run.knot_times_s;
+  loads.knot_solar_W = loads.solar_W.rightCols(E);
+  loads.knot_albedo_W = loads.albedo_W.rightCols(E);
+  loads.knot_earth_ir_W = loads.earth_ir_W.rightCols(E);
+  loads.knot_reflected_solar_W = loads.reflected_solar_W.rightCols(E);
   for (auto* m : {&loads.solar_W, &loads.albedo_W, &loads.earth_ir_W, &loads.reflected_solar_W,
                  &loads.sampling_standard_error_W})
     *m = Eigen::MatrixXd(m->leftCols(S));
@@ -251,7 +267,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     if (progress) progress("solar reflections");
     add_solar_reflections(run.loads, model, sides, *view_factors, incident, run.ref, samples);
   }
-  load_rays::split_edges(run);
+  load_rays::split_knots(run);
   if (solar_incident_W) *solar_incident_W = incident;
   return std::move(run.loads);
 }

@@ -37,7 +37,7 @@ struct LoadRun {
   bool orbit;
   int steps;      // positions + eclipse edges: the edges' states follow the positions'
   int positions;  // orbit positions k P / S (Loads::times_s)
-  Eigen::VectorXd edge_times_s;  // eclipse entries and exits traced on the sunlit side
+  Eigen::VectorXd knot_times_s;  // eclipse entries and exits traced on the sunlit side
   Loads loads;  // the result being built
   double flux;  // solar flux [W/m^2]
   std::vector<OrbitState> states;  // per step

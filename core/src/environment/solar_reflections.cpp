@@ -25,8 +25,8 @@ void add_solar_reflections(Loads& loads, const ThermalModel& model, const Surfac
                        " sides, the model has " + std::to_string(ns));
   // The incident power may also hold the eclipse edges' columns (after the positions').
   const Eigen::Index S = loads.reflected_solar_W.cols();
-  const Eigen::Index E = loads.has_edges() && solar_incident_W.cols() == S + loads.edge_times_s.size()
-                             ? loads.edge_times_s.size() : 0;
+  const Eigen::Index E = loads.has_knots() && solar_incident_W.cols() == S + loads.knot_times_s.size()
+                             ? loads.knot_times_s.size() : 0;
   if (solar_incident_W.rows() != ns || loads.reflected_solar_W.rows() != num_nodes ||
       S + E != solar_incident_W.cols())
     throw InvalidInput("solar reflections: incident power is " + std::to_string(solar_incident_W.rows()) + " x " +
@@ -56,7 +56,7 @@ void add_solar_reflections(Loads& loads, const ThermalModel& model, const Surfac
       if (solar.B(s, g) != 0.0) reflected.row(g) += (1.0 - alpha[s]) * solar.B(s, g) * solar_incident_W.row(s);
   }
   loads.reflected_solar_W += reflected.leftCols(S);
-  if (E > 0) loads.edge_reflected_solar_W += reflected.rightCols(E);
+  if (E > 0) loads.knot_reflected_solar_W += reflected.rightCols(E);
 }
 
 }  // namespace thermodec

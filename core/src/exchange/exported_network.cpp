@@ -60,6 +60,8 @@ ExportedNetwork exported_network(const ThermalModel& model, const NodeCouplings&
       t.push_back(switches[i]);
       if (switches[i] + ramp < e.period_s) t.push_back(switches[i] + ramp);
     }
+    // The other sunlit knots (environment/loads.h): the interpolation has a corner at each.
+    for (Eigen::Index i = 0; i < result.loads.knot_times_s.size(); ++i) t.push_back(result.loads.knot_times_s[i]);
     std::sort(t.begin(), t.end());
     // A position within the ramp of a switch would break the order the tools need.
     std::vector<double> kept;

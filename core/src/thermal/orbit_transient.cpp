@@ -55,20 +55,21 @@ class CyclicKnots {
   std::vector<double> t_;
 };
 
-// With eclipse edges: the smooth part (albedo, Earth IR) interpolated over positions and edges,
-// the sunlit arcs' direct-sun part over the sunlit positions and the edges that bound each arc.
-struct EdgeKnots {
+// With sunlit knots (Loads::knot_*): the smooth part (albedo, Earth IR) interpolated over positions
+// and knots, the sunlit arcs' direct-sun part over the sunlit positions and the knots, among them
+// the eclipse edges that bound each arc.
+struct SunlitKnots {
   CyclicKnots smooth, sunlit;
 };
 
-EdgeKnots edge_knots(const Loads& loads) {
-  const int S = loads.num_steps(), E = static_cast<int>(loads.edge_times_s.size());
+SunlitKnots sunlit_knots(const Loads& loads) {
+  const int S = loads.num_steps(), E = static_cast<int>(loads.knot_times_s.size());
   const double dt = loads.period_s / S;
   std::vector<double> all_t, lit_t;
   Eigen::MatrixXd all_v(loads.solar_W.rows(), S + E), lit_v(loads.solar_W.rows(), S + E);
   const Eigen::MatrixXd smooth = loads.albedo_W + loads.earth_ir_W, sun = loads.solar_W + loads.reflected_solar_W;
-  const Eigen::MatrixXd edge_smooth = loads.edge_albedo_W + loads.edge_earth_ir_W;
-  const Eigen::MatrixXd edge_sun = loads.edge_solar_W + loads.edge_reflected_solar_W;
+  const Eigen::MatrixXd knot_smooth = loads.knot_albedo_W + loads.knot_earth_ir_W;
+  const Eigen::MatrixXd knot_sun = loads.knot_solar_W + loads.knot_reflected_solar_W;
   for (int k = 0; k < S; ++k) {
     all_v.col(static_cast<Eigen::Index>(all_t.size())) = smooth.col(k);
     all_t.push_back(k * dt);
@@ -77,10 +78,10 @@ EdgeKnots edge_knots(const Loads& loads) {
     lit_t.push_back(k * dt);
   }
   for (int e = 0; e < E; ++e) {
-    all_v.col(static_cast<Eigen::Index>(all_t.size())) = edge_smooth.col(e);
-    all_t.push_back(loads.edge_times_s[e]);
-    lit_v.col(static_cast<Eigen::Index>(lit_t.size())) = edge_sun.col(e);
-    lit_t.push_back(loads.edge_times_s[e]);
+    all_v.col(static_cast<Eigen::Index>(all_t.size())) = knot_smooth.col(e);
+    all_t.push_back(loads.knot_times_s[e]);
+    lit_v.col(static_cast<Eigen::Index>(lit_t.size())) = knot_sun.col(e);
+    lit_t.push_back(loads.knot_times_s[e]);
   }
   all_v.conservativeResize(Eigen::NoChange, static_cast<Eigen::Index>(all_t.size()));
   lit_v.conservativeResize(Eigen::NoChange, static_cast<Eigen::Index>(lit_t.size()));
@@ -98,8 +99,8 @@ Eigen::MatrixXd interpolated_loads_W(const Loads& loads, const Eigen::VectorXd& 
   const int n = static_cast<int>(smooth.rows());
   auto sh = [&](int k) { return static_cast<int>(S == static_cast<int>(loads.in_shadow.size()) && loads.in_shadow[(k + S) % S]); };
   const bool shadow0 = sh(0);
-  const bool edges = loads.has_edges() && loads.edge_solar_W.rows() == n;
-  const EdgeKnots knots = edges ? edge_knots(loads) : EdgeKnots{CyclicKnots({}, {}, P), CyclicKnots({}, {}, P)};
+  const bool edges = loads.has_knots() && loads.knot_solar_W.rows() == n;
+  const SunlitKnots knots = edges ? sunlit_knots(loads) : SunlitKnots{CyclicKnots({}, {}, P), CyclicKnots({}, {}, P)};
   Eigen::MatrixXd out(n, times_s.size());
   for (int c = 0; c < times_s.size(); ++c) {
     const double t = times_s[c];
@@ -108,7 +109,7 @@ Eigen::MatrixXd interpolated_loads_W(const Loads& loads, const Eigen::VectorXd& 
     const int j = (i + 1) % S;
     out.col(c) = edges ? knots.smooth.at(t) : Eigen::VectorXd((1.0 - f) * smooth.col(i) + f * smooth.col(j));
     const int s = shadow_before(t, P, shadow0, switches);
-    if (edges && !s) {  // a sunlit arc ends on its traced edges
+    if (edges && !s) {  // a sunlit arc passes through its knots and ends on its traced edges
       out.col(c) += knots.sunlit.at(t <= 0.0 ? P : t).cwiseMax(0.0);
       continue;
     }
@@ -204,8 +205,8 @@ OrbitTransient orbit_transient(const ThermalNetwork& network, const Loads& loads
 Loads loads_at(const Loads& loads, const Eigen::VectorXd& times_s, const Eigen::VectorXd& switches) {
   // One component at a time (the others zeroed): the interpolation is linear in the loads.
   const std::vector<std::pair<Eigen::MatrixXd Loads::*, Eigen::MatrixXd Loads::*>> parts{
-      {&Loads::solar_W, &Loads::edge_solar_W}, {&Loads::albedo_W, &Loads::edge_albedo_W},
-      {&Loads::earth_ir_W, &Loads::edge_earth_ir_W}, {&Loads::reflected_solar_W, &Loads::edge_reflected_solar_W}};
+      {&Loads::solar_W, &Loads::knot_solar_W}, {&Loads::albedo_W, &Loads::knot_albedo_W},
+      {&Loads::earth_ir_W, &Loads::knot_earth_ir_W}, {&Loads::reflected_solar_W, &Loads::knot_reflected_solar_W}};
   Loads out;
   out.period_s = loads.period_s;
   out.times_s = times_s;
@@ -226,12 +227,12 @@ Loads orbit_mean_loads(const Loads& loads, const Eigen::VectorXd& switches) {
   const int S = loads.num_steps();
   const double P = loads.period_s;
   if (S < 2 || !(P > 0.0)) throw InvalidInput("orbit mean of the loads: need >= 2 positions and a period > 0 s");
-  // Breakpoints of the piecewise-linear interpolant: positions, switches, edges. The midpoint
+  // Breakpoints of the piecewise-linear interpolant: positions, switches, knots. The midpoint
   // rule is exact on each piece.
   std::vector<double> cuts;
   for (int k = 0; k <= S; ++k) cuts.push_back(P * k / S);
   for (Eigen::Index i = 0; i < switches.size(); ++i) cuts.push_back(switches[i]);
-  for (Eigen::Index i = 0; i < loads.edge_times_s.size(); ++i) cuts.push_back(loads.edge_times_s[i]);
+  for (Eigen::Index i = 0; i < loads.knot_times_s.size(); ++i) cuts.push_back(loads.knot_times_s[i]);
   std::sort(cuts.begin(), cuts.end());
   std::vector<double> mid, len;
   for (std::size_t c = 0; c + 1 < cuts.size(); ++c)

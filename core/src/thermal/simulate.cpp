@@ -34,7 +34,7 @@ SimulationResult simulate(const ThermalModel& model, const NodeCouplings& coupli
                                          ? eclipse_switch_times_s(model.environment, loads.period_s)
                                          : Eigen::VectorXd();
     const OrbitTransient ot = orbit_transient(net, loads, switches, time, ts);
-    if (S % 2 == 0 && S >= 4) {
+    if (settings.orbit_sampling_error && S % 2 == 0 && S >= 4) {
       // Richardson on the positions: the same solve from every other position.
       TransientSettings quiet = ts;
       quiet.on_orbit = nullptr;
@@ -66,7 +66,7 @@ SimulationResult simulate(const ThermalModel& model, const NodeCouplings& coupli
     const SteadyState ss = steady_state(net, mean_of(loads), settings.newton);
     r.times_s = Eigen::VectorXd::Zero(1);
     r.temperature_K = ss.temperature_K;
-    if (orbit && S % 2 == 0 && S >= 4)
+    if (settings.orbit_sampling_error && orbit && S % 2 == 0 && S >= 4)
       r.orbit_sampling_error_K =
           (ss.temperature_K - steady_state(net, mean_of(every_other_position(loads)), settings.newton).temperature_K)
               .cwiseAbs()
@@ -82,7 +82,7 @@ SimulationResult simulate(const ThermalModel& model, const NodeCouplings& coupli
       r.loads.reflected_solar_W = orbit ? mean.reflected_solar_W : avg(loads.reflected_solar_W);
       r.loads.times_s = r.times_s;
       r.loads.in_shadow.assign(1, 0);
-      r.loads.edge_times_s.resize(0);
+      r.loads.knot_times_s.resize(0);
       if (loads.orbit_mean_standard_error_W.size() == n) r.loads.sampling_standard_error_W = loads.orbit_mean_standard_error_W;
       else if (loads.sampling_standard_error_W.cols() == S) r.loads.sampling_standard_error_W = loads.sampling_standard_error_W.rowwise().mean();
     }

@@ -50,6 +50,7 @@ SimulationResult simulate_model(const ThermalModel& model, const ModelSimulation
                                      [&](const std::string& m) { say("  " + m); });
   say("thermal solve");
   SimulationSettings solver = settings.solver;
+  solver.orbit_sampling_error = true;  // summary.orbit_sampling_error_K of every full simulation
   const auto user_hook = solver.transient.on_orbit;
   solver.transient.on_orbit = [&](int orbit, double residual) {
     char buf[96];

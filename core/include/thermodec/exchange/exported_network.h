@@ -30,8 +30,9 @@ struct ExportedNetwork {
   Eigen::MatrixXd albedo_W;           //!< N x S Earth-albedo absorbed
   Eigen::MatrixXd earth_ir_W;         //!< N x S Earth-IR absorbed
   Eigen::MatrixXd temperature_K;      //!< N x S temperatures `simulate` found (initial T = column 0)
-  //! The load tables the writers export (transient), K points over [0, P): the positions and,
-  //! at every eclipse switch, two points, the value just before and kSwitchRamp_s after it, so
+  //! The load tables the writers export (transient), K points over [0, P): the positions, the
+  //! loads' other sunlit knots (Loads::knot_times_s) and, at every eclipse switch, two points,
+  //! the value just before and kSwitchRamp_s after it, so
   //! that a tool interpolating the table linearly (ESATAN INTCY1, SINDA D11CYL) applies the
   //! loads `simulate` integrates (thermal/orbit_transient.h, loads_at) to within that ramp.
   Eigen::VectorXd table_times_s;
