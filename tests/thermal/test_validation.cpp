@@ -86,7 +86,7 @@ namespace {
 SimulationResult panel_in_orbit(int positions, const ExternalLoadSettings& loads = {}) {
   ThermalModel model = model_with({"panel"}, {{"cells", 0.9, 0.85}, {"paint", 0.2, 0.9}});
   add_quad(model.mesh, V3(0, -1, -0.5), V3(0, 0, 1), V3(0, 2, 0), 0, 0, /*back material*/ 1, 2);
-  model.nodes[0].capacitance_J_per_K = 1500.0;
+  model.nodes[0].capacitance_J_per_K = 4500.0;  // the sample's wings
   model.environment.type = EnvironmentType::orbit;
   model.environment.altitude_km = 700.0;
   model.environment.inclination_deg = 98.0;
@@ -108,25 +108,27 @@ double max_difference_at_positions(const SimulationResult& a, const SimulationRe
 }
 }  // namespace
 
-TEST(Validation, orbit_sampling_with_eclipse_edges_and_sun_kinks_matches_a_20x_position_reference) {
-  // The loads traced at 24 positions plus the eclipse edges and the panel's edge-on instants
-  // give the transient of 480 positions within 0.05 K (the budget of the sample's default); the
-  // same 24 positions without those knots miss the kinks and the arcs' ends by far more, and the
-  // Richardson estimate (summary.orbit_sampling_error_K) sees it.
-  const SimulationResult fine = panel_in_orbit(480);
-  const SimulationResult knots = panel_in_orbit(24);
+TEST(Validation, orbit_sampling_knots_and_their_error_estimate_against_a_20x_position_reference) {
+  // 60 positions plus the eclipse edges and the panel's edge-on instant against 1200 positions
+  // (same seed): the knots take out the kinks (the bare 60 positions are > 4x further off), what
+  // is left is the curvature of the loads between positions, which the Richardson estimate
+  // (summary.orbit_sampling_error_K, from every other position) measures within a factor 2.
+  // Without the knots the kinks make the interpolation first order locally and the estimate
+  // understates; the 1200-position run's own estimate is small.
+  const SimulationResult fine = panel_in_orbit(1200);
+  const SimulationResult knots = panel_in_orbit(60);
   ExternalLoadSettings plain;
   plain.eclipse_edges = false;
   plain.kink_knot_threshold_K = 0.0;
-  const SimulationResult bare = panel_in_orbit(24, plain);
+  const SimulationResult bare = panel_in_orbit(60, plain);
   ASSERT_TRUE(knots.loads.has_knots());
-  EXPECT_GE(knots.loads.knot_times_s.size(), 4);  // two edges, two kinks at least
+  EXPECT_GE(knots.loads.knot_times_s.size(), 3);  // two edges, a sunlit kink at least
   const double with_knots = max_difference_at_positions(knots, fine, 20);
   const double without = max_difference_at_positions(bare, fine, 20);
-  std::printf("24 positions: with knots %.4f K (estimate %.4f K), without %.4f K (estimate %.4f K)\n", with_knots,
-              knots.orbit_sampling_error_K, without, bare.orbit_sampling_error_K);
-  EXPECT_LT(with_knots, 0.05);
+  std::printf("60 positions: with knots %.4f K (estimate %.4f K), without %.4f K (estimate %.4f K); 1200: estimate %.4f K\n",
+              with_knots, knots.orbit_sampling_error_K, without, bare.orbit_sampling_error_K, fine.orbit_sampling_error_K);
   EXPECT_GT(without, 4.0 * with_knots);
-  EXPECT_GT(bare.orbit_sampling_error_K, 0.25 * without);  // the estimate sees the bare sampling's error
-  EXPECT_LT(fine.orbit_sampling_error_K, 0.05);
+  EXPECT_GT(knots.orbit_sampling_error_K, 0.5 * with_knots);
+  EXPECT_LT(knots.orbit_sampling_error_K, 2.0 * with_knots);
+  EXPECT_LT(fine.orbit_sampling_error_K, 0.01);
 }
