@@ -39,7 +39,7 @@ TEST(SimulateCli, sample_satellite_orbit_writes_result_json_plot_and_compares_to
   const auto nodes = j.at("nodes").get<std::vector<std::string>>();
   ASSERT_EQ(nodes.size(), 13u);
   const auto times = j.at("times_s").get<std::vector<double>>();
-  EXPECT_EQ(times.size(), 60u);
+  EXPECT_EQ(times.size(), 120u);  // the sample's analysis.steps_per_orbit
   EXPECT_EQ(j.at("analysis"), "transient_orbit");
   for (const auto& n : nodes) {
     EXPECT_EQ(j.at("temperatures_K").at(n).size(), times.size()) << n;
