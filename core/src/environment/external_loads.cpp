@@ -61,7 +61,10 @@ LoadRun::LoadRun(const ThermalModel& model_in, const RayScene& scene_in, const S
       const Eigen::VectorXd sw = eclipse_switch_times_s(env, loads.period_s);
       for (Eigen::Index e = 0; e < sw.size(); ++e) knots.emplace_back(sw[e], true);
     }
-    if (settings.kink_knot_threshold_K > 0.0) {
+    // Kink knots depend on the geometry, so a reduction's trial would place them elsewhere than
+    // its reference, whose samples it reuses step by step: runs that record or reuse samples (the
+    // reduction, which compares like with like) trace the eclipse edges only.
+    if (settings.kink_knot_threshold_K > 0.0 && !samples_in && !reuse_in) {
       const std::vector<int> node_of_side(sides.node.data(), sides.node.data() + sides.node.size());
       const int cap = settings.max_kink_knots >= 0 ? settings.max_kink_knots : positions;
       for (const double t : sun_kink_times_s(model, geo, node_of_side, alpha, flux, positions,
