@@ -56,25 +56,30 @@ LoadRun::LoadRun(const ThermalModel& model_in, const RayScene& scene_in, const S
   // Sunlit knots: the sunlit side of each shadow switch, and the kinks of the direct sun where a
   // face side turns edge-on to it, traced like more positions (after them).
   if (orbit && flux > 0.0) {
-    std::vector<std::pair<double, bool>> knots;  // (time, forced sunlit)
-    if (settings.eclipse_edges) {
-      const Eigen::VectorXd sw = eclipse_switch_times_s(env, loads.period_s);
-      for (Eigen::Index e = 0; e < sw.size(); ++e) knots.emplace_back(sw[e], true);
-    }
-    // Kink knots depend on the geometry, so a reduction's trial would place them elsewhere than
-    // its reference, whose samples it reuses step by step: runs that record or reuse samples (the
-    // reduction, which compares like with like) trace the eclipse edges only.
-    if (settings.kink_knot_threshold_K > 0.0 && !samples_in && !reuse_in) {
-      const std::vector<int> node_of_side(sides.node.data(), sides.node.data() + sides.node.size());
-      const int cap = settings.max_kink_knots >= 0 ? settings.max_kink_knots : positions;
-      for (const double t : sun_kink_times_s(model, geo, node_of_side, alpha, flux, positions,
-                                             settings.kink_knot_threshold_K, cap))
-        knots.emplace_back(t, false);
+    std::vector<std::pair<double, bool>> knots;  // (time, eclipse edge: forced sunlit)
+    if (ref && ref->knot_times_s.size() == static_cast<Eigen::Index>(ref->knot_is_edge.size())) {
+      // A trial traces its reference's knots: its steps must match the reference's.
+      for (Eigen::Index e = 0; e < ref->knot_times_s.size(); ++e)
+        knots.emplace_back(ref->knot_times_s[e], ref->knot_is_edge[static_cast<std::size_t>(e)] != 0);
+    } else {
+      if (settings.eclipse_edges) {
+        const Eigen::VectorXd sw = eclipse_switch_times_s(env, loads.period_s);
+        for (Eigen::Index e = 0; e < sw.size(); ++e) knots.emplace_back(sw[e], true);
+      }
+      if (settings.kink_knot_threshold_K > 0.0) {
+        const std::vector<int> node_of_side(sides.node.data(), sides.node.data() + sides.node.size());
+        const int cap = settings.max_kink_knots >= 0 ? settings.max_kink_knots : positions;
+        for (const double t : sun_kink_times_s(model, geo, node_of_side, alpha, flux, positions,
+                                               settings.kink_knot_threshold_K, cap))
+          knots.emplace_back(t, false);
+      }
     }
     std::sort(knots.begin(), knots.end());
     knot_times_s.resize(static_cast<Eigen::Index>(knots.size()));
+    knot_is_edge.assign(knots.size(), 0);
     for (std::size_t e = 0; e < knots.size(); ++e) {
       knot_times_s[static_cast<Eigen::Index>(e)] = knots[e].first;
+      knot_is_edge[e] = knots[e].second;
       OrbitState st = orbit_state(env, knots[e].first);
       if (knots[e].second) st.in_shadow = false;
       states.push_back(st);
@@ -170,6 +175,8 @@ void clear_samples(LoadRun& run) {
   samples->earth_records = RayRecords{};
   samples->per_ray = false;
   samples->earth_may_be_blocked.clear();
+  samples->knot_times_s = run.knot_times_s;
+  samples->knot_is_edge = run.knot_is_edge;
 }
 
 // Reuse counters, records kept or dropped, and the absorbed solar and albedo per node.

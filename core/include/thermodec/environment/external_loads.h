@@ -179,6 +179,11 @@ struct LoadSamples {
   std::vector<RayRecords> sun_records;
   RayRecords earth_records;
   bool per_ray = false;  //!< the records are complete
+  //! The run's sunlit knots (Loads::knot_times_s) and, per knot, whether it is an eclipse edge
+  //! (traced sunlit at the switch): a trial traces the reference's knots, not its own, so that
+  //! its steps match the reference's.
+  Eigen::VectorXd knot_times_s;
+  std::vector<char> knot_is_edge;
 };
 
 //! Reuse request: sides present in `reference` (same key) with the same sample counts whose
