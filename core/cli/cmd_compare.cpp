@@ -1,7 +1,10 @@
 // `thermodec compare A.json B.json [--tolerance K]`: max |dT| over nodes and times between two
 // results, per node and overall. With --tolerance the exit code says whether it holds (3 when
-// exceeded), so a thermal model's CI can run it.
+// exceeded), so a thermal model's CI can run it. A node whose difference lies within 2 sigma of
+// the two results' sampling noise (summary.<node>.noise_K, added in quadrature) is marked as such.
+#include <cmath>
 #include <cstdio>
+#include <map>
 
 #include <nlohmann/json.hpp>
 
@@ -29,21 +32,37 @@ void add_compare(CLI::App& app) {
   sub->callback([a, b, json, tolerance] {
     bool exceeded = false;
     run_guarded([&] {
-      const TemperatureDifference d = compare_results(read_result(*a), read_result(*b));
+      const SimulationResult ra = read_result(*a), rb = read_result(*b);
+      const TemperatureDifference d = compare_results(ra, rb);
+      // One standard deviation of the difference per node: the two results' noise in quadrature
+      // (independent draws); nodes neither result states a noise for get none.
+      std::map<std::string, double> noise;
+      for (const SimulationResult* r : {&ra, &rb})
+        for (std::size_t i = 0; i < r->nodes.size() && r->noise_K.size() == static_cast<Eigen::Index>(r->nodes.size()); ++i)
+          noise[r->nodes[i]] += r->noise_K[i] * r->noise_K[i];
+      auto sigma = [&](const std::string& node) { const auto it = noise.find(node); return it == noise.end() ? -1.0 : std::sqrt(it->second); };
+      auto within_noise = [&](const TemperatureDifference::PerNode& n) { return sigma(n.node) >= 0.0 && n.max_abs_K <= 2.0 * sigma(n.node); };
       exceeded = *tolerance >= 0.0 && !(d.max_abs_K <= *tolerance);
       if (*json) {
         nlohmann::json nodes = nlohmann::json::array();
-        for (const auto& n : d.per_node) nodes.push_back({{"node", n.node}, {"max_abs_dT_K", n.max_abs_K}, {"time_s", n.time_s}});
+        for (const auto& n : d.per_node) {
+          nodes.push_back({{"node", n.node}, {"max_abs_dT_K", n.max_abs_K}, {"time_s", n.time_s}});
+          if (sigma(n.node) >= 0.0) nodes.back()["noise_K"] = sigma(n.node), nodes.back()["within_2_sigma_noise"] = within_noise(n);
+        }
         nlohmann::json j{{"max_abs_dT_K", d.max_abs_K}, {"node", d.node}, {"time_s", d.time_s},
                          {"time_index", d.time_index}, {"nodes", nodes}};
         if (*tolerance >= 0.0) j["tolerance_K"] = *tolerance, j["within_tolerance"] = !exceeded;
         std::printf("%s\n", j.dump().c_str());
         return;
       }
-      std::printf("%-24s %12s %12s\n", "node", "max |dT| K", "at t [s]");
-      for (const auto& n : d.per_node)
-        std::printf("%-24s %12.6g %12.1f%s\n", n.node.c_str(), n.max_abs_K, n.time_s,
+      const bool any_noise = !noise.empty();
+      std::printf("%-24s %12s %12s%s\n", "node", "max |dT| K", "at t [s]", any_noise ? "  noise 1-sigma K" : "");
+      for (const auto& n : d.per_node) {
+        std::printf("%-24s %12.6g %12.1f", n.node.c_str(), n.max_abs_K, n.time_s);
+        if (any_noise) sigma(n.node) >= 0.0 ? std::printf("  %15.3g", sigma(n.node)) : std::printf("  %15s", "-");
+        std::printf("%s%s\n", within_noise(n) ? "  within 2 sigma of noise" : "",
                     *tolerance >= 0.0 && !(n.max_abs_K <= *tolerance) ? "  exceeds tolerance" : "");
+      }
       std::printf("max |dT| = %.6g K at node %s, t = %.1f s (step %d)\n", d.max_abs_K, d.node.c_str(),
                   d.time_s, d.time_index);
       if (*tolerance >= 0.0)

@@ -134,6 +134,7 @@ void run_decimate(const DecimateArgs& args) {
     std::cout << "wrote " << out.string() << " (STL keeps geometry only; no model written)\n";
     return;
   }
+  model.certificate.reset();  // a changed mesh no longer is the verified one
   save_model(model, json, mesh_out);
   std::cout << "wrote " << json.string() << " and " << mesh_out.string() << "\n";
 }

@@ -55,6 +55,7 @@ void run(const ExternalOptions& o) {
       if (!input.empty() && same_file(mesh_path, input))
         throw InvalidInput("output mesh " + mesh_path.string() + " would overwrite an input");
     model.mesh = std::move(kept);
+    model.certificate.reset();  // a changed mesh no longer is the verified one
     save_model(model, out, mesh_path);
     fmt::print("wrote {} and {}\n", out.string(), mesh_path.string());
   } else {

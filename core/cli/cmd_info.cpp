@@ -87,6 +87,10 @@ void run_info(const InfoArgs& args) {
     if (two_sided[n]) mats += fmt::format("  [two-sided: {} faces]", two_sided[n]);
     out += fmt::format("  {:<{}}  {:>8}  {:>12.6g}  {}\n", shown(model.nodes[n].name), w, counts[n], areas[n], mats);
   }
+  if (model.certificate) {  // a reduced model: its verification against the original
+    line("certificate", "");
+    for (const std::string& l : certificate_lines(*model.certificate)) out += "  " + l + "\n";
+  }
   std::cout << out;
 
   if (!args.json_out.empty()) {
@@ -117,6 +121,7 @@ void run_info(const InfoArgs& args) {
       j["nodes"].push_back({{"name", model.nodes[n].name}, {"faces", counts[n]}, {"area_m2", areas[n]},
                             {"materials", mats}, {"two_sided_faces", two_sided[n]}});
     }
+    if (model.certificate) j["certificate"] = certificate_json(*model.certificate);
     write_text_atomically(args.json_out, j.dump(2) + "\n", {args.model, model.mesh_path});
     std::cout << "statistics written to " << shown(args.json_out) << "\n";
   }

@@ -44,7 +44,9 @@ void write_model_or_mesh(const ThermalModel& model, const fs::path& out, const f
     std::cout << "wrote " << out.string() << " (STL keeps geometry only; no model written)\n";
     return;
   }
-  save_model(model, json, mesh);
+  ThermalModel repaired = model;
+  repaired.certificate.reset();  // a changed mesh no longer is the verified one
+  save_model(repaired, json, mesh);
   std::cout << "wrote " << json.string() << " and " << mesh.string() << "\n";
 }
 

@@ -110,11 +110,24 @@ void run_simulate(const SimulateOptions& o) {
       if (!o.quiet) std::cerr << "simulate: wrote " << pvd.string() << "\n";
     }
   }
-  if (!o.quiet)
-    for (size_t i = 0; i < result.nodes.size(); ++i)
-      std::printf("%-16s min %8.2f K  mean %8.2f K  max %8.2f K\n", result.nodes[i].c_str(),
+  if (!o.quiet) {
+    const bool noise = result.noise_K.size() == static_cast<Eigen::Index>(result.nodes.size());
+    for (size_t i = 0; i < result.nodes.size(); ++i) {
+      std::printf("%-16s min %8.2f K  mean %8.2f K  max %8.2f K", result.nodes[i].c_str(),
                   result.temperature_K.row(i).minCoeff(), result.temperature_K.row(i).mean(),
                   result.temperature_K.row(i).maxCoeff());
+      if (noise) std::printf("  noise +- %.2g K", result.noise_K[i]);
+      std::printf("\n");
+    }
+    // The error budget: the time integration's and the orbit sampling's (max over nodes and times);
+    // the sampling noise is per node above (one standard deviation, docs/thermal.md).
+    if (result.transient) std::printf("time integration error <= %.2g K", result.time_error_K);
+    if (result.loads.period_s > 0.0)
+      std::printf("%sorbit sampling error ~ %.2g K (%d positions)\n", result.transient ? ", " : "",
+                  result.orbit_sampling_error_K, model.analysis.steps_per_orbit);
+    else if (result.transient)
+      std::printf("\n");
+  }
   nlohmann::json j = result_to_json(result);
   j["model"] = o.model;
   const auto used = environment_analysis_json(model);

@@ -650,3 +650,33 @@ TEST(SteadyShadowPasses, a_trial_reusing_the_reference_equals_a_full_recompute) 
   EXPECT_EQ(r.incremental.orbit_mean_standard_error_W, r.full.orbit_mean_standard_error_W);
   EXPECT_GT(r.reuse.reused_sun, 0);
 }
+
+TEST(OrbitLoads, eclipse_edges_carry_the_sunlit_direct_sun_at_the_exact_switch_instants) {
+  // Convex cube, nadir: at an edge the direct sun is alpha S sum_faces A max(0, n . s) with the
+  // sun direction of that instant (no self-shadowing), although the spacecraft is at the shadow.
+  ThermalModel model = model_with({"box"}, {{"paint", 0.5, 0.8}});
+  add_cube(model.mesh, 0.5);
+  model.environment.type = EnvironmentType::orbit;
+  model.environment.inclination_deg = 51.6;
+  model.analysis.steps_per_orbit = 12;
+  const Loads l = loads_of(model);
+  const double P = orbit_period_s(model.environment.altitude_km);
+  const Eigen::VectorXd switches = eclipse_switch_times_s(model.environment, P);
+  ASSERT_EQ(switches.size(), 2);
+  ASSERT_TRUE(l.has_knots());
+  EXPECT_EQ(l.knot_times_s, switches);
+  EXPECT_EQ(l.num_steps(), 12);  // the edges do not add positions
+  const double S = solar_flux_on_day_W_per_m2(model.environment.day_of_year);
+  for (int e = 0; e < 2; ++e) {
+    const Eigen::Vector3d s = orbit_state(model.environment, switches[e]).sun_direction_body;
+    double projected = 0.0;
+    for (int k = 0; k < 3; ++k) projected += std::abs(s[k]);  // unit cube faces, both signs of each axis
+    EXPECT_NEAR(l.knot_solar_W(0, e), 0.5 * S * projected, 1e-9 * S);
+    EXPECT_GT(l.knot_albedo_W(0, e) + l.knot_earth_ir_W(0, e), 0.0);
+  }
+  ExternalLoadSettings off;
+  off.eclipse_edges = false;
+  const Loads plain = loads_of(model, off);
+  EXPECT_FALSE(plain.has_knots());
+  EXPECT_EQ(plain.total_W(), l.total_W());  // the positions' loads do not depend on the edges
+}

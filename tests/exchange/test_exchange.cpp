@@ -68,7 +68,8 @@ Eigen::MatrixXd solve(const exchange_test::ReadNetwork& r, int orbits) {
   if (!r.transient) return steady_state(r.network, r.external_W.col(0)).temperature_K;
   TransientSettings ts;
   ts.max_orbits = orbits;
-  return periodic_transient(r.network, r.external_W, r.period_s, ts).temperature_K;
+  // Backward Euler on the table points (positions and both sides of each eclipse switch).
+  return periodic_transient_on_grid(r.network, r.external_W, r.times_s, r.period_s, ts).temperature_K;
 }
 
 double max_abs_difference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
@@ -122,17 +123,16 @@ std::string error_of(const std::function<void()>& f) {
 constexpr double kSameTemperatureK = 0.01;
 
 // The network thermodec exported, solved as the read-back files are (backward Euler on the
-// load positions): the reference for "every node, conductor and load reached the file".
-// simulate's own transient is converged in time and switches the direct sun at the exact
-// eclipse instants, which the files' position tables do not carry (docs/exchange.md), so the
-// transient files are compared with the exported network, not with simulate's temperatures.
+// table points): the reference for "every node, conductor and load reached the file". The
+// comparison with simulate's own, time-converged transient, integrating each file as its
+// tool does, is tests/exchange/deck_round_trip.py.
 Eigen::MatrixXd solve_exported(const ExportedNetwork& e, int orbits) {
   exchange_test::ReadNetwork r;
   r.network = e.network;
   r.transient = e.transient;
   r.period_s = e.period_s;
-  r.times_s = e.times_s;
-  r.external_W = e.external_W();
+  r.times_s = e.transient ? e.table_times_s : e.times_s;
+  r.external_W = e.transient ? e.table_external_W() : e.external_W();
   return solve(r, orbits);
 }
 
@@ -285,7 +285,7 @@ TEST(ExchangeCsv, coupling_table_lists_every_nonzero_pair_once_with_its_unit) {
   const auto d = temp_dir("csv");
   const ExportedNetwork e = exported_network(s.model, s.couplings, s.result, "sample");
   const auto files = write_csv_tables(d / "sat", e);
-  ASSERT_EQ(files.size(), 3u);
+  ASSERT_EQ(files.size(), 4u);
   std::istringstream in(exchange_test::slurp(files[1].string()));
   std::string line;
   std::getline(in, line);
@@ -303,6 +303,42 @@ TEST(ExchangeCsv, coupling_table_lists_every_nonzero_pair_once_with_its_unit) {
   }
   EXPECT_EQ(gl, expect_gl);
   EXPECT_EQ(gr, expect_gr);
+}
+
+TEST(ExchangeCertificate, reduced_model_keeps_its_certificate_and_every_export_header_repeats_it) {
+  const Simulated& s = sample_transient();
+  const auto d = temp_dir("certificate");
+  ThermalModel model = s.model;
+  ModelCertificate c;
+  c.original_model = kSample.string();
+  c.original_sha256 = file_sha256(kSample.string());
+  c.tolerance_K = 0.5;
+  c.cases = {"model", "hot"};
+  c.estimate_K = 0.38, c.standard_error_K = 0.0045, c.upper_bound_K = 0.394, c.confidence = 0.975;
+  c.seeds = {1048577, 1048578};
+  c.faces_before = 882, c.faces_after = 112;
+  model.certificate = c;
+  EXPECT_EQ(c.original_sha256.size(), 64u);
+  save_model(model, d / "reduced.json", d / "reduced.obj");
+  const ThermalModel back = load_model(d / "reduced.json");
+  ASSERT_TRUE(back.certificate.has_value());
+  EXPECT_EQ(certificate_lines(*back.certificate), certificate_lines(c));
+  const ExportedNetwork e = exported_network(back, s.couplings, s.result, "reduced");
+  write_esatan_network(d / "r.d", e);
+  write_sinda_network(d / "r.inp", e);
+  const auto csv = write_csv_tables(d / "r", e);
+  write_nastran_bulk(d / "r.bdf", back);
+  const std::string origin = "original model: " + kSample.string() + " (sha256 " + c.original_sha256 + ")";
+  EXPECT_NE(exchange_test::slurp((d / "r.d").string()).find("# " + origin), std::string::npos);
+  EXPECT_NE(exchange_test::slurp((d / "r.inp").string()).find("C " + origin), std::string::npos);
+  EXPECT_NE(exchange_test::slurp(csv.back().string()).find("# " + origin), std::string::npos);
+  const std::string bdf = exchange_test::slurp((d / "r.bdf").string());
+  EXPECT_NE(bdf.find("$ original model: "), std::string::npos);
+  EXPECT_LT(bdf.find("upper bound 0.394 K at 97.5 % confidence"), bdf.find("BEGIN BULK"));
+  const CliRun info = run_cli("info " + q(d / "reduced.json"), d);
+  EXPECT_EQ(info.exit_code, 0) << info.err;
+  EXPECT_NE(info.out.find("verified max |dT|: 0.38 +- 0.0045 K"), std::string::npos) << info.out;
+  EXPECT_NE(info.out.find("verification seeds: 1048577 1048578"), std::string::npos) << info.out;
 }
 
 TEST(ExchangeCli, nastran_export_of_the_reduced_sample_reads_back_in_info_with_the_same_faces_nodes_and_areas) {

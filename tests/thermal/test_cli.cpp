@@ -1,4 +1,5 @@
 // `thermodec simulate` / `thermodec compare` end to end on the sample satellite.
+#include <cmath>
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -39,7 +40,7 @@ TEST(SimulateCli, sample_satellite_orbit_writes_result_json_plot_and_compares_to
   const auto nodes = j.at("nodes").get<std::vector<std::string>>();
   ASSERT_EQ(nodes.size(), 13u);
   const auto times = j.at("times_s").get<std::vector<double>>();
-  EXPECT_EQ(times.size(), 60u);
+  EXPECT_EQ(times.size(), 120u);  // the sample's analysis.steps_per_orbit
   EXPECT_EQ(j.at("analysis"), "transient_orbit");
   for (const auto& n : nodes) {
     EXPECT_EQ(j.at("temperatures_K").at(n).size(), times.size()) << n;
@@ -115,4 +116,31 @@ TEST(SimulateCli, noise_floor_reports_max_difference_between_seeds_and_run_time)
   const auto seeds = j.at("noise_floor").at("worst_seeds").get<std::vector<int>>();
   ASSERT_EQ(seeds.size(), 2u);
   EXPECT_LT(seeds[0], seeds[1]);
+}
+
+TEST(CompareCli, marks_differences_within_two_sigma_of_the_results_noise) {
+  // x differs by 0.01 K with noise 0.004 K in each result (0.0057 K for the difference): within
+  // 2 sigma; y differs by 0.25 K: not. Results without noise_K are compared as before.
+  const fs::path d = temp_dir("cmp_noise");
+  nlohmann::json a = {{"nodes", {"x", "y"}},
+                      {"times_s", {0.0, 60.0}},
+                      {"temperatures_K", {{"x", {300.0, 301.0}}, {"y", {250.0, 250.0}}}},
+                      {"summary", {{"x", {{"noise_K", 0.004}}}, {"y", {{"noise_K", 0.004}}}}}};
+  nlohmann::json b = a;
+  b["temperatures_K"]["x"] = {300.01, 301.0};
+  b["temperatures_K"]["y"] = {250.25, 250.0};
+  std::ofstream(d / "a.json") << a.dump();
+  std::ofstream(d / "b.json") << b.dump();
+  ASSERT_EQ(run("compare --json " + (d / "a.json").string() + " " + (d / "b.json").string(), d / "out.txt"), 0);
+  const nlohmann::json r = nlohmann::json::parse(slurp(d / "out.txt"));
+  EXPECT_NEAR(r.at("nodes").at(0).at("noise_K").get<double>(), std::sqrt(2.0) * 0.004, 1e-12);
+  EXPECT_TRUE(r.at("nodes").at(0).at("within_2_sigma_noise").get<bool>());
+  EXPECT_FALSE(r.at("nodes").at(1).at("within_2_sigma_noise").get<bool>());
+  ASSERT_EQ(run("compare " + (d / "a.json").string() + " " + (d / "b.json").string(), d / "table.txt"), 0);
+  const std::string table = slurp(d / "table.txt");
+  EXPECT_NE(table.find("within 2 sigma of noise"), std::string::npos) << table;
+  a.erase("summary");
+  std::ofstream(d / "c.json") << a.dump();
+  ASSERT_EQ(run("compare --json " + (d / "c.json").string() + " " + (d / "b.json").string(), d / "out2.txt"), 0);
+  EXPECT_TRUE(nlohmann::json::parse(slurp(d / "out2.txt")).at("nodes").at(0).contains("noise_K"));  // b's alone
 }

@@ -133,3 +133,70 @@ TEST(OrbitTransient, eclipse_switches_span_the_closed_form_eclipse_fraction) {
   const double shadow = orbit_state(env, mid).in_shadow ? sw[1] - sw[0] : P - (sw[1] - sw[0]);
   EXPECT_NEAR(shadow / P, eclipse_fraction(env), 1e-6);
 }
+
+TEST(OrbitTransient, orbit_mean_of_a_switched_load_is_the_exact_sunlit_fraction) {
+  // 1 W of direct sun whenever sunlit, 36 positions: the mean is the exact sunlit share of the
+  // orbit, not the share of sunlit positions (which is off by up to one position, 1/36).
+  Environment env;
+  env.altitude_km = 700.0;
+  env.day_of_year = 172;
+  env.inclination_deg = 98.0;
+  env.raan_deg = 90.0;
+  const double P = orbit_period_s(env.altitude_km);
+  const Eigen::VectorXd sw = eclipse_switch_times_s(env, P);
+  ASSERT_EQ(sw.size(), 2);
+  const int S = 36;
+  Loads loads;
+  loads.period_s = P;
+  loads.times_s = Eigen::VectorXd::LinSpaced(S, 0.0, P * (S - 1) / S);
+  loads.solar_W = loads.albedo_W = loads.earth_ir_W = loads.reflected_solar_W = Eigen::MatrixXd::Zero(1, S);
+  int dark = 0;
+  for (int k = 0; k < S; ++k) {
+    loads.in_shadow.push_back(orbit_state(env, loads.times_s[k]).in_shadow);
+    dark += loads.in_shadow.back();
+    loads.solar_W(0, k) = loads.in_shadow.back() ? 0.0 : 1.0;
+  }
+  const double exact = 1.0 - eclipse_fraction(env);
+  ASSERT_GT(std::abs(1.0 - double(dark) / S - exact), 1e-3);  // the plain mean is off
+  EXPECT_NEAR(orbit_mean_loads(loads, sw).solar_W(0, 0), exact, 1e-6);
+  // With traced eclipse edges (the same 1 W) the mean is the same.
+  loads.knot_times_s = sw;
+  loads.knot_solar_W = Eigen::MatrixXd::Ones(1, 2);
+  loads.knot_albedo_W = loads.knot_earth_ir_W = loads.knot_reflected_solar_W = Eigen::MatrixXd::Zero(1, 2);
+  EXPECT_NEAR(orbit_mean_loads(loads, sw).solar_W(0, 0), exact, 1e-6);
+}
+
+TEST(OrbitTransient, sunlit_arc_interpolates_to_its_traced_edges) {
+  // A direct sun rising linearly towards each edge: between the last sunlit position and the
+  // edge the load is the straight line to the edge's traced value, and zero past it.
+  Environment env;
+  env.altitude_km = 700.0;
+  const double P = orbit_period_s(env.altitude_km);
+  const Eigen::VectorXd sw = eclipse_switch_times_s(env, P);
+  ASSERT_EQ(sw.size(), 2);
+  const int S = 24;
+  Loads loads;
+  loads.period_s = P;
+  loads.times_s = Eigen::VectorXd::LinSpaced(S, 0.0, P * (S - 1) / S);
+  loads.solar_W = loads.albedo_W = loads.earth_ir_W = loads.reflected_solar_W = Eigen::MatrixXd::Zero(1, S);
+  for (int k = 0; k < S; ++k) {
+    loads.in_shadow.push_back(orbit_state(env, loads.times_s[k]).in_shadow);
+    if (!loads.in_shadow.back()) loads.solar_W(0, k) = 10.0;
+  }
+  loads.knot_times_s = sw;
+  loads.knot_solar_W = Eigen::MatrixXd::Constant(1, 2, 30.0);
+  loads.knot_albedo_W = loads.knot_earth_ir_W = loads.knot_reflected_solar_W = Eigen::MatrixXd::Zero(1, 2);
+  const double dt = P / S;
+  for (int e = 0; e < 2; ++e) {
+    const double t = sw[e];
+    const bool entry = !orbit_state(env, t - 1.0).in_shadow;
+    // The sunlit neighbour position and a point halfway from it to the edge.
+    const double lit = entry ? std::floor(t / dt) * dt : std::ceil(t / dt) * dt;
+    Eigen::VectorXd at(3);
+    at << 0.5 * (lit + t), entry ? t : t + 1e-6, entry ? t + 1e-6 : t;  // sunlit side, then the shadow side
+    const Eigen::MatrixXd q = interpolated_loads_W(loads, at, sw);
+    EXPECT_NEAR(q(0, 0), 20.0, 1e-6) << "edge " << e;
+    EXPECT_NEAR(q(0, 1), 30.0, 1e-3) << "edge " << e;
+    EXPECT_NEAR(q(0, 2), 0.0, 1e-9) << "edge " << e;
+  }
+}

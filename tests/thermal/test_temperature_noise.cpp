@@ -6,6 +6,7 @@
 
 #include "thermodec/common/errors.h"
 #include "thermodec/environment/orbit.h"
+#include "thermodec/thermal/steady_state.h"
 #include "thermodec/thermal/temperature_noise.h"
 
 using namespace thermodec;
@@ -93,4 +94,40 @@ TEST(TemperatureNoise, an_oversampled_model_is_thinned_by_one_power_of_two_that_
   EXPECT_THROW(noise_targeted_thinning(s, 0.01, 0.0), InvalidInput);
   s[2] = std::nan("");
   EXPECT_THROW(noise_targeted_thinning(s, 0.01), InvalidInput);
+}
+
+TEST(TemperatureNoise, network_propagation_matches_steady_solves_with_each_error_applied) {
+  // Three free nodes in a chain (conduction and radiation) and to space; a load error on node
+  // 0 and a coupling error on GR_12. Each error applied alone to the steady balance moves the
+  // temperatures by K^-1 dQ to first order: the noise is the quadrature sum of those moves, and
+  // the node-by-node estimate misses node 2's share of node 0's load error entirely.
+  ThermalNetwork net = one_node_to_space(0.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  net.node_names = {"a", "b", "c"};
+  net.capacitance_J_per_K = Eigen::VectorXd::Constant(3, 1000.0);
+  net.power_W = Eigen::Vector3d(200.0, 50.0, 10.0);
+  net.fixed_temperature_K = Eigen::Vector3d(nan, nan, nan);
+  net.conductance_W_per_K = Eigen::MatrixXd::Zero(3, 3);
+  net.conductance_W_per_K(0, 1) = net.conductance_W_per_K(1, 0) = 2.0;
+  net.radiative_couplings_m2 = Eigen::MatrixXd::Zero(3, 3);
+  net.radiative_couplings_m2(1, 2) = net.radiative_couplings_m2(2, 1) = 0.5;
+  net.to_space_couplings_m2 = Eigen::Vector3d(0.3, 0.4, 0.6);
+  NodeCouplings nc;
+  nc.radiative_couplings_standard_error = Eigen::MatrixXd::Zero(3, 3);
+  nc.radiative_couplings_standard_error(1, 2) = nc.radiative_couplings_standard_error(2, 1) = 0.005;
+  nc.to_space_couplings_standard_error = Eigen::VectorXd::Zero(3);
+  const Eigen::Vector3d dq0(1.0, 0.0, 0.0);  // load standard error [W]
+  const Eigen::VectorXd T = steady_state(net, Eigen::VectorXd::Zero(3)).temperature_K;
+  const Eigen::VectorXd noise = temperature_noise_K(net, nc, T, Eigen::MatrixXd(dq0));
+  // Finite differences: each error applied alone (+1 sigma), solved again.
+  const Eigen::VectorXd by_load = steady_state(net, dq0).temperature_K - T;
+  ThermalNetwork moved = net;
+  moved.radiative_couplings_m2(1, 2) = moved.radiative_couplings_m2(2, 1) = 0.505;
+  const Eigen::VectorXd by_coupling = steady_state(moved, Eigen::VectorXd::Zero(3)).temperature_K - T;
+  for (int i = 0; i < 3; ++i) {
+    const double expected = std::hypot(by_load[i], by_coupling[i]);
+    EXPECT_NEAR(noise[i], expected, 0.02 * expected) << net.node_names[i];
+  }
+  EXPECT_GT(noise[2], 0.0);
+  EXPECT_EQ(temperature_standard_error_from_loads_K(net, Eigen::MatrixXd(T), Eigen::MatrixXd(dq0))[2], 0.0);
 }

@@ -1,7 +1,9 @@
 // Validation of the whole chain (view factors -> loads -> network) against closed forms.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "environment/test_models.h"
 #include "thermodec/environment/orbit.h"
@@ -75,4 +77,58 @@ TEST(Validation, periodic_orbit_transient_balances_energy_within_0_1_percent) {
   const double absorbed = (r.loads.total_W().sum() / 48 + 30.0) * period;
   const double sun_W = (r.loads.solar_W + r.loads.reflected_solar_W).colwise().sum().maxCoeff();
   EXPECT_NEAR(r.energy.absorbed_J, absorbed, 2.0 * sun_W * period / 48);
+}
+
+namespace {
+// A two-sided panel (solar cells in front, white paint behind) facing the velocity in a nadir
+// orbit: its direct sun turns edge-on twice per orbit (a kink of max(0, n . s) on each side),
+// and the orbit has an eclipse. Simulated with `positions` load positions.
+SimulationResult panel_in_orbit(int positions, const ExternalLoadSettings& loads = {}) {
+  ThermalModel model = model_with({"panel"}, {{"cells", 0.9, 0.85}, {"paint", 0.2, 0.9}});
+  add_quad(model.mesh, V3(0, -1, -0.5), V3(0, 0, 1), V3(0, 2, 0), 0, 0, /*back material*/ 1, 2);
+  model.nodes[0].capacitance_J_per_K = 4500.0;  // the sample's wings
+  model.environment.type = EnvironmentType::orbit;
+  model.environment.altitude_km = 700.0;
+  model.environment.inclination_deg = 98.0;
+  model.environment.raan_deg = 90.0;
+  model.environment.day_of_year = 172;
+  model.analysis.type = AnalysisType::transient_orbit;
+  model.analysis.steps_per_orbit = positions;
+  model.analysis.orbits = 5;
+  ModelSimulationSettings settings;
+  settings.loads = loads;
+  return simulate_model(model, settings);
+}
+
+// Largest |T_a - T_b| at a's positions, b sampled `ratio` times as finely (same seed).
+double max_difference_at_positions(const SimulationResult& a, const SimulationResult& b, int ratio) {
+  double d = 0.0;
+  for (int k = 0; k < a.times_s.size(); ++k) d = std::max(d, std::abs(a.temperature_K(0, k) - b.temperature_K(0, ratio * k)));
+  return d;
+}
+}  // namespace
+
+TEST(Validation, orbit_sampling_knots_and_their_error_estimate_against_a_20x_position_reference) {
+  // 60 positions plus the eclipse edges and the panel's edge-on instant against 1200 positions
+  // (same seed): the knots take out the kinks (the bare 60 positions are > 4x further off), what
+  // is left is the curvature of the loads between positions, which the Richardson estimate
+  // (summary.orbit_sampling_error_K, from every other position) measures within a factor 2.
+  // Without the knots the kinks make the interpolation first order locally and the estimate
+  // understates; the 1200-position run's own estimate is small.
+  const SimulationResult fine = panel_in_orbit(1200);
+  const SimulationResult knots = panel_in_orbit(60);
+  ExternalLoadSettings plain;
+  plain.eclipse_edges = false;
+  plain.kink_knot_threshold_K = 0.0;
+  const SimulationResult bare = panel_in_orbit(60, plain);
+  ASSERT_TRUE(knots.loads.has_knots());
+  EXPECT_GE(knots.loads.knot_times_s.size(), 3);  // two edges, a sunlit kink at least
+  const double with_knots = max_difference_at_positions(knots, fine, 20);
+  const double without = max_difference_at_positions(bare, fine, 20);
+  std::printf("60 positions: with knots %.4f K (estimate %.4f K), without %.4f K (estimate %.4f K); 1200: estimate %.4f K\n",
+              with_knots, knots.orbit_sampling_error_K, without, bare.orbit_sampling_error_K, fine.orbit_sampling_error_K);
+  EXPECT_GT(without, 4.0 * with_knots);
+  EXPECT_GT(knots.orbit_sampling_error_K, 0.5 * with_knots);
+  EXPECT_LT(knots.orbit_sampling_error_K, 2.0 * with_knots);
+  EXPECT_LT(fine.orbit_sampling_error_K, 0.01);
 }

@@ -12,6 +12,7 @@
 #include <unordered_map>
 
 #include "load_run.h"
+#include "sun_kinks.h"
 #include "thermodec/common/errors.h"
 
 namespace thermodec {
@@ -50,6 +51,44 @@ LoadRun::LoadRun(const ThermalModel& model_in, const RayScene& scene_in, const S
     OrbitState st;
     st.sun_direction_body = env.sun_direction.normalized();
     states.push_back(st);
+  }
+  positions = steps;
+  // Sunlit knots: the sunlit side of each shadow switch, and the kinks of the direct sun where a
+  // face side turns edge-on to it, traced like more positions (after them).
+  if (orbit && flux > 0.0) {
+    std::vector<std::pair<double, bool>> knots;  // (time, eclipse edge: forced sunlit)
+    if (ref && ref->knot_times_s.size() == static_cast<Eigen::Index>(ref->knot_is_edge.size())) {
+      // A trial traces its reference's knots: its steps must match the reference's.
+      for (Eigen::Index e = 0; e < ref->knot_times_s.size(); ++e)
+        knots.emplace_back(ref->knot_times_s[e], ref->knot_is_edge[static_cast<std::size_t>(e)] != 0);
+    } else {
+      if (settings.eclipse_edges) {
+        const Eigen::VectorXd sw = eclipse_switch_times_s(env, loads.period_s);
+        for (Eigen::Index e = 0; e < sw.size(); ++e) knots.emplace_back(sw[e], true);
+      }
+      if (settings.kink_knot_threshold_K > 0.0) {
+        const std::vector<int> node_of_side(sides.node.data(), sides.node.data() + sides.node.size());
+        const int cap = settings.max_kink_knots >= 0 ? settings.max_kink_knots : positions;
+        for (const double t : sun_kink_times_s(model, geo, node_of_side, alpha, flux, positions,
+                                               settings.kink_knot_threshold_K, cap))
+          knots.emplace_back(t, false);
+      }
+    }
+    std::sort(knots.begin(), knots.end());
+    knot_times_s.resize(static_cast<Eigen::Index>(knots.size()));
+    knot_is_edge.assign(knots.size(), 0);
+    for (std::size_t e = 0; e < knots.size(); ++e) {
+      knot_times_s[static_cast<Eigen::Index>(e)] = knots[e].first;
+      knot_is_edge[e] = knots[e].second;
+      OrbitState st = orbit_state(env, knots[e].first);
+      if (knots[e].second) st.in_shadow = false;
+      states.push_back(st);
+    }
+    steps += static_cast<int>(knots.size());
+    loads.in_shadow.assign(steps, 0);
+    for (auto* m : {&loads.solar_W, &loads.albedo_W, &loads.earth_ir_W, &loads.reflected_solar_W,
+                   &loads.sampling_standard_error_W})
+      *m = Eigen::MatrixXd::Zero(num_nodes, steps);
   }
 
   // Reuse: map sides to the reference's by identity; a side is reusable for a ray family only
@@ -136,6 +175,8 @@ void clear_samples(LoadRun& run) {
   samples->earth_records = RayRecords{};
   samples->per_ray = false;
   samples->earth_may_be_blocked.clear();
+  samples->knot_times_s = run.knot_times_s;
+  samples->knot_is_edge = run.knot_is_edge;
 }
 
 // Reuse counters, records kept or dropped, and the absorbed solar and albedo per node.
@@ -165,17 +206,36 @@ void finish_run(LoadRun& run) {
   loads.sampling_standard_error_W = (loads.sampling_standard_error_W + run.sun_variance).cwiseSqrt();
   // The orbit mean's: the Earth rays are the same at every step (their errors add as standard
   // deviations); shadow passes with their own points are independent (variances add).
+  // Over the positions only (the knots, after them, are not orbit samples).
+  const int S = run.positions;
   if (run.shadow_division > 1)
-    loads.orbit_mean_standard_error_W =
-        (run.sun_variance.rowwise().sum() / double(steps * steps) + earth_sd.rowwise().mean().cwiseAbs2()).cwiseSqrt();
+    loads.orbit_mean_standard_error_W = (run.sun_variance.leftCols(S).rowwise().sum() / double(S * S) +
+                                         earth_sd.leftCols(S).rowwise().mean().cwiseAbs2())
+                                            .cwiseSqrt();
   else
-    loads.orbit_mean_standard_error_W = loads.sampling_standard_error_W.rowwise().mean();
+    loads.orbit_mean_standard_error_W = loads.sampling_standard_error_W.leftCols(S).rowwise().mean();
   for (int s = 0; s < ns; ++s) {
     const int node = run.sides.node[s];
     if (node < 0 || node >= num_nodes) continue;
     loads.solar_W.row(node) += run.alpha[s] * run.incident_direct.row(s);
     loads.albedo_W.row(node) += run.alpha[s] * run.incident_albedo.row(s);
   }
+}
+
+// Moves the knots' columns (after the positions') into Loads::knot_*.
+void split_knots(LoadRun& run) {
+  Loads& loads = run.loads;
+  const int S = run.positions, E = run.steps - run.positions;
+  if (E == 0) return;
+  loads.knot_times_s = run.knot_times_s;
+  loads.knot_solar_W = loads.solar_W.rightCols(E);
+  loads.knot_albedo_W = loads.albedo_W.rightCols(E);
+  loads.knot_earth_ir_W = loads.earth_ir_W.rightCols(E);
+  loads.knot_reflected_solar_W = loads.reflected_solar_W.rightCols(E);
+  for (auto* m : {&loads.solar_W, &loads.albedo_W, &loads.earth_ir_W, &loads.reflected_solar_W,
+                 &loads.sampling_standard_error_W})
+    *m = Eigen::MatrixXd(m->leftCols(S));
+  loads.in_shadow.resize(S);
 }
 
 }  // namespace
@@ -217,6 +277,7 @@ Loads external_loads(const ThermalModel& model, const RayScene& scene, const Sur
     if (progress) progress("solar reflections");
     add_solar_reflections(run.loads, model, sides, *view_factors, incident, run.ref, samples);
   }
+  load_rays::split_knots(run);
   if (solar_incident_W) *solar_incident_W = incident;
   return std::move(run.loads);
 }

@@ -35,7 +35,10 @@ struct LoadRun {
   Eigen::VectorXd alpha, eps;  // per side: absorptivity, emissivity
 
   bool orbit;
-  int steps;
+  int steps;      // positions + sunlit knots: the knots' states follow the positions'
+  int positions;  // orbit positions k P / S (Loads::times_s)
+  Eigen::VectorXd knot_times_s;   // Loads::knot_times_s: eclipse edges (sunlit side) and sun kinks
+  std::vector<char> knot_is_edge;  // per knot: an eclipse edge (traced sunlit at the switch)
   Loads loads;  // the result being built
   double flux;  // solar flux [W/m^2]
   std::vector<OrbitState> states;  // per step

@@ -134,6 +134,28 @@ double eclipse_fraction(const Environment& env) {
   return std::acos(std::clamp(c, -1.0, 1.0)) / kPi;
 }
 
+Eigen::VectorXd eclipse_switch_times_s(const Environment& env, double period_s) {
+  // The shadow is a single arc per orbit (cylinder): scan finely enough to see any arc longer
+  // than 1/720 of the orbit (shorter ones change no temperature measurably), then bisect.
+  constexpr int kScan = 720;
+  auto shadow = [&](double t) { return orbit_state(env, t).in_shadow; };
+  std::vector<double> out;
+  bool prev = shadow(0.0);
+  for (int k = 1; k <= kScan; ++k) {
+    double lo = period_s * (k - 1) / kScan, hi = period_s * k / kScan;
+    const bool cur = shadow(k == kScan ? 0.0 : hi);
+    if (cur == prev) continue;
+    while (hi - lo > 1e-9 * period_s) {
+      const double mid = 0.5 * (lo + hi);
+      (shadow(mid) == prev ? lo : hi) = mid;
+    }
+    out.push_back(hi < period_s ? hi : 0.0);
+    prev = cur;
+  }
+  std::sort(out.begin(), out.end());
+  return Eigen::Map<Eigen::VectorXd>(out.data(), static_cast<Eigen::Index>(out.size()));
+}
+
 int sun_passes(const std::vector<OrbitState>& states) {
   int passes = 0;
   const OrbitState* last_pass = nullptr;

@@ -23,8 +23,12 @@ void add_solar_reflections(Loads& loads, const ThermalModel& model, const Surfac
   if (view_factors.sides.size() != ns)
     throw InvalidInput("solar reflections: view factors are for " + std::to_string(view_factors.sides.size()) +
                        " sides, the model has " + std::to_string(ns));
+  // The incident power may also hold the eclipse edges' columns (after the positions').
+  const Eigen::Index S = loads.reflected_solar_W.cols();
+  const Eigen::Index E = loads.has_knots() && solar_incident_W.cols() == S + loads.knot_times_s.size()
+                             ? loads.knot_times_s.size() : 0;
   if (solar_incident_W.rows() != ns || loads.reflected_solar_W.rows() != num_nodes ||
-      loads.reflected_solar_W.cols() != solar_incident_W.cols())
+      S + E != solar_incident_W.cols())
     throw InvalidInput("solar reflections: incident power is " + std::to_string(solar_incident_W.rows()) + " x " +
                        std::to_string(solar_incident_W.cols()) + " for " + std::to_string(ns) + " sides and loads of " +
                        std::to_string(loads.reflected_solar_W.cols()) + " steps");
@@ -45,11 +49,14 @@ void add_solar_reflections(Loads& loads, const ThermalModel& model, const Surfac
   const GebhartFactors solar =
       gebhart_factors(view_factors, alpha, node_groups(sides, num_nodes), num_nodes + 1, {}, warm_ok ? &guess : nullptr);
   if (samples) samples->solar_gebhart = solar.B;
+  Eigen::MatrixXd reflected = Eigen::MatrixXd::Zero(num_nodes, S + E);
   for (int s = 0; s < ns; ++s) {
     if (solar_incident_W.row(s).isZero()) continue;
     for (int g = 0; g < num_nodes; ++g)
-      if (solar.B(s, g) != 0.0) loads.reflected_solar_W.row(g) += (1.0 - alpha[s]) * solar.B(s, g) * solar_incident_W.row(s);
+      if (solar.B(s, g) != 0.0) reflected.row(g) += (1.0 - alpha[s]) * solar.B(s, g) * solar_incident_W.row(s);
   }
+  loads.reflected_solar_W += reflected.leftCols(S);
+  if (E > 0) loads.knot_reflected_solar_W += reflected.rightCols(E);
 }
 
 }  // namespace thermodec

@@ -52,7 +52,7 @@ std::vector<fs::path> export_outputs(ExchangeFormat format, const fs::path& out,
   if (format == ExchangeFormat::vtk) return {out / (stem + ".pvd")};
   if (format == ExchangeFormat::csv) {
     const std::string p = csv_prefix(out).string();
-    return {p + "_temperatures.csv", p + "_couplings.csv", p + "_loads.csv"};
+    return {p + "_temperatures.csv", p + "_couplings.csv", p + "_loads.csv", p + "_nodes.csv"};
   }
   return {out};
 }

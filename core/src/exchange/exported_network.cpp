@@ -2,6 +2,10 @@
 
 #include "thermodec/common/errors.h"
 #include "thermodec/mesh/face_geometry.h"
+#include "thermodec/thermal/orbit_transient.h"
+
+#include <algorithm>
+#include <vector>
 
 namespace thermodec {
 
@@ -43,6 +47,34 @@ ExportedNetwork exported_network(const ThermalModel& model, const NodeCouplings&
   e.albedo_W = result.loads.albedo_W;
   e.earth_ir_W = result.loads.earth_ir_W;
   e.temperature_K = result.temperature_K;
+  e.table_times_s = e.times_s;
+  e.table_solar_W = e.solar_W;
+  e.table_albedo_W = e.albedo_W;
+  e.table_earth_ir_W = e.earth_ir_W;
+  if (e.transient && model.environment.type == EnvironmentType::orbit && e.times_s.size() >= 2) {
+    // The loads exactly as the transient applies them: positions plus both sides of each switch.
+    const Eigen::VectorXd switches = eclipse_switch_times_s(model.environment, e.period_s);
+    std::vector<double> t(e.times_s.data(), e.times_s.data() + e.times_s.size());
+    const double ramp = ExportedNetwork::kSwitchRamp_s;
+    for (Eigen::Index i = 0; i < switches.size(); ++i) {
+      t.push_back(switches[i]);
+      if (switches[i] + ramp < e.period_s) t.push_back(switches[i] + ramp);
+    }
+    // The other sunlit knots (environment/loads.h): the interpolation has a corner at each.
+    for (Eigen::Index i = 0; i < result.loads.knot_times_s.size(); ++i) t.push_back(result.loads.knot_times_s[i]);
+    std::sort(t.begin(), t.end());
+    // A position within the ramp of a switch would break the order the tools need.
+    std::vector<double> kept;
+    for (const double x : t)
+      if (kept.empty() || x - kept.back() >= 0.5 * ramp) kept.push_back(x);
+    const Eigen::Map<const Eigen::VectorXd> times(kept.data(), static_cast<Eigen::Index>(kept.size()));
+    const Loads at = loads_at(result.loads, times, switches);
+    e.table_times_s = times;
+    e.table_solar_W = at.solar_W + at.reflected_solar_W;
+    e.table_albedo_W = at.albedo_W;
+    e.table_earth_ir_W = at.earth_ir_W;
+  }
+  if (model.certificate) e.provenance = certificate_lines(*model.certificate);
   return e;
 }
 

@@ -52,12 +52,32 @@ std::vector<std::filesystem::path> write_csv_tables(const std::filesystem::path&
         out << csv_field(net.node_names[i]) << ",space,GR," << real(net.to_space_couplings_m2[i]) << ",m^2\n";
     }
   }, protected_inputs);
+  const std::filesystem::path nodes = prefix.string() + "_nodes.csv";
+  const bool tables = e.transient && e.table_times_s.size() > 1;
   files.add(loads, [&](std::ostream& out) {
     out << "time_s,node,solar_W,albedo_W,earth_ir_W,internal_W\n";
-    for (int k = 0; k < S; ++k)
+    const int K = tables ? static_cast<int>(e.table_times_s.size()) : S;
+    for (int k = 0; k < K; ++k)
       for (int i = 0; i < n; ++i)
-        out << real(e.times_s[k]) << "," << csv_field(net.node_names[i]) << "," << real(e.solar_W(i, k)) << ","
-            << real(e.albedo_W(i, k)) << "," << real(e.earth_ir_W(i, k)) << "," << real(net.power_W[i]) << "\n";
+        out << real(tables ? e.table_times_s[k] : e.times_s[k]) << "," << csv_field(net.node_names[i]) << ","
+            << real(tables ? e.table_solar_W(i, k) : e.solar_W(i, k)) << ","
+            << real(tables ? e.table_albedo_W(i, k) : e.albedo_W(i, k)) << ","
+            << real(tables ? e.table_earth_ir_W(i, k) : e.earth_ir_W(i, k)) << "," << real(net.power_W[i]) << "\n";
+  }, protected_inputs);
+  files.add(nodes, [&](std::ostream& out) {
+    for (const std::string& line : e.provenance) out << "# " << line << "\n";
+    out << "node,kind,capacitance_J_per_K,internal_W,fixed_temperature_K,initial_temperature_K,area_m2,absorptivity,"
+           "emissivity,period_s\n";
+    for (int i = 0; i < n; ++i) {
+      const bool fixed = net.is_fixed(i);
+      const char* kind = fixed ? "boundary" : net.capacitance_J_per_K[i] > 0.0 ? "diffusion" : "arithmetic";
+      out << csv_field(net.node_names[i]) << "," << kind << "," << real(net.capacitance_J_per_K[i]) << ","
+          << real(net.power_W[i]) << "," << (fixed ? real(net.fixed_temperature_K[i]) : std::string()) << ","
+          << real(fixed ? net.fixed_temperature_K[i] : e.temperature_K(i, 0)) << "," << real(e.area_m2[i]) << ","
+          << real(e.absorptivity[i]) << "," << real(e.emissivity[i]) << "," << real(e.period_s) << "\n";
+    }
+    out << "space,boundary,0,0," << real(net.sink_temperature_K) << "," << real(net.sink_temperature_K) << ",0,0,0,"
+        << real(e.period_s) << "\n";
   }, protected_inputs);
   return files.commit();
 }

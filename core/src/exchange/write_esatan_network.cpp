@@ -30,13 +30,14 @@ std::string quoted(std::string s) {  // ESATAN labels are single-quoted; a quote
 }
 
 // One cyclic doublet table (time [s], load [W]) over [0, P]: the first point repeated at P,
-// so the interpolation wraps around the orbit.
+// so the interpolation wraps around the orbit. The table's points (ExportedNetwork::table_*)
+// hold both sides of every eclipse switch.
 void write_table(std::ostream& out, const std::string& name, const ExportedNetwork& e, const Eigen::MatrixXd& load, int node) {
-  const int S = static_cast<int>(e.times_s.size());
-  out << name << "(" << 2 * (S + 1) << ") =\n";
-  for (int k = 0; k <= S; ++k) {
-    const double t = k < S ? e.times_s[k] : e.period_s;
-    out << "    " << real(t) << ", " << real(load(node, k % S)) << (k < S ? ",\n" : ";\n");
+  const int K = static_cast<int>(e.table_times_s.size());
+  out << name << "(" << 2 * (K + 1) << ") =\n";
+  for (int k = 0; k <= K; ++k) {
+    const double t = k < K ? e.table_times_s[k] : e.period_s;
+    out << "    " << real(t) << ", " << real(load(node, k % K)) << (k < K ? ",\n" : ";\n");
   }
 }
 
@@ -54,8 +55,9 @@ void write_esatan_network(const std::filesystem::path& path, const ExportedNetwo
            "# GR(i, j) [m^2] = sum A eps B (emissivities included); ESATAN multiplies by STEFAN\n"
            "# node n = thermodec node n - 1; " << kSpaceNode << " = deep space (boundary, " << real(net.sink_temperature_K) << " K)\n"
            "# loads: QS = direct + reflected solar, QA = albedo, QE = Earth IR [W], "
-        << (tables ? "cyclic tables over one orbit" : "orbit-averaged (steady)") << "\n"
-        << "$MODEL THERMODEC\n$LOCALS\n$NODES\n";
+        << (tables ? "cyclic tables over one orbit, linear between points, both sides of each eclipse switch" : "orbit-averaged (steady)") << "\n";
+    for (const std::string& line : e.provenance) out << "# " << line << "\n";
+    out << "$MODEL THERMODEC\n$LOCALS\n$NODES\n";
     const Eigen::MatrixXd& T = e.temperature_K;
     for (int i = 0; i < n; ++i) {
       const char type = net.is_fixed(i) ? 'B' : net.capacitance_J_per_K[i] > 0.0 ? 'D' : 'A';
@@ -82,9 +84,9 @@ void write_esatan_network(const std::filesystem::path& path, const ExportedNetwo
       out << "TIMEO = 0.0;\nTIMEND = " << real(e.period_s) << ";\nDTIMEI = " << real(dt) << ";\nOUTINT = " << real(dt)
           << ";\n$ARRAYS\n$REAL\n";
       for (int i = 0; i < n; ++i) {
-        write_table(out, "QSOL" + std::to_string(i + 1), e, e.solar_W, i);
-        write_table(out, "QALB" + std::to_string(i + 1), e, e.albedo_W, i);
-        write_table(out, "QEIR" + std::to_string(i + 1), e, e.earth_ir_W, i);
+        write_table(out, "QSOL" + std::to_string(i + 1), e, e.table_solar_W, i);
+        write_table(out, "QALB" + std::to_string(i + 1), e, e.table_albedo_W, i);
+        write_table(out, "QEIR" + std::to_string(i + 1), e, e.table_earth_ir_W, i);
       }
     } else {
       out << "$ARRAYS\n";

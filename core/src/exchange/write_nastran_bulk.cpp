@@ -58,8 +58,10 @@ void write_nastran_bulk(const std::filesystem::path& path, const ThermalModel& m
            "$ dialect: grid points large-field (16 columns); the other cards small-field (8 columns)\n"
            "$ ids: grid = vertex + 1; element = face + 1; property = thermal node (and material);\n"
            "$       material id = thermodec material + 1; names in the thermodec node and material comments\n"
-           "$ source: " << one_line(model.mesh_path.string()) << "\n"
-        << "BEGIN BULK\n";
+           "$ source: " << one_line(model.mesh_path.string()) << "\n";
+    if (model.certificate)
+      for (const std::string& line : certificate_lines(*model.certificate)) out << "$ " << one_line(line) << "\n";
+    out << "BEGIN BULK\n";
     for (std::size_t m = 0; m < model.materials.size(); ++m) {
       const Material& mat = model.materials[m];
       out << "$ thermodec material " << m + 1 << " " << one_line(mat.name) << "\n"

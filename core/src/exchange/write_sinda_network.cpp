@@ -5,6 +5,7 @@
 // interval of a transient).
 #include "thermodec/exchange/write_sinda_network.h"
 
+#include <algorithm>
 #include <ostream>
 
 #include "number_text.h"
@@ -30,7 +31,8 @@ void write_sinda_network(const std::filesystem::path& path, const ExportedNetwor
   const ThermalNetwork& net = e.network;
   const int n = net.num_nodes(), S = static_cast<int>(e.times_s.size());
   const bool tables = e.transient && S > 1;
-  const Eigen::MatrixXd external = e.external_W();
+  const Eigen::MatrixXd external = tables ? e.table_external_W() : e.external_W();
+  const int K = static_cast<int>(e.table_times_s.size());
   write_file_atomically(path, [&](std::ostream& out) {
     out << "C thermodec export: SINDA/FLUINT thermal network\n"
            "C source: " << one_line(e.title) << "\n"
@@ -38,8 +40,13 @@ void write_sinda_network(const std::filesystem::path& path, const ExportedNetwor
            "C radiation conductors (negative id): G = GR [m^2] = sum A eps B; SINDA applies SIGMA\n"
            "C node n = thermodec node n - 1; " << kSpaceNode << " = deep space (boundary)\n"
            "C Q: internal power + absorbed solar, albedo and Earth IR [W], "
-        << (tables ? "cyclic tables over one orbit" : "orbit-averaged (steady)") << "\n"
-        << "HEADER OPTIONS DATA\nTITLE thermodec export\n      OUTPUT = thermodec.out\n"
+        << (tables ? "cyclic tables over one orbit, linear between points, both sides of each eclipse switch"
+                   : "orbit-averaged (steady)") << "\n";
+    if (tables)
+      out << "C initial temperatures: the orbit-periodic state at t = 0 (thermodec simulate); TRANSIENT runs\n"
+             "C " << std::max(1, e.orbits) << " orbit(s) from it, every one of them the periodic orbit\n";
+    for (const std::string& line : e.provenance) out << "C " << one_line(line) << "\n";
+    out << "HEADER OPTIONS DATA\nTITLE thermodec export\n      OUTPUT = thermodec.out\n"
         << "HEADER CONTROL DATA, GLOBAL\n      UID    = SI\n      ABSZRO = 0.0\n      SIGMA  = 5.670374419E-8\n"
            "      NLOOPS = 1000\n      EBALSA = 1.0E-6\n";
     if (tables)
@@ -71,8 +78,8 @@ void write_sinda_network(const std::filesystem::path& path, const ExportedNetwor
       out << "HEADER ARRAY DATA, MAIN\nC doublets (time [s], absorbed external load [W]); the first point repeated at the period\n";
       for (int i = 0; i < n; ++i) {
         out << "      " << kFirstArray + i + 1 << " =";
-        for (int k = 0; k <= S; ++k)
-          out << (k ? "\n            , " : " ") << real(k < S ? e.times_s[k] : e.period_s) << ", " << real(external(i, k % S));
+        for (int k = 0; k <= K; ++k)
+          out << (k ? "\n            , " : " ") << real(k < K ? e.table_times_s[k] : e.period_s) << ", " << real(external(i, k % K));
         out << "\n";
       }
     }
@@ -85,8 +92,9 @@ void write_sinda_network(const std::filesystem::path& path, const ExportedNetwor
       else
         out << " + " << real(external(i, 0)) << "\n";
     }
-    out << "HEADER OPERATIONS\nBUILD ALL\n      CALL STEADY\n";
-    if (tables) out << "      CALL TRANSIENT\n";
+    // A transient starts from the periodic state above (a STEADY first would replace it with the
+    // steady state of the loads at t = 0, several orbits away from periodicity).
+    out << "HEADER OPERATIONS\nBUILD ALL\n" << (tables ? "      CALL TRANSIENT\n" : "      CALL STEADY\n");
     out << "END OF DATA\n";
   }, protected_inputs);
 }

@@ -44,6 +44,7 @@ void write_vtu(std::ostream& out, const ThermalModel& model, const ExportedNetwo
   const int nv = m.num_vertices(), nf = m.num_faces();
   out << "<?xml version=\"1.0\"?>\n<!-- thermodec export: surface mesh [m] and per-face results at t = " << real(e.times_s[step])
       << " s; node_id/material_id index the names below (0-based) -->\n";
+  for (const std::string& line : e.provenance) out << "<!-- " << xml_escaped(line) << " -->\n";
   for (int i = 0; i < e.num_nodes(); ++i) out << "<!-- node " << i << ": " << xml_escaped(e.network.node_names[i]) << " -->\n";
   for (std::size_t i = 0; i < model.materials.size(); ++i) out << "<!-- material " << i << ": " << xml_escaped(model.materials[i].name) << " -->\n";
   out << "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <UnstructuredGrid>\n"

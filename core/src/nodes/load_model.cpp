@@ -155,7 +155,8 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
                "`thermodec reduce MODEL --case FILE`; a model file needs a 'mesh' key");
   for (const auto& item : j.items()) {
     static const std::vector<std::string> known = {"mesh", "unit_scale", "materials", "default_material", "nodes",
-                                                   "conductances", "environment", "analysis", "radiation", "description"};
+                                                   "conductances", "environment", "analysis", "radiation", "description",
+                                                   "certificate"};
     if (std::find(known.begin(), known.end(), item.key()) == known.end() && item.key().rfind("_", 0) != 0)
       k.unknown("", item.key(), known, " at the top level");
   }
@@ -290,6 +291,13 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
   if (j.contains("analysis")) parse_analysis(j.at("analysis"), k, model.analysis);
   check_analysis_fits_environment(model.analysis, model.environment, k);
   if (j.contains("radiation")) parse_radiation(j.at("radiation"), k, model.radiation);
+  if (j.contains("certificate")) {
+    try {
+      model.certificate = certificate_from_json(j.at("certificate"));
+    } catch (const InvalidInput& e) {
+      k.fail("certificate", e.what());
+    }
+  }
   return model;
 }
 

@@ -101,6 +101,7 @@ void save_model(const ThermalModel& model, const fs::path& json_path, const fs::
   j["radiation"] = {{"rays_per_face", model.radiation.rays_per_face},
                     {"min_rays_per_node", model.radiation.min_rays_per_node},
                     {"seed", model.radiation.seed}};
+  if (model.certificate) j["certificate"] = certificate_json(*model.certificate);
 
   MeshWriteOptions mesh_options;
   mesh_options.protected_inputs = {json_path};

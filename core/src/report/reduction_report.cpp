@@ -134,9 +134,29 @@ std::vector<std::string> write_reduction_outputs(const ReductionRun& run, const 
     for (const char* name : {"model.json", "reduced.obj", "report.json"})
       if (!in.empty() && same_file(out_dir / name, in))
         throw InvalidInput("output folder " + out_dir.string() + " would overwrite input " + in.string());
-  save_model(run.reduced.model, out_dir / "model.json", out_dir / "reduced.obj");
-  json report = reduction_report_json(run);
   std::error_code ec;
+  // The verification travels with the reduced model (its exports repeat it in their headers).
+  ThermalModel reduced = run.reduced.model;
+  ModelCertificate cert;
+  if (!protected_inputs.empty() && !protected_inputs.front().empty()) {
+    const fs::path& original = protected_inputs.front();
+    cert.original_model = fs::absolute(original, ec).string();
+    cert.original_sha256 = file_sha256(original.string());
+    if (protected_inputs.size() > 1 && !protected_inputs[1].empty() && !same_file(protected_inputs[1], original))
+      cert.original_mesh_sha256 = file_sha256(protected_inputs[1].string());
+  }
+  cert.tolerance_K = run.tolerance_K;
+  for (const auto& c : run.cases) cert.cases.push_back(c.name);
+  cert.estimate_K = run.verification.max_abs_dT_K;
+  cert.standard_error_K = run.verification.standard_error_K;
+  cert.upper_bound_K = run.verification.upper_bound_K;
+  cert.confidence = run.verification.confidence;
+  cert.seeds = run.verification.seeds;
+  cert.faces_before = run.faces_before;
+  cert.faces_after = run.faces_after;
+  reduced.certificate = cert;
+  save_model(reduced, out_dir / "model.json", out_dir / "reduced.obj");
+  json report = reduction_report_json(run);
   if (!protected_inputs.empty()) report["input_model"] = fs::absolute(protected_inputs.front(), ec).string();
   write_text_atomically(out_dir / "report.json", report.dump(2) + "\n", protected_inputs);
 

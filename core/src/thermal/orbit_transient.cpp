@@ -8,33 +8,13 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "thermodec/common/errors.h"
 #include "thermodec/environment/orbit.h"
 
 namespace thermodec {
-
-Eigen::VectorXd eclipse_switch_times_s(const Environment& env, double period_s) {
-  // The shadow is a single arc per orbit (cylinder): scan finely enough to see any arc longer
-  // than 1/720 of the orbit (shorter ones change no temperature measurably), then bisect.
-  constexpr int kScan = 720;
-  auto shadow = [&](double t) { return orbit_state(env, t).in_shadow; };
-  std::vector<double> out;
-  bool prev = shadow(0.0);
-  for (int k = 1; k <= kScan; ++k) {
-    double lo = period_s * (k - 1) / kScan, hi = period_s * k / kScan;
-    const bool cur = shadow(k == kScan ? 0.0 : hi);
-    if (cur == prev) continue;
-    while (hi - lo > 1e-9 * period_s) {
-      const double mid = 0.5 * (lo + hi);
-      (shadow(mid) == prev ? lo : hi) = mid;
-    }
-    out.push_back(hi < period_s ? hi : 0.0);
-    prev = cur;
-  }
-  std::sort(out.begin(), out.end());
-  return Eigen::Map<Eigen::VectorXd>(out.data(), static_cast<Eigen::Index>(out.size()));
-}
 
 namespace {
 
@@ -44,6 +24,68 @@ bool shadow_before(double t, double period_s, bool shadow_at_0, const Eigen::Vec
   int n = 0;
   for (int i = 0; i < switches.size(); ++i) n += switches[i] > 0.0 && switches[i] < t;
   return shadow_at_0 != (n % 2 == 1);
+}
+
+// Cyclic piecewise-linear interpolation over knots (times in [0, P), any order; columns of v)
+// at t in [0, P].
+class CyclicKnots {
+ public:
+  CyclicKnots(std::vector<double> t, Eigen::MatrixXd v, double P) : P_(P), v_(std::move(v)) {
+    order_.resize(t.size());
+    for (std::size_t k = 0; k < t.size(); ++k) order_[k] = static_cast<int>(k);
+    std::stable_sort(order_.begin(), order_.end(), [&](int a, int b) { return t[a] < t[b]; });
+    for (const int k : order_) t_.push_back(t[k]);
+  }
+  bool empty() const { return t_.empty(); }
+  Eigen::VectorXd at(double t) const {
+    const int n = static_cast<int>(t_.size());
+    const int r = static_cast<int>(std::upper_bound(t_.begin(), t_.end(), t) - t_.begin());
+    const int l = r - 1;
+    const double tl = l >= 0 ? t_[l] : t_[n - 1] - P_, tr = r < n ? t_[r] : t_[0] + P_;
+    const Eigen::VectorXd vl = v_.col(order_[(l + n) % n]), vr = v_.col(order_[r % n]);
+    if (!(tr > tl)) return vl;
+    const double w = (t - tl) / (tr - tl);
+    return (1.0 - w) * vl + w * vr;
+  }
+
+ private:
+  double P_;
+  Eigen::MatrixXd v_;
+  std::vector<int> order_;
+  std::vector<double> t_;
+};
+
+// With sunlit knots (Loads::knot_*): the smooth part (albedo, Earth IR) interpolated over positions
+// and knots, the sunlit arcs' direct-sun part over the sunlit positions and the knots, among them
+// the eclipse edges that bound each arc.
+struct SunlitKnots {
+  CyclicKnots smooth, sunlit;
+};
+
+SunlitKnots sunlit_knots(const Loads& loads) {
+  const int S = loads.num_steps(), E = static_cast<int>(loads.knot_times_s.size());
+  const double dt = loads.period_s / S;
+  std::vector<double> all_t, lit_t;
+  Eigen::MatrixXd all_v(loads.solar_W.rows(), S + E), lit_v(loads.solar_W.rows(), S + E);
+  const Eigen::MatrixXd smooth = loads.albedo_W + loads.earth_ir_W, sun = loads.solar_W + loads.reflected_solar_W;
+  const Eigen::MatrixXd knot_smooth = loads.knot_albedo_W + loads.knot_earth_ir_W;
+  const Eigen::MatrixXd knot_sun = loads.knot_solar_W + loads.knot_reflected_solar_W;
+  for (int k = 0; k < S; ++k) {
+    all_v.col(static_cast<Eigen::Index>(all_t.size())) = smooth.col(k);
+    all_t.push_back(k * dt);
+    if (static_cast<int>(loads.in_shadow.size()) == S && loads.in_shadow[k]) continue;
+    lit_v.col(static_cast<Eigen::Index>(lit_t.size())) = sun.col(k);
+    lit_t.push_back(k * dt);
+  }
+  for (int e = 0; e < E; ++e) {
+    all_v.col(static_cast<Eigen::Index>(all_t.size())) = knot_smooth.col(e);
+    all_t.push_back(loads.knot_times_s[e]);
+    lit_v.col(static_cast<Eigen::Index>(lit_t.size())) = knot_sun.col(e);
+    lit_t.push_back(loads.knot_times_s[e]);
+  }
+  all_v.conservativeResize(Eigen::NoChange, static_cast<Eigen::Index>(all_t.size()));
+  lit_v.conservativeResize(Eigen::NoChange, static_cast<Eigen::Index>(lit_t.size()));
+  return {CyclicKnots(all_t, all_v, loads.period_s), CyclicKnots(lit_t, lit_v, loads.period_s)};
 }
 
 }  // namespace
@@ -57,14 +99,20 @@ Eigen::MatrixXd interpolated_loads_W(const Loads& loads, const Eigen::VectorXd& 
   const int n = static_cast<int>(smooth.rows());
   auto sh = [&](int k) { return static_cast<int>(S == static_cast<int>(loads.in_shadow.size()) && loads.in_shadow[(k + S) % S]); };
   const bool shadow0 = sh(0);
+  const bool edges = loads.has_knots() && loads.knot_solar_W.rows() == n;
+  const SunlitKnots knots = edges ? sunlit_knots(loads) : SunlitKnots{CyclicKnots({}, {}, P), CyclicKnots({}, {}, P)};
   Eigen::MatrixXd out(n, times_s.size());
   for (int c = 0; c < times_s.size(); ++c) {
     const double t = times_s[c];
     const int i = std::min(S - 1, static_cast<int>(std::floor(t / dt)));
     const double f = t / dt - i;
     const int j = (i + 1) % S;
-    out.col(c) = (1.0 - f) * smooth.col(i) + f * smooth.col(j);
+    out.col(c) = edges ? knots.smooth.at(t) : Eigen::VectorXd((1.0 - f) * smooth.col(i) + f * smooth.col(j));
     const int s = shadow_before(t, P, shadow0, switches);
+    if (edges && !s) {  // a sunlit arc passes through its knots and ends on its traced edges
+      out.col(c) += knots.sunlit.at(t <= 0.0 ? P : t).cwiseMax(0.0);
+      continue;
+    }
     // A sample at the instant itself (f = 0) stands for it when it shares the state.
     Eigen::VectorXd v = Eigen::VectorXd::Zero(n);
     const int p = (i - 1 + S) % S, q = (j + 1) % S;
@@ -152,6 +200,78 @@ OrbitTransient orbit_transient(const ThermalNetwork& network, const Loads& loads
     R_prev = R;
   }
   return out;  // unreachable (max_levels >= 3)
+}
+
+Loads loads_at(const Loads& loads, const Eigen::VectorXd& times_s, const Eigen::VectorXd& switches) {
+  // One component at a time (the others zeroed): the interpolation is linear in the loads.
+  const std::vector<std::pair<Eigen::MatrixXd Loads::*, Eigen::MatrixXd Loads::*>> parts{
+      {&Loads::solar_W, &Loads::knot_solar_W}, {&Loads::albedo_W, &Loads::knot_albedo_W},
+      {&Loads::earth_ir_W, &Loads::knot_earth_ir_W}, {&Loads::reflected_solar_W, &Loads::knot_reflected_solar_W}};
+  Loads out;
+  out.period_s = loads.period_s;
+  out.times_s = times_s;
+  for (std::size_t p = 0; p < parts.size(); ++p) {
+    Loads one = loads;
+    for (std::size_t q = 0; q < parts.size(); ++q) {
+      if (q == p) continue;
+      (one.*(parts[q].first)).setZero();
+      (one.*(parts[q].second)).setZero();
+    }
+    out.*(parts[p].first) = interpolated_loads_W(one, times_s, switches);
+  }
+  out.in_shadow.assign(static_cast<std::size_t>(times_s.size()), 0);
+  return out;
+}
+
+Loads orbit_mean_loads(const Loads& loads, const Eigen::VectorXd& switches) {
+  const int S = loads.num_steps();
+  const double P = loads.period_s;
+  if (S < 2 || !(P > 0.0)) throw InvalidInput("orbit mean of the loads: need >= 2 positions and a period > 0 s");
+  // Breakpoints of the piecewise-linear interpolant: positions, switches, knots. The midpoint
+  // rule is exact on each piece.
+  std::vector<double> cuts;
+  for (int k = 0; k <= S; ++k) cuts.push_back(P * k / S);
+  for (Eigen::Index i = 0; i < switches.size(); ++i) cuts.push_back(switches[i]);
+  for (Eigen::Index i = 0; i < loads.knot_times_s.size(); ++i) cuts.push_back(loads.knot_times_s[i]);
+  std::sort(cuts.begin(), cuts.end());
+  std::vector<double> mid, len;
+  for (std::size_t c = 0; c + 1 < cuts.size(); ++c)
+    if (cuts[c + 1] - cuts[c] > 1e-12 * P) mid.push_back(0.5 * (cuts[c] + cuts[c + 1])), len.push_back(cuts[c + 1] - cuts[c]);
+  const Eigen::Map<const Eigen::VectorXd> t(mid.data(), static_cast<Eigen::Index>(mid.size()));
+  const Eigen::Map<const Eigen::VectorXd> w(len.data(), static_cast<Eigen::Index>(len.size()));
+  const Loads at = loads_at(loads, t, switches);
+  Loads out;
+  out.period_s = P;
+  out.times_s = Eigen::VectorXd::Zero(1);
+  out.in_shadow.assign(1, 0);
+  out.solar_W = at.solar_W * w / P;
+  out.albedo_W = at.albedo_W * w / P;
+  out.earth_ir_W = at.earth_ir_W * w / P;
+  out.reflected_solar_W = at.reflected_solar_W * w / P;
+  return out;
+}
+
+Loads every_other_position(const Loads& loads) {
+  const int S = loads.num_steps();
+  if (S % 2 != 0 || S < 4) throw InvalidInput("every_other_position: need an even number >= 4 of positions");
+  Loads out = loads;
+  const int H = S / 2;
+  auto half = [&](const Eigen::MatrixXd& m) {
+    Eigen::MatrixXd h(m.rows(), H);
+    for (int k = 0; k < H; ++k) h.col(k) = m.col(2 * k);
+    return h;
+  };
+  out.times_s = half(loads.times_s.transpose()).transpose();
+  out.solar_W = half(loads.solar_W);
+  out.albedo_W = half(loads.albedo_W);
+  out.earth_ir_W = half(loads.earth_ir_W);
+  out.reflected_solar_W = half(loads.reflected_solar_W);
+  if (loads.sampling_standard_error_W.cols() == S) out.sampling_standard_error_W = half(loads.sampling_standard_error_W);
+  if (static_cast<int>(loads.in_shadow.size()) == S) {
+    out.in_shadow.resize(H);
+    for (int k = 0; k < H; ++k) out.in_shadow[k] = loads.in_shadow[2 * k];
+  }
+  return out;
 }
 
 }  // namespace thermodec

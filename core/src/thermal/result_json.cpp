@@ -39,11 +39,14 @@ nlohmann::json result_to_json(const SimulationResult& r) {
     summary[r.nodes[i]] = {{"min_K", r.temperature_K.row(n).minCoeff()},
                            {"mean_K", r.temperature_K.row(n).mean()},
                            {"max_K", r.temperature_K.row(n).maxCoeff()}};
+    if (r.noise_K.size() == static_cast<Eigen::Index>(r.nodes.size())) summary[r.nodes[i]]["noise_K"] = r.noise_K[n];
   }
   j["temperatures_K"] = temps;
   j["loads_W"] = loads;
   // The estimated time-discretization error beside the per-node figures (max over nodes/times).
   if (r.transient) summary["time_error_K"] = r.time_error_K;
+  // ... and that of sampling the loads at S orbit positions (0 for a fixed sun).
+  if (r.loads.period_s > 0.0) summary["orbit_sampling_error_K"] = r.orbit_sampling_error_K;
   j["summary"] = summary;
   j["in_shadow"] = std::vector<bool>(r.loads.in_shadow.begin(), r.loads.in_shadow.end());
   if (r.transient)
@@ -78,6 +81,19 @@ SimulationResult result_from_json(const nlohmann::json& j) {
       for (size_t k = 0; k < t.size(); ++k) r.temperature_K(i, k) = t[k];
     }
     r.transient = j.value("analysis", "steady") == std::string("transient_orbit");
+    // Optional: each node's sampling noise (results written before it was reported have none).
+    if (j.contains("summary") && j["summary"].is_object()) {
+      const auto& sm = j["summary"];
+      Eigen::VectorXd noise(r.nodes.size());
+      bool all = !r.nodes.empty();
+      for (size_t i = 0; i < r.nodes.size() && all; ++i) {
+        const bool has = sm.contains(r.nodes[i]) && sm[r.nodes[i]].is_object() && sm[r.nodes[i]].contains("noise_K") &&
+                         sm[r.nodes[i]]["noise_K"].is_number();
+        if (has) noise[i] = sm[r.nodes[i]]["noise_K"].get<double>();
+        all = has;
+      }
+      if (all) r.noise_K = noise;
+    }
   } catch (const nlohmann::json::exception& e) {
     // Name the missing key in words, not the library's code (out_of_range.403 ...).
     for (const char* key : {"nodes", "times_s", "temperatures_K"})

@@ -6,6 +6,7 @@
 
 #include "thermodec/common/errors.h"
 #include "thermodec/thermal/orbit_transient.h"
+#include "thermodec/thermal/temperature_noise.h"
 
 namespace thermodec {
 
@@ -33,6 +34,16 @@ SimulationResult simulate(const ThermalModel& model, const NodeCouplings& coupli
                                          ? eclipse_switch_times_s(model.environment, loads.period_s)
                                          : Eigen::VectorXd();
     const OrbitTransient ot = orbit_transient(net, loads, switches, time, ts);
+    if (settings.orbit_sampling_error && S % 2 == 0 && S >= 4) {
+      // Richardson on the positions: the same solve from every other position.
+      TransientSettings quiet = ts;
+      quiet.on_orbit = nullptr;
+      const OrbitTransient half = orbit_transient(net, every_other_position(loads), switches, time, quiet);
+      double d = 0.0;
+      for (int k = 0; k < S / 2; ++k)
+        d = std::max(d, (ot.transient.temperature_K.col(2 * k) - half.transient.temperature_K.col(k)).cwiseAbs().maxCoeff());
+      r.orbit_sampling_error_K = d / 3.0;
+    }
     const PeriodicTransient& tr = ot.transient;
     r.time_error_K = ot.time_error_K;
     r.solver_steps_per_orbit = ot.solver_steps_per_orbit;
@@ -43,19 +54,45 @@ SimulationResult simulate(const ThermalModel& model, const NodeCouplings& coupli
     r.periodicity_residual_K = tr.periodicity_residual_K;
     r.energy = tr.energy;
   } else {
-    // Steady: the time-averaged loads (a fixed sun has one time step, so this is exact there).
-    const SteadyState ss = steady_state(net, total.rowwise().mean(), settings.newton);
+    // Steady: the time-averaged loads (a fixed sun has one time step, so this is exact there). An
+    // orbit's mean integrates the loads as the transient applies them, with the exact eclipse
+    // fraction, not the share of positions that happen to be in shadow.
+    const Eigen::VectorXd switches = orbit && model.environment.type == EnvironmentType::orbit
+                                         ? eclipse_switch_times_s(model.environment, loads.period_s)
+                                         : Eigen::VectorXd();
+    auto mean_of = [&](const Loads& l) -> Eigen::VectorXd {
+      return orbit ? Eigen::VectorXd(orbit_mean_loads(l, switches).total_W().col(0)) : Eigen::VectorXd(l.total_W().rowwise().mean());
+    };
+    const SteadyState ss = steady_state(net, mean_of(loads), settings.newton);
     r.times_s = Eigen::VectorXd::Zero(1);
     r.temperature_K = ss.temperature_K;
+    if (settings.orbit_sampling_error && orbit && S % 2 == 0 && S >= 4)
+      r.orbit_sampling_error_K =
+          (ss.temperature_K - steady_state(net, mean_of(every_other_position(loads)), settings.newton).temperature_K)
+              .cwiseAbs()
+              .maxCoeff() /
+          3.0;
     if (S > 1) {  // report the loads that were applied: their orbit average
       auto avg = [](const Eigen::MatrixXd& m) { return Eigen::MatrixXd(m.rowwise().mean()); };
-      r.loads.solar_W = avg(loads.solar_W);
-      r.loads.albedo_W = avg(loads.albedo_W);
-      r.loads.earth_ir_W = avg(loads.earth_ir_W);
-      r.loads.reflected_solar_W = avg(loads.reflected_solar_W);
+      Loads mean;
+      if (orbit) mean = orbit_mean_loads(loads, switches);
+      r.loads.solar_W = orbit ? mean.solar_W : avg(loads.solar_W);
+      r.loads.albedo_W = orbit ? mean.albedo_W : avg(loads.albedo_W);
+      r.loads.earth_ir_W = orbit ? mean.earth_ir_W : avg(loads.earth_ir_W);
+      r.loads.reflected_solar_W = orbit ? mean.reflected_solar_W : avg(loads.reflected_solar_W);
       r.loads.times_s = r.times_s;
       r.loads.in_shadow.assign(1, 0);
+      r.loads.knot_times_s.resize(0);
+      if (loads.orbit_mean_standard_error_W.size() == n) r.loads.sampling_standard_error_W = loads.orbit_mean_standard_error_W;
+      else if (loads.sampling_standard_error_W.cols() == S) r.loads.sampling_standard_error_W = loads.sampling_standard_error_W.rowwise().mean();
     }
+  }
+  // Sampling noise per node: the couplings' and the loads' standard errors through the network.
+  if (couplings.radiative_couplings_standard_error.rows() == n &&
+      couplings.to_space_couplings_standard_error.size() == n) {
+    const Eigen::MatrixXd& se = r.loads.sampling_standard_error_W;
+    r.noise_K = temperature_noise_K(net, couplings, r.temperature_K,
+                                    se.rows() == n && se.cols() == r.temperature_K.cols() ? se : Eigen::MatrixXd());
   }
   return r;
 }

@@ -92,7 +92,9 @@ SimulationResult simulate_model(const ThermalModel& model, const ModelSimulation
   say("external loads");
   const Loads loads = loads_stamped(model, scene, view_factors, settings, nullptr, say);
   say("thermal solve");
-  SimulationResult r = solve_stamped(model, couplings, loads, settings, say);
+  ModelSimulationSettings full = settings;
+  full.solver.orbit_sampling_error = true;  // summary.orbit_sampling_error_K of every full simulation
+  SimulationResult r = solve_stamped(model, couplings, loads, full, say);
   say("done");
   if (couplings_out) *couplings_out = std::move(couplings);
   return r;

@@ -61,6 +61,14 @@ struct ExternalLoadSettings {
   //! side (no pilot), with the same per-node minimum and noise-targeted boosts.
   int earth_min_rays_per_node = 200000;
   int steps_per_orbit = 0;        //!< orbit samples; 0 = model.analysis.steps_per_orbit
+  //! Also trace the loads at every eclipse entry and exit, on the sunlit side (Loads::knot_*):
+  //! two more sun passes per orbit.
+  bool eclipse_edges = true;
+  //! Also trace the loads where a face side turns edge-on to the sun between two positions, if
+  //! a straight line over that kink could move some node by more than this [K] (see Loads::
+  //! knot_*; 0 = off); at most max_kink_knots such instants (< 0: as many as positions).
+  double kink_knot_threshold_K = 0.005;
+  int max_kink_knots = -1;
   //! Steady analysis of an orbit whose sun moves in body axes: each shadow pass draws its own
   //! sample points, fewer of them (shadow_pass_division). false: every pass traces the same
   //! points, all of them (what a transient analysis always does).
@@ -171,6 +179,11 @@ struct LoadSamples {
   std::vector<RayRecords> sun_records;
   RayRecords earth_records;
   bool per_ray = false;  //!< the records are complete
+  //! The run's sunlit knots (Loads::knot_times_s) and, per knot, whether it is an eclipse edge
+  //! (traced sunlit at the switch): a trial traces the reference's knots, not its own, so that
+  //! its steps match the reference's.
+  Eigen::VectorXd knot_times_s;
+  std::vector<char> knot_is_edge;
 };
 
 //! Reuse request: sides present in `reference` (same key) with the same sample counts whose

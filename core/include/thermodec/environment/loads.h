@@ -31,8 +31,22 @@ struct Loads {
   //! S flags: spacecraft in the Earth's shadow.
   std::vector<char> in_shadow;
 
+  //! Sunlit knots: K instants [s] in [0, P), sorted, where the loads are traced besides the
+  //! positions, and the loads there, N x K per component [W] (ExternalLoadSettings::eclipse_edges
+  //! and ::kink_knot_threshold_K): every eclipse entry and exit on its sunlit side (what the
+  //! direct sun reaches just before entry and just after exit), and the instants where a face
+  //! turns edge-on to the sun, whose direct load has a kink there (max(0, n . s)). The
+  //! interpolation between positions (thermal/orbit_transient.h) passes through them, so a
+  //! sunlit arc ends on a traced value and a kink is not cut off by a straight line. Empty when
+  //! none are traced.
+  Eigen::VectorXd knot_times_s;
+  Eigen::MatrixXd knot_solar_W, knot_albedo_W, knot_earth_ir_W, knot_reflected_solar_W;
+
   //! Sum of the components, N x S [W].
   Eigen::MatrixXd total_W() const { return solar_W + albedo_W + earth_ir_W + reflected_solar_W; }
+  //! Sum of the components at the knots, N x K [W].
+  Eigen::MatrixXd knot_total_W() const { return knot_solar_W + knot_albedo_W + knot_earth_ir_W + knot_reflected_solar_W; }
+  bool has_knots() const { return knot_times_s.size() > 0 && knot_solar_W.cols() == knot_times_s.size(); }
   int num_steps() const { return static_cast<int>(times_s.size()); }
 };
 

@@ -61,6 +61,10 @@ OrbitState orbit_state(const Environment& environment, double time_s);
 //! Two unit directions the loads treat as one (|a - b| < 1e-12).
 inline bool same_direction(const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (a - b).norm() < 1e-12; }
 
+//! Shadow entry/exit instants [s] in [0, period_s) of the cylindrical Earth shadow
+//! (orbit_state().in_shadow), sorted, located by bisection to 1e-9 of the period.
+Eigen::VectorXd eclipse_switch_times_s(const Environment& environment, double period_s);
+
 //! Shadow passes of the direct sun over the time steps `states`: a sunlit step whose sun
 //! direction in body axes differs from the last pass's starts a new one (one for a sun-pointing
 //! or inertial attitude; one per sunlit step for a nadir-pointing orbit). The loads trace one

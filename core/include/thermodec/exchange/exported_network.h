@@ -30,6 +30,19 @@ struct ExportedNetwork {
   Eigen::MatrixXd albedo_W;           //!< N x S Earth-albedo absorbed
   Eigen::MatrixXd earth_ir_W;         //!< N x S Earth-IR absorbed
   Eigen::MatrixXd temperature_K;      //!< N x S temperatures `simulate` found (initial T = column 0)
+  //! The load tables the writers export (transient), K points over [0, P): the positions, the
+  //! loads' other sunlit knots (Loads::knot_times_s) and, at every eclipse switch, two points,
+  //! the value just before and kSwitchRamp_s after it, so
+  //! that a tool interpolating the table linearly (ESATAN INTCY1, SINDA D11CYL) applies the
+  //! loads `simulate` integrates (thermal/orbit_transient.h, loads_at) to within that ramp.
+  Eigen::VectorXd table_times_s;
+  Eigen::MatrixXd table_solar_W, table_albedo_W, table_earth_ir_W;  //!< N x K, as solar_W ...
+  static constexpr double kSwitchRamp_s = 1e-3;
+  //! N x K total external load of the tables [W].
+  Eigen::MatrixXd table_external_W() const { return table_solar_W + table_albedo_W + table_earth_ir_W; }
+  //! One comment block (lines without a comment marker) that travels in every export's header:
+  //! a reduced model's certificate (nodes/thermal_model.h, ThermalModel::certificate); empty if none.
+  std::vector<std::string> provenance;
   //! N x S total external load [W] (solar + albedo + Earth IR).
   Eigen::MatrixXd external_W() const { return solar_W + albedo_W + earth_ir_W; }
   int num_nodes() const { return network.num_nodes(); }

@@ -11,6 +11,7 @@
 
 #include "thermodec/mesh/bare_mesh_cleanup.h"
 #include "thermodec/mesh/mesh.h"
+#include "thermodec/nodes/model_certificate.h"
 
 namespace thermodec {
 
@@ -109,6 +110,8 @@ struct ThermalModel {
   std::filesystem::path mesh_path;     //!< mesh file the model was read from
   //! Set when the model is a bare mesh cleaned on loading (nodes/load_model.h): what changed.
   std::optional<BareMeshCleanupReport> mesh_cleanup;
+  //! Set on a reduced model (`reduce`): its verification against the original model.
+  std::optional<ModelCertificate> certificate;
 };
 
 }  // namespace thermodec

@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 
 #include "thermodec/environment/loads.h"
+#include "thermodec/environment/orbit.h"  // eclipse_switch_times_s
 #include "thermodec/nodes/thermal_model.h"
 #include "thermodec/thermal/network.h"
 #include "thermodec/thermal/transient.h"
@@ -37,18 +38,33 @@ struct OrbitTransient {
   Eigen::VectorXd eclipse_times_s;   //!< shadow entries and exits found in the orbit [s]
 };
 
-//! Shadow entry/exit instants [s] in [0, period_s) of the cylindrical Earth shadow
-//! (orbit_state().in_shadow), located by bisection to 1e-9 of the period.
-Eigen::VectorXd eclipse_switch_times_s(const Environment& environment, double period_s);
-
 //! Loads (N x S at t = k P / S, with in_shadow flags) evaluated at `times_s`, each as the
 //! value over the step that ends there (left limit; t = 0 as the end of the orbit):
 //! albedo and Earth IR linearly interpolated; the direct-sun part from the positions that share
 //! the instant's shadow state (linear, or extrapolated from two such positions next to a
-//! switch), zero in shadow. The shadow state of an instant: loads.in_shadow[0] toggled at
-//! each of `switch_times_s` (sorted) before it.
+//! switch), zero in shadow. With sunlit knots (Loads::knot_*, e.g. the eclipse edges) the
+//! albedo and Earth IR pass through the knots too, and a sunlit instant's direct sun is linear
+//! between the nearest sunlit positions or knots on either side: an arc ends on its traced
+//! edges instead of an extrapolation. The shadow state of an instant: loads.in_shadow[0]
+//! toggled at each of `switch_times_s` (sorted) before it.
 Eigen::MatrixXd interpolated_loads_W(const Loads& loads, const Eigen::VectorXd& times_s,
                                      const Eigen::VectorXd& switch_times_s);
+
+//! The loads as the transient applies them (interpolated_loads_W), per component, at `times_s`
+//! (left limits, as there): a Loads of N x K components at those times, without knots.
+Loads loads_at(const Loads& loads, const Eigen::VectorXd& times_s, const Eigen::VectorXd& switch_times_s);
+
+//! Orbit mean of the loads as the transient applies them: the exact integral over the period of
+//! interpolated_loads_W (piecewise linear between positions, switches and knots, the
+//! direct sun switched at the switches) divided by P, per component, one column (time 0). The
+//! sunlit share is then the exact eclipse geometry's, not the share of sunlit positions.
+//! \throw InvalidInput if the loads are not S >= 2 positions over a period > 0.
+Loads orbit_mean_loads(const Loads& loads, const Eigen::VectorXd& switch_times_s);
+
+//! The loads at positions 0, 2, 4, ... (S / 2 of them, the knots kept): the coarser sampling
+//! whose difference from the full one estimates the orbit sampling error (Richardson).
+//! \throw InvalidInput if S is odd or < 4.
+Loads every_other_position(const Loads& loads);
 
 //! \param switch_times_s shadow entries/exits in [0, P), e.g. eclipse_switch_times_s(); empty
 //! for an orbit without eclipse. They become step boundaries.

@@ -26,6 +26,10 @@ struct SimulationSettings {
   NewtonSettings newton;        //!< steady-state Newton settings
   //! Time integration of an orbit; time_tolerance_K <= 0 here means: model.analysis.time_tolerance_K
   OrbitTimeSettings time;
+  //! Estimate SimulationResult::orbit_sampling_error_K (a transient: one more solve, from every
+  //! other position). Off here so that the reduction's trials, which compare like with like,
+  //! do not pay for it; simulate_model (what `simulate` and `export` run) turns it on.
+  bool orbit_sampling_error = false;
   SimulationSettings() { transient.max_orbits = 0; time.time_tolerance_K = 0.0; }
 };
 
@@ -42,6 +46,16 @@ struct SimulationResult {
   OrbitEnergy energy;                   //!< transient: energy balance of the last orbit (finest grid)
   double time_error_K = 0.0;            //!< transient: estimated time-discretization error (max over nodes, times)
   int solver_steps_per_orbit = 0;       //!< transient: steps of the finest solver grid
+  //! Orbit: estimated error [K] from sampling the loads at S positions (max over nodes and
+  //! times): |T(S) - T(S/2)| / 3 at the shared positions, Richardson's estimate for the
+  //! second-order piecewise-linear interpolation between positions (the same solve with every
+  //! other position). 0 when not estimated (SimulationSettings::orbit_sampling_error off, fixed
+  //! sun, S odd or < 4).
+  double orbit_sampling_error_K = 0.0;
+  //! N: one standard deviation [K] of each node's temperature from Monte Carlo sampling, the
+  //! largest over the times (thermal/temperature_noise.h, temperature_noise_K: the couplings'
+  //! and the loads' standard errors through the linearised network). Empty if not estimated.
+  Eigen::VectorXd noise_K;
 };
 
 //! Steady analysis (or a fixed sun): steady state of the time-averaged loads, one time 0.

@@ -29,6 +29,20 @@ Eigen::VectorXd temperature_standard_error_from_loads_K(const ThermalNetwork& ne
                                                        const Eigen::MatrixXd& temperature_K,
                                                        const Eigen::MatrixXd& load_standard_error_W);
 
+//! One standard deviation [K] of each node's temperature from Monte Carlo sampling, the largest
+//! over the S steps: the couplings' standard errors (GR_ij, GR_i,space) and the loads' (N x S,
+//! Loads::sampling_standard_error_W) propagated through the whole linearised network at each
+//! step's temperatures, dT = K^-1 dQ with K the heat balance's Jacobian (conduction plus
+//! 4 sigma T^3 GR, the capacitances left out: the errors come from the same samples at every step,
+//! so they act as a steady offset). Unlike the node-by-node estimates above, a node whose
+//! neighbours move with it is not credited with their damping. Independent errors add in
+//! quadrature; a coupling's error moves the heat of both of its nodes, in opposite directions.
+//! 0 for fixed nodes. `load_standard_error_W` may be empty (couplings only). Networks whose N^3 S
+//! exceeds ~4e9 are evaluated at a subset of the steps (every k-th, plus the hottest).
+//! \throw InvalidInput if sizes disagree.
+Eigen::VectorXd temperature_noise_K(const ThermalNetwork& network, const NodeCouplings& couplings,
+                                    const Eigen::MatrixXd& temperature_K, const Eigen::MatrixXd& load_standard_error_W);
+
 //! Sample multipliers that bring each node's temperature standard error down to target_K,
 //! assuming it falls as N^-3/4 (scrambled nets on discontinuous visibility): the smallest power
 //! of two >= (sigma_i / target)^(4/3), within [1, max_boost]. Powers of two keep the boosts
