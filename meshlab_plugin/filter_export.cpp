@@ -120,10 +120,7 @@ bool ThermodecFilterPlugin::export_for_tools(MeshDocument& md, const RichParamet
   // the same target as `thermodec export`, so the same samples.
   what.noise_target_K = QString::number(params.getFloat("noise_target_K"), 'g', 7).toDouble();
   std::vector<std::string> files;
-  const StageOf stages = ordered_stages({{"sampling: estimating", 1}, {"building ray scene", 2}, {"view factors", 4},
-                                         {"IR Gebhart", 28}, {"external loads", 32}, {"thermal solve", 44},
-                                         {"sampling:", 47}, {"building ray scene", 48}, {"view factors", 50},
-                                         {"IR Gebhart", 82}, {"external loads", 86}, {"thermal solve", 97}});
+  const StageOf stages = simulation_chain_stages();
   run_with_progress(
       cb, stages,
       [&](const std::function<void(const std::string&)>& report) {

@@ -100,6 +100,13 @@ StageOf ordered_stages(std::vector<std::pair<std::string, double>> table) {
   };
 }
 
+StageOf simulation_chain_stages() {
+  return ordered_stages({{"sampling: estimating", 1}, {"building ray scene", 2}, {"view factors", 4},
+                         {"IR Gebhart", 28}, {"external loads", 32}, {"thermal solve", 44},
+                         {"sampling:", 47}, {"building ray scene", 48}, {"view factors", 50},
+                         {"IR Gebhart", 82}, {"external loads", 86}, {"thermal solve", 97}});
+}
+
 void run_with_progress(vcg::CallBackPos* cb, const StageOf& stage_of,
                        const std::function<void(const std::function<void(const std::string&)>&)>& work,
                        const std::function<void(const std::string&)>& log) {

@@ -41,6 +41,11 @@ using StageOf = std::function<double(const std::string&)>;
 //! the two simulations of noise-targeted sampling).
 StageOf ordered_stages(std::vector<std::pair<std::string, double>> table);
 
+//! The stages of one front-end simulation (thermal/simulate_model.h: simulate_as_front_end),
+//! twice with noise-targeted sampling (an estimate, then the simulation); used by simulate and
+//! by export, which simulates before it writes.
+StageOf simulation_chain_stages();
+
 //! Runs `work` on a worker thread while the calling (main) thread waits, forwarding its
 //! progress messages: each goes to `log` and to MeshLab's callback `cb` (which repaints the
 //! GUI) from the main thread only, every 100 ms, as the percentage of the stage `stage_of`

@@ -500,11 +500,7 @@ bool ThermodecFilterPlugin::simulate(MeshDocument& md, const RichParameterList& 
   if (!model.path.isEmpty() && model.how != "given")
     Log("Thermal: simulate: model file %s (%s)", qUtf8Printable(model.path), qUtf8Printable(model.how));
   NodeTemperatures t;
-  // The chain's stages, twice with noise-targeted sampling (an estimate, then the simulation).
-  const StageOf stages = ordered_stages({{"sampling: estimating", 1}, {"building ray scene", 2}, {"view factors", 4},
-                                         {"IR Gebhart", 28}, {"external loads", 32}, {"thermal solve", 44},
-                                         {"sampling:", 47}, {"building ray scene", 48}, {"view factors", 50},
-                                         {"IR Gebhart", 82}, {"external loads", 86}, {"thermal solve", 97}});
+  const StageOf stages = simulation_chain_stages();
   run_with_progress(
       cb, stages,
       [&](const std::function<void(const std::string&)>& report) {

@@ -184,8 +184,8 @@ def simulate(analysis, json_path=None):
     result_path = os.path.join(os.path.dirname(json_path), "result.json")
     _write_json(result_path, data)
     analysis.ResultFile = result_path
-    summary = data["summary"]
-    summary.pop("time_error_K", None)  # per-node entries only
+    # Per-node entries only (the summary also holds time_error_K and orbit_sampling_error_K).
+    summary = {name: entry for name, entry in data["summary"].items() if isinstance(entry, dict)}
     res = _result_of(analysis, analysis.ThermalMesh, result, model, result_path)
     res.TracksAnalysis = True
     _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (result_path, res.Shown, res.ColourMinK, res.ColourMaxK))
