@@ -52,7 +52,7 @@ mode_t folder_mode(const fs::path& dir) {
 OutputFolderLock::OutputFolderLock(const fs::path& dir) : path_(beside(resolved(dir), ".lock")) {
   std::error_code ec;
   fs::create_directories(path_.parent_path(), ec);
-  // note: a lock file removed by its owner between our open and flock is a different file from
+  // note: a lock file removed by its owner between this open and the flock is a different file from
   // the one now at the path; such a lock is worthless, so open again (the classic flock race).
   for (int attempt = 0; attempt < 100; ++attempt) {
     const int fd = ::open(path_.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
