@@ -217,7 +217,10 @@ NodeTemperatures simulate_document(const DocumentModelRequest& request, const st
     out.min_K.push_back(row.minCoeff());
     out.mean_K.push_back(row.mean());
     out.max_K.push_back(row.maxCoeff());
+    const Eigen::Index m = model_node[i];
+    out.noise_K.push_back(m < r.noise_K.size() ? r.noise_K[m] : 0.0);
   }
+  out.orbit_sampling_error_K = r.orbit_sampling_error_K;
   // Where the orbit's extremes occur: the first thing a thermal engineer checks against limits.
   out.coldest = static_cast<int>(std::min_element(out.min_K.begin(), out.min_K.end()) - out.min_K.begin());
   out.hottest = static_cast<int>(std::max_element(out.max_K.begin(), out.max_K.end()) - out.max_K.begin());

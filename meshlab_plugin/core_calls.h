@@ -26,6 +26,10 @@ struct NodeTemperatures {
   std::vector<std::string> nodes;            //!< document node names
   std::vector<std::string> model_nodes;      //!< the model node each one was simulated as
   std::vector<double> min_K, mean_K, max_K;  //!< over the orbit (steady: all equal) [K]
+  //! One standard deviation of each node's temperature from Monte Carlo sampling, worst over
+  //! the orbit [K] (SimulationResult::noise_K; 0 where the core gave none).
+  std::vector<double> noise_K;
+  double orbit_sampling_error_K = 0.0;       //!< transient: estimate of the load sampling's error [K]
   bool transient = false;
   int times = 0;                             //!< number of time points
   int orbits = 0;                            //!< transient: orbits simulated

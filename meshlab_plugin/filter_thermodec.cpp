@@ -518,11 +518,12 @@ bool ThermodecFilterPlugin::simulate(MeshDocument& md, const RichParameterList& 
                   : "",
       t.rays_per_face, t.seed);
   if (!t.sampling.empty()) Log("  %s", t.sampling.c_str());
-  Log("  node: min / mean / max [K]");
+  Log("  node: min / mean / max [K], sampling noise (1 sigma) [K]");
   for (size_t n = 0; n < t.nodes.size(); ++n)
-    Log("  %s%s: %.2f / %.2f / %.2f", t.nodes[n].c_str(),
+    Log("  %s%s: %.2f / %.2f / %.2f, noise %.4f", t.nodes[n].c_str(),
         t.model_nodes[n] == t.nodes[n] ? "" : (" (as " + t.model_nodes[n] + ")").c_str(),
-        t.min_K[n], t.mean_K[n], t.max_K[n]);
+        t.min_K[n], t.mean_K[n], t.max_K[n], t.noise_K[n]);
+  if (t.transient) Log("  orbit sampling error (estimate): %.3g K", t.orbit_sampling_error_K);
 
   const std::vector<double>& node_value = face_value == 0 ? t.min_K : face_value == 2 ? t.max_K : t.mean_K;
   std::vector<double> value(dm.origin.size());

@@ -186,6 +186,13 @@ def simulate(analysis, json_path=None):
     analysis.ResultFile = result_path
     # Per-node entries only (the summary also holds time_error_K and orbit_sampling_error_K).
     summary = {name: entry for name, entry in data["summary"].items() if isinstance(entry, dict)}
+    noisiest = max(summary.items(), key=lambda kv: kv[1].get("noise_K", 0.0), default=None)
+    if noisiest is not None and "noise_K" in noisiest[1]:
+        FreeCAD.Console.PrintMessage(
+            "ThermoDec: sampling noise (1 sigma, worst over the orbit): at most %.4f K (node %s); "
+            "orbit sampling error %.3g K; per node in %s (summary.<node>.noise_K)\n"
+            % (noisiest[1]["noise_K"], noisiest[0], data["summary"].get("orbit_sampling_error_K", 0.0),
+               result_path))
     res = _result_of(analysis, analysis.ThermalMesh, result, model, result_path)
     res.TracksAnalysis = True
     _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (result_path, res.Shown, res.ColourMinK, res.ColourMaxK))
@@ -241,7 +248,7 @@ def export_for_tool(analysis, fmt, out, model_path=None):
 def node_mean_temperatures(result_path):
     """{node: mean temperature [K]} of a result.json written by simulate()."""
     with open(result_path, encoding="utf-8") as f:
-        return {name: v["mean_K"] for name, v in json.load(f)["summary"].items()}
+        return {name: v["mean_K"] for name, v in json.load(f)["summary"].items() if isinstance(v, dict)}
 
 
 def decimate(analysis, global_ratio=None, json_path=None):
