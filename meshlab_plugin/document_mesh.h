@@ -45,7 +45,7 @@ struct DocumentMesh {
 
 // --- What the plugin knows about layers -----------------------------------------------------
 // Stored as vcg per-mesh / per-face attributes of the layer's CMeshO: they live as long as the
-// layer in this MeshLab session (saved files carry node ids in face quality and names in the
+// layer since MeshLab started (saved files carry node ids in face quality and names in the
 // PLY header instead).
 
 //! Marks `layer` as made by a thermodec filter from `source` (`what`: "temperature",

@@ -20,7 +20,7 @@
 namespace thermodec_meshlab {
 namespace {
 
-// The model file last used in this MeshLab session (any layer).
+// The model file last used since MeshLab started (any layer).
 QString& session_model_file() {
   static QString path;
   return path;
@@ -51,7 +51,7 @@ ModelFileChoice found_model_file(MeshModel& layer) {
   const QString beside = model_beside(layer_file(layer));
   if (!beside.isEmpty()) return {beside, "found beside the mesh"};
   const QString last = session_model_file();
-  if (!last.isEmpty() && QFileInfo(last).isFile()) return {last, "used last in this session"};
+  if (!last.isEmpty() && QFileInfo(last).isFile()) return {last, "used last since MeshLab started"};
   return {};
 }
 

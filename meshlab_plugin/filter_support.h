@@ -28,8 +28,8 @@ struct ModelFileChoice {
 //! The parameter if set; else the model file last used with `layer` (or the layer it was made
 //! from); else a model JSON beside the layer's file whose "mesh" has the layer file's stem
 //! (sample_models/satellite/model.json names satellite.obj: found for satellite.ply); else the
-//! one last used in this MeshLab session. The choice is remembered on the layer and for the
-//! session.
+//! one last used since MeshLab started. The choice is remembered on the layer and until
+//! MeshLab quits.
 ModelFileChoice choose_model_file(const RichParameterList& params, MeshModel& layer);
 
 //! Maps a progress message to the percentage its stage starts at, or < 0 for a message that
