@@ -168,6 +168,12 @@ def _write_json(path, data):
     atomic_write_text(path, json.dumps(data, indent=1) + "\n")
 
 
+def node_summary(result_json):
+    """{node: {"min_K", "mean_K", "max_K", "noise_K"?}} of a result file's summary, without the
+    result-wide entries beside them (time_error_K, orbit_sampling_error_K)."""
+    return {name: entry for name, entry in result_json["summary"].items() if isinstance(entry, dict)}
+
+
 def simulate(analysis, json_path=None):
     """Exports the analysis, runs the core's reference simulation (thermodec.simulate_model,
     what `thermodec simulate` runs) and writes result.json beside the model. A ThermalResult
@@ -184,8 +190,7 @@ def simulate(analysis, json_path=None):
     result_path = os.path.join(os.path.dirname(json_path), "result.json")
     _write_json(result_path, data)
     analysis.ResultFile = result_path
-    # Per-node entries only (the summary also holds time_error_K and orbit_sampling_error_K).
-    summary = {name: entry for name, entry in data["summary"].items() if isinstance(entry, dict)}
+    summary = node_summary(data)
     noisiest = max(summary.items(), key=lambda kv: kv[1].get("noise_K", 0.0), default=None)
     if noisiest is not None and "noise_K" in noisiest[1]:
         FreeCAD.Console.PrintMessage(
@@ -248,7 +253,7 @@ def export_for_tool(analysis, fmt, out, model_path=None):
 def node_mean_temperatures(result_path):
     """{node: mean temperature [K]} of a result.json written by simulate()."""
     with open(result_path, encoding="utf-8") as f:
-        return {name: v["mean_K"] for name, v in json.load(f)["summary"].items() if isinstance(v, dict)}
+        return {name: v["mean_K"] for name, v in node_summary(json.load(f)).items()}
 
 
 def decimate(analysis, global_ratio=None, json_path=None):
