@@ -1,4 +1,5 @@
-// `thermodec export MODEL --format nastran|esatan|sinda|vtk|csv -o OUT`
+// `thermodec export MODEL --format FORMAT -o OUT`, FORMAT a row of exchange/export_formats.h.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 
@@ -23,24 +24,28 @@ struct ExportOptions {
   double noise_target_K = NoiseTargeting{}.target_K;  // as `simulate`
 };
 
-const char* const kFormatHelp =
-    "FORMAT:\n"
-    "  nastran  NASTRAN bulk data (.bdf): GRID* (large-field, m), CTRIA3 per face, one PSHELL per thermal\n"
-    "           node (name in a '$ thermodec node' comment), RADM alpha/eps per material. For Thermal\n"
-    "           Desktop's FE importer, ESA TASverter, Simcenter, FreeCAD FEM. No simulation needed.\n"
-    "  esatan   ESATAN-TMS network (.d): $NODES (label, T, C, A, ALP, EPS, QI), $CONDUCTORS GL [W/K] and\n"
-    "           GR [m^2], orbit loads per node as cyclic $ARRAYS tables, $EXECUTION SOLVFM (+ SLCRNC).\n"
-    "  sinda    SINDA/FLUINT input (.inp): HEADER NODE/CONDUCTOR (radiation conductors with '-' ids)/\n"
-    "           ARRAY/CONTROL/VARIABLES 1/OPERATIONS DATA, as Thermal Desktop writes them.\n"
-    "  vtk      ParaView series: OUT is a folder; one .vtu per orbit step (cells: node_id, material_id,\n"
-    "           area_m2, temperature_K, absorbed_flux_W_per_m2) and MODEL.pvd indexing them by time.\n"
-    "  csv      OUT is a prefix: OUT_temperatures.csv (K vs s), OUT_couplings.csv (GL W/K, GR m^2),\n"
-    "           OUT_loads.csv (W per node and time).\n"
-    "esatan, sinda, vtk and csv simulate MODEL first, exactly as `thermodec simulate` does (same seed,\n"
-    "rays and noise-targeted sampling). Units are SI throughout. Details: docs/exchange.md.";
+// The FORMAT section of the help, one entry per row of the core's table.
+std::string format_help() {
+  std::string text = "FORMAT:\n";
+  for (const ExportFormat& f : export_formats()) {
+    std::string name = "  " + f.name;
+    name.resize(std::max<size_t>(name.size() + 1, 11), ' ');
+    std::string indent(name.size(), ' ');
+    std::string help = f.help;
+    for (size_t at = help.find('\n'); at != std::string::npos; at = help.find('\n', at + 1 + indent.size()))
+      help.insert(at + 1, indent);
+    text += name + help + "\n";
+  }
+  std::string simulated;
+  for (const ExportFormat& f : export_formats())
+    if (f.needs_simulation) simulated += (simulated.empty() ? "" : ", ") + f.name;
+  return text + simulated +
+         " simulate MODEL first, exactly as `thermodec simulate` does (same seed, rays and\n"
+         "noise-targeted sampling). Units are SI throughout. Details: docs/exchange.md.";
+}
 
 void run_export(const ExportOptions& o) {
-  const ExchangeFormat format = exchange_format(o.format);
+  const ExportFormat& format = export_format(o.format);
   ModelLoadOptions load = model_load_options();
   load.clean_bare_mesh = !o.raw_mesh;
   ThermalModel model = load_model(o.model, load);
@@ -52,17 +57,14 @@ void run_export(const ExportOptions& o) {
   if (o.rays_per_face > 0) model.radiation.rays_per_face = o.rays_per_face;
   // The outputs are checked before the cost estimate and the simulation (export_model checks
   // them again): a kind, extension or folder that cannot take them is said at once.
-  for (const fs::path& out : export_outputs(format, o.out, fs::path(o.model).stem().string()))
-    check_output_file(out, "export: output", format == ExchangeFormat::nastran ? std::vector<std::string>{".bdf", ".nas", ".dat"}
-                                                                                : std::vector<std::string>{},
-                      {});  // an input in the way: export_model says so, before any work too
+  check_export_outputs(format, o.out, fs::path(o.model).stem().string(), settings.protected_inputs);
   const NoiseTargetingBound noise = settings.noise.target_K > 0.0 && !has_sampling_boosts(model)
                                         ? NoiseTargetingBound{settings.noise.budget, settings.noise.max_samples}
                                         : NoiseTargetingBound{};
-  if (format != ExchangeFormat::nastran)
+  if (format.needs_simulation)
     guard_simulation_cost("export", model, settings.simulation, o.quiet, {}, SimulationCostScope::simulation, noise);
   if (!o.quiet) settings.simulation.progress = [](const std::string& m) { std::cerr << "export: " << m << "\n"; };
-  const auto files = export_model(std::move(model), format, o.out, fs::path(o.model).stem().string(), settings);
+  const auto files = export_model(std::move(model), format.name, o.out, fs::path(o.model).stem().string(), settings);
   if (!o.quiet)
     for (const auto& f : files) std::cerr << "export: wrote " << f.string() << "\n";
 }
@@ -71,17 +73,17 @@ void run_export(const ExportOptions& o) {
 
 void add_export(CLI::App& app) {
   auto opts = std::make_shared<ExportOptions>();
+  std::string titles;
+  for (const ExportFormat& f : export_formats()) titles += (titles.empty() ? "" : ", ") + f.title;
   auto* sub = app.add_subcommand(
-      "export",
-      "write MODEL (a model or a reduced model) for other tools: NASTRAN bulk data, ESATAN-TMS or "
-      "SINDA/FLUINT thermal networks, ParaView VTK series, CSV tables (docs/exchange.md)");
-  sub->footer(kFormatHelp);
+      "export", "write MODEL (a model or a reduced model) for other tools: " + titles + " (docs/exchange.md)");
+  sub->footer(format_help());
   sub->add_option("MODEL", opts->model, "model.json or mesh (.obj .ply .stl .bdf)")->required();
-  sub->add_option("-f,--format", opts->format, "nastran, esatan, sinda, vtk or csv (see below)")
+  sub->add_option("-f,--format", opts->format, export_format_choices() + " (see below)")
       ->required()
-      ->check(CLI::IsMember({"nastran", "esatan", "sinda", "vtk", "csv"}));
-  sub->add_option("-o,--output", opts->out, "output file (vtk: folder; csv: file prefix)")->required();
-  sub->add_option("--rays", opts->rays_per_face, "IR view-factor rays per face side (default: the model's)")
+      ->check(CLI::IsMember(export_format_names()));
+  sub->add_option("-o,--output", opts->out, "output: a file, a folder or a file prefix, as the format says (below)")->required();
+  sub->add_option("--rays,--rays-per-face", opts->rays_per_face, "IR view-factor rays per face side (default: the model's)")
       ->check(CLI::PositiveNumber);
   sub->add_option("--noise-target", opts->noise_target_K,
                   "noise-targeted sampling as in `simulate` [K] (0 = off)")
