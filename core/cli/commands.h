@@ -34,7 +34,8 @@ void not_implemented(CLI::App* sub, const std::string& what);
 
 int exit_code();
 
-//! The model's environment and analysis as {"environment": {...}, "analysis": {...}}.
+//! The model's environment and analysis as {"environment": {...}, "analysis": {...}}, with the
+//! model file's own keys (nodes/model_sections.h): they paste back into a model file.
 nlohmann::ordered_json environment_analysis_json(const thermodec::ThermalModel& model);
 //! The same as two aligned lines for text output.
 std::string environment_analysis_text(const thermodec::ThermalModel& model);

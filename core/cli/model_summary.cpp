@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
+#include "thermodec/nodes/model_sections.h"
 
 namespace thermodec::cli {
 namespace {
@@ -16,24 +17,7 @@ const char* attitude_name(Attitude a) {
 }  // namespace
 
 nlohmann::ordered_json environment_analysis_json(const ThermalModel& model) {
-  const Environment& e = model.environment;
-  nlohmann::ordered_json env;
-  if (e.type == EnvironmentType::fixed_sun) {
-    env = {{"type", "fixed_sun"},
-           {"sun_direction", {e.sun_direction.x(), e.sun_direction.y(), e.sun_direction.z()}},
-           {"solar_flux_W_per_m2", e.solar_flux_W_per_m2}};
-  } else {
-    env = {{"type", "orbit"},           {"altitude_km", e.altitude_km}, {"inclination_deg", e.inclination_deg},
-           {"raan_deg", e.raan_deg},    {"day_of_year", e.day_of_year}, {"attitude", attitude_name(e.attitude)},
-           {"albedo", e.albedo},        {"earth_ir_flux_W_per_m2", e.earth_ir_flux_W_per_m2}};
-  }
-  nlohmann::ordered_json analysis;
-  if (model.analysis.type == AnalysisType::steady)
-    analysis = {{"type", "steady"}};
-  else
-    analysis = {{"type", "transient_orbit"}, {"steps_per_orbit", model.analysis.steps_per_orbit},
-                {"orbits", model.analysis.orbits}};
-  return {{"environment", env}, {"analysis", analysis}};
+  return {{"environment", environment_json(model.environment)}, {"analysis", analysis_json(model.analysis)}};
 }
 
 std::string environment_analysis_text(const ThermalModel& model) {

@@ -6,23 +6,11 @@
 #include "thermodec/common/atomic_write.h"
 #include "thermodec/mesh/io.h"
 #include "thermodec/nodes/load_model.h"
+#include "thermodec/nodes/model_sections.h"
 
 namespace thermodec {
 namespace fs = std::filesystem;
 using namespace model_json;
-namespace {
-
-const char* attitude_name(Attitude a) {
-  switch (a) {
-    case Attitude::nadir: return "nadir";
-    case Attitude::sun: return "sun";
-    case Attitude::inertial: return "inertial";
-  }
-  return "nadir";
-}
-
-}  // namespace
-
 void save_model(const ThermalModel& model, const fs::path& json_path, const fs::path& mesh_path) {
   const std::string ext = lower_extension(mesh_path);
   if (ext != ".obj" && ext != ".ply")
@@ -83,21 +71,8 @@ void save_model(const ThermalModel& model, const fs::path& json_path, const fs::
   for (const auto& c : model.conductances)
     links.push_back({{"from", model.nodes.at(c.from).name}, {"to", model.nodes.at(c.to).name}, {"value", c.conductance_W_per_K}});
   j["conductances"] = links;
-  const Environment& e = model.environment;
-  if (e.type == EnvironmentType::fixed_sun)
-    j["environment"] = {{"type", "fixed_sun"},
-                        {"sun_direction", {e.sun_direction.x(), e.sun_direction.y(), e.sun_direction.z()}},
-                        {"solar_flux", e.solar_flux_W_per_m2}};
-  else
-    j["environment"] = {{"type", "orbit"},          {"altitude_km", e.altitude_km}, {"inclination_deg", e.inclination_deg},
-                        {"raan_deg", e.raan_deg},   {"day_of_year", e.day_of_year}, {"attitude", attitude_name(e.attitude)},
-                        {"albedo", e.albedo},       {"earth_ir_flux", e.earth_ir_flux_W_per_m2}};
-  if (model.analysis.type == AnalysisType::steady)
-    j["analysis"] = {{"type", "steady"}};
-  else {
-    j["analysis"] = {{"type", "transient_orbit"}, {"steps_per_orbit", model.analysis.steps_per_orbit}, {"orbits", model.analysis.orbits}};
-    if (model.analysis.time_tolerance_K != Analysis{}.time_tolerance_K) j["analysis"]["time_tolerance_K"] = model.analysis.time_tolerance_K;
-  }
+  j["environment"] = environment_json(model.environment);
+  j["analysis"] = analysis_json(model.analysis);
   j["radiation"] = {{"rays_per_face", model.radiation.rays_per_face},
                     {"min_rays_per_node", model.radiation.min_rays_per_node},
                     {"seed", model.radiation.seed}};

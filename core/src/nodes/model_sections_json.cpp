@@ -1,0 +1,36 @@
+// The model file's environment and analysis sections, written with the keys model_sections.cpp
+// reads: one place for the spelling, so that every JSON showing them pastes back into a model.
+#include "thermodec/nodes/model_sections.h"
+
+namespace thermodec {
+namespace {
+
+const char* attitude_name(Attitude a) {
+  switch (a) {
+    case Attitude::nadir: return "nadir";
+    case Attitude::sun: return "sun";
+    case Attitude::inertial: return "inertial";
+  }
+  return "nadir";
+}
+
+}  // namespace
+
+nlohmann::ordered_json environment_json(const Environment& e) {
+  if (e.type == EnvironmentType::fixed_sun)
+    return {{"type", "fixed_sun"},
+            {"sun_direction", {e.sun_direction.x(), e.sun_direction.y(), e.sun_direction.z()}},
+            {"solar_flux", e.solar_flux_W_per_m2}};
+  return {{"type", "orbit"},        {"altitude_km", e.altitude_km}, {"inclination_deg", e.inclination_deg},
+          {"raan_deg", e.raan_deg}, {"day_of_year", e.day_of_year}, {"attitude", attitude_name(e.attitude)},
+          {"albedo", e.albedo},     {"earth_ir_flux", e.earth_ir_flux_W_per_m2}};
+}
+
+nlohmann::ordered_json analysis_json(const Analysis& a) {
+  if (a.type == AnalysisType::steady) return {{"type", "steady"}};
+  nlohmann::ordered_json j = {{"type", "transient_orbit"}, {"steps_per_orbit", a.steps_per_orbit}, {"orbits", a.orbits}};
+  if (a.time_tolerance_K != Analysis{}.time_tolerance_K) j["time_tolerance_K"] = a.time_tolerance_K;
+  return j;
+}
+
+}  // namespace thermodec
