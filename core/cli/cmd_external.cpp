@@ -74,7 +74,8 @@ void add_external(CLI::App& app) {
       "OUT is a mesh (.obj .ply .stl) or a model .json (mesh written beside it as .obj)");
   sub->add_option("MODEL", opts->model, "model.json or mesh (.obj .ply .stl)")->required();
   sub->add_option("-o,--output", opts->out, "output mesh or model.json")->required();
-  sub->add_option("--rays", opts->rays, "max rays per face side (default 256)")->check(CLI::PositiveNumber);
+  sub->add_option("--rays,--rays-per-face", opts->rays, "visibility rays per face side, at most (default 256)")
+      ->check(CLI::PositiveNumber);
   sub->add_option("--seed", opts->seed, "random seed (default 1)")->check(CLI::NonNegativeNumber);
   sub->add_flag("--both-sides", opts->both_sides, "also test the back of one-sided faces (unreliable orientation)");
   sub->callback([opts] { run_guarded([&] { run(*opts); }); });

@@ -184,8 +184,8 @@ void add_reduce(CLI::App& app) {
                   "for models over 2000 faces, where such a trial is about a whole simulation)")
       ->delimiter(',')
       ->check(CLI::PositiveNumber);
-  sub->add_option("-o,--out", o->out_dir, "output folder (model.json, reduced.obj, report.json, plots)")->required();
-  sub->add_option("--rays-per-face", o->rays_per_face, "override the model's radiation.rays_per_face");
+  sub->add_option("-o,--output,--out", o->out_dir, "output folder (model.json, reduced.obj, report.json, plots)")->required();
+  sub->add_option("--rays,--rays-per-face", o->rays_per_face, "IR view-factor rays per face side (default: the model's)");
   sub->add_option("--sensitivity-cap", o->cap_factor,
                   "a node's sweep stops once max |dT| exceeds this multiple of the tolerance")
       ->capture_default_str()

@@ -18,6 +18,7 @@ struct RepairArgs {
   std::string model;
   std::string output;
   RepairOptions options;
+  bool old_tolerance_option = false;  // --tolerance, the deprecated name of --weld-fraction
 };
 
 bool same_file(const fs::path& a, const fs::path& b) {
@@ -51,6 +52,9 @@ void write_model_or_mesh(const ThermalModel& model, const fs::path& out, const f
 }
 
 void run_repair(const RepairArgs& args) {
+  if (args.old_tolerance_option)
+    std::cerr << "repair: warning: --tolerance is deprecated, use --weld-fraction (a fraction of the bounding-box "
+                 "diagonal; --tolerance means kelvin in reduce and compare)\n";
   MeshReadOptions read;
   read.drop_degenerate_faces = false;  // repair drops them and says so
   ThermalModel model = load_model(args.model, model_load_options(read, false));
@@ -76,10 +80,22 @@ void add_repair(CLI::App& app) {
       "OUT.obj/.ply writes the mesh and OUT.json; OUT.stl writes geometry only.");
   sub->add_option("MODEL", args->model, "model file (.json) or mesh (.obj .ply .stl)")->required();
   sub->add_option("-o,--output", args->output, "output model (.json) or mesh (.obj .ply .stl)")->required();
-  sub->add_option("--tolerance", args->options.relative_tolerance,
-                  "weld / T-junction distance as a fraction of the bounding-box diagonal")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+  auto* weld = sub->add_option("--weld-fraction", args->options.relative_tolerance,
+                               "weld / T-junction distance as a fraction of the bounding-box diagonal")
+                   ->capture_default_str()
+                   ->check(CLI::NonNegativeNumber);
+  // The old name, kept so that scripts run on with a warning: elsewhere --tolerance is kelvin
+  // (reduce, compare) and --weld-tolerance a length (info, convert). Hidden from the help.
+  sub->add_option_function<double>(
+         "--tolerance",
+         [args](double f) {
+           args->options.relative_tolerance = f;
+           args->old_tolerance_option = true;
+         },
+         "deprecated: --weld-fraction")
+      ->check(CLI::NonNegativeNumber)
+      ->excludes(weld)
+      ->group("");
   sub->add_flag("!--no-orient", args->options.orient, "keep face orientations as they are");
   sub->add_flag("!--no-conform", args->options.conform_t_junctions, "do not split T-junctions");
   sub->callback([args] { run_guarded([&] { run_repair(*args); }); });

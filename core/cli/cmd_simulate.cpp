@@ -185,7 +185,7 @@ void add_simulate(CLI::App& app) {
                   "noise-targeted sampling: at most this many extra IR rays, and extra sun/Earth samples, in all")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1e15));
-  sub->add_option("--rays", opts->rays_per_face, "IR view-factor rays per face side (default: the model's)")
+  sub->add_option("--rays,--rays-per-face", opts->rays_per_face, "IR view-factor rays per face side (default: the model's)")
       ->check(CLI::PositiveNumber);
   sub->add_option_function<int>(
          "--sun-rays", [opts](int n) { opts->loads.sun_rays_per_face = n; opts->sun_rays_set = true; },

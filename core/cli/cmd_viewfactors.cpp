@@ -120,7 +120,7 @@ void add_viewfactors(CLI::App& app) {
       "(Monte Carlo ray tracing, Gebhart factors) with their standard errors");
   sub->add_option("MODEL", opts->model, "model.json or mesh (.obj .ply .stl)")->required();
   sub->add_option("--json", opts->json, "output JSON file")->required();
-  sub->add_option("--rays", opts->rays, "rays per face side (default: the model's radiation.rays_per_face)")
+  sub->add_option("--rays,--rays-per-face", opts->rays, "IR view-factor rays per face side (default: the model's)")
       ->check(CLI::PositiveNumber);
   sub->add_option("--seed", opts->seed, "random seed (default: the model's radiation.seed)")->check(CLI::NonNegativeNumber);
   sub->add_flag("--two-sided", opts->two_sided,
