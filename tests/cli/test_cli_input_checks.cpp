@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string>
 
-#include "cli_run.h"
+#include "common/cli_run.h"
 
 namespace fs = std::filesystem;
 

@@ -16,7 +16,7 @@
 #include <thread>
 #include <vector>
 
-#include "cli_run.h"
+#include "common/cli_run.h"
 
 namespace fs = std::filesystem;
 

@@ -1,5 +1,6 @@
 #pragma once
-// Running the thermodec CLI from a test: exit code, stdout and stderr, in a fresh folder per test.
+// Running the thermodec CLI from a test (every stage's CLI tests share these): exit code, stdout
+// and stderr, in a fresh folder per test.
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -43,6 +44,22 @@ inline CliRun run_cli(const std::string& args, const fs::path& dir, const std::s
                           (dir / "stderr").string() + "'";
   const int status = std::system(cmd.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_text(dir / "stdout"), read_text(dir / "stderr")};
+}
+
+// Runs `thermodec ARGS` with stdout and stderr together in the file `log`; returns the exit code.
+inline int run_cli_logged(const std::string& args, const fs::path& log) {
+  const std::string cmd = "'" + std::string(THERMODEC_CLI) + "' " + args + " >'" + log.string() + "' 2>&1";
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// As run_cli_logged, with the log (stdout and stderr together) in `output`; the log file is a
+// scratch file of this process.
+inline int run_cli_text(const std::string& args, std::string& output) {
+  const fs::path log = thermodec::test::scratch_dir("thermodec_test_cli_log", "run") / "log.txt";
+  const int code = run_cli_logged(args, log);
+  output = read_text(log);
+  return code;
 }
 
 inline std::string q(const fs::path& p) { return "'" + p.string() + "'"; }

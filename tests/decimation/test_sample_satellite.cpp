@@ -14,6 +14,7 @@
 
 #include <Eigen/Geometry>
 
+#include "common/cli_run.h"
 #include "common/scratch_dir.h"
 #include "thermodec/decimation/decimate_nodes.h"
 #include "thermodec/mesh/io.h"
@@ -91,17 +92,7 @@ void check_half_reduction(const fs::path& model_path) {
   EXPECT_TRUE(again.mesh.V == r.mesh.V && again.mesh.F == r.mesh.F && again.coarse_face_of_fine == r.coarse_face_of_fine);
 }
 
-int run_cli(const std::string& args, std::string& out) {
-  // note: one log per process: CTest runs this binary's tests as concurrent processes.
-  const fs::path log = thermodec::test::scratch_dir("thermodec_test_decimation", "cli") / "log.txt";
-  const std::string cmd = std::string("\"") + THERMODEC_CLI + "\" " + args + " > \"" + log.string() + "\" 2>&1";
-  const int status = std::system(cmd.c_str());
-  std::ifstream in(log);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  out = ss.str();
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+using thermodec::test::run_cli_text;
 
 }  // namespace
 
@@ -193,7 +184,7 @@ TEST(DecimateCli, writes_a_model_that_loads_and_reports_every_node) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::string out;
-  ASSERT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --ratio 0.5 -o \"" + (dir / "half.json").string() + "\"", out), 0) << out;
+  ASSERT_EQ(run_cli_text("decimate \"" + sample("model.json").string() + "\" --ratio 0.5 -o \"" + (dir / "half.json").string() + "\"", out), 0) << out;
   EXPECT_NE(out.find("body_px"), std::string::npos) << out;
   const ThermalModel half = load_model(dir / "half.json");
   const ThermalModel full = load_model(sample("model.json"));
@@ -201,29 +192,29 @@ TEST(DecimateCli, writes_a_model_that_loads_and_reports_every_node) {
   EXPECT_NEAR(half.mesh.num_faces(), full.mesh.num_faces() / 2, full.mesh.num_faces() / 100 + 1);
   // Per-node ratios from JSON: only the boom is reduced.
   std::ofstream(dir / "ratios.json") << "{\"boom\": 0.5}";
-  ASSERT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --node-ratios \"" + (dir / "ratios.json").string() +
+  ASSERT_EQ(run_cli_text("decimate \"" + sample("model.json").string() + "\" --node-ratios \"" + (dir / "ratios.json").string() +
                         "\" -o \"" + (dir / "boom.obj").string() + "\"", out), 0) << out;
   EXPECT_TRUE(fs::exists(dir / "boom.json"));
   // Whole cross-sections of thin tubes on request: same contract (the sample has few thin tubes).
-  ASSERT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --ratio 0.5 --tube-sections -o \"" +
+  ASSERT_EQ(run_cli_text("decimate \"" + sample("model.json").string() + "\" --ratio 0.5 --tube-sections -o \"" +
                         (dir / "sections.json").string() + "\"", out), 0) << out;
   EXPECT_EQ(load_model(dir / "sections.json").nodes.size(), full.nodes.size());
   // The radiative ranking, and the reason a node stops short of its target (the instrument's
   // corners are frozen: measured "no: frozen_vertices" at 0.6).
-  ASSERT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --ratio 0.6 --collapse-cost radiative -o \"" +
+  ASSERT_EQ(run_cli_text("decimate \"" + sample("model.json").string() + "\" --ratio 0.6 --collapse-cost radiative -o \"" +
                         (dir / "radiative.json").string() + "\"", out), 0) << out;
   EXPECT_NE(out.find("no: frozen_vertices"), std::string::npos) << out;
-  EXPECT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --ratio 0.6 --collapse-cost quadric -o \"" +
+  EXPECT_EQ(run_cli_text("decimate \"" + sample("model.json").string() + "\" --ratio 0.6 --collapse-cost quadric -o \"" +
                         (dir / "q.json").string() + "\"", out), 1) << out;
   // Errors exit 1 with a message: unknown node, missing ratio, overwriting the input.
   std::ofstream(dir / "bad.json") << "{\"no_such_node\": 0.5}";
-  EXPECT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" --node-ratios \"" + (dir / "bad.json").string() +
+  EXPECT_EQ(run_cli_text("decimate \"" + sample("model.json").string() + "\" --node-ratios \"" + (dir / "bad.json").string() +
                         "\" -o \"" + (dir / "x.json").string() + "\"", out), 1);
   EXPECT_NE(out.find("no_such_node"), std::string::npos) << out;
-  EXPECT_EQ(run_cli("decimate \"" + sample("model.json").string() + "\" -o \"" + (dir / "x.json").string() + "\"", out), 1);
+  EXPECT_EQ(run_cli_text("decimate \"" + sample("model.json").string() + "\" -o \"" + (dir / "x.json").string() + "\"", out), 1);
   const fs::path copy = dir / "copy.obj";
   fs::copy_file(sample("satellite.obj"), copy);
-  EXPECT_EQ(run_cli("decimate \"" + copy.string() + "\" --ratio 0.5 -o \"" + copy.string() + "\"", out), 1);
+  EXPECT_EQ(run_cli_text("decimate \"" + copy.string() + "\" --ratio 0.5 -o \"" + copy.string() + "\"", out), 1);
 }
 
 TEST(RepairCli, prints_what_it_changed_and_writes_a_loadable_model) {
@@ -234,7 +225,7 @@ TEST(RepairCli, prints_what_it_changed_and_writes_a_loadable_model) {
   std::ofstream(dir / "t.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1 0.5 0\nv 2 0 0\nv 2 1 0\n"
                                   "g left\nf 1 2 3\nf 1 3 4\ng right\nf 2 6 5\nf 5 6 7\nf 5 7 3\n";
   std::string out;
-  ASSERT_EQ(run_cli("repair \"" + (dir / "t.obj").string() + "\" -o \"" + (dir / "fixed.json").string() + "\"", out), 0) << out;
+  ASSERT_EQ(run_cli_text("repair \"" + (dir / "t.obj").string() + "\" -o \"" + (dir / "fixed.json").string() + "\"", out), 0) << out;
   EXPECT_NE(out.find("T-junction edge bisections: 1"), std::string::npos) << out;
   const ThermalModel fixed = load_model(dir / "fixed.json");
   EXPECT_EQ(fixed.mesh.num_faces(), 6);

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 
+#include "common/cli_run.h"
 #include "common/scratch_dir.h"
 #include "network_readers.h"
 #include "thermodec/common/errors.h"
@@ -79,20 +80,9 @@ double max_abs_difference(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return (a - b).cwiseAbs().maxCoeff();
 }
 
-struct CliRun {
-  int exit_code;
-  std::string out, err;
-};
-
-CliRun run_cli(const std::string& args, const fs::path& dir) {
-  const std::string cmd = std::string("'") + THERMODEC_CLI + "' " + args + " >'" + (dir / "stdout").string() + "' 2>'" +
-                          (dir / "stderr").string() + "'";
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, exchange_test::slurp((dir / "stdout").string()),
-          exchange_test::slurp((dir / "stderr").string())};
-}
-
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+using thermodec::test::CliRun;
+using thermodec::test::q;
+using thermodec::test::run_cli;
 
 // `thermodec info` lines that describe the geometry and the nodes (faces, areas), not the paths.
 std::string info_geometry(const std::string& out) {

@@ -10,30 +10,15 @@
 #include <sys/wait.h>
 
 #include "analytic.h"
+#include "common/cli_run.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("thermodec_radiation_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-int run(const std::string& args, const fs::path& log) {
-  const std::string cmd = std::string(THERMODEC_CLI) + " " + args + " > " + log.string() + " 2>&1";
-  const int rc = std::system(cmd.c_str());
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
-
-std::string read(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using thermodec::test::read_text;
+using thermodec::test::run_cli_logged;
+using thermodec::test::temp_dir;
 
 // Two 1 x 1 m plates 1 m apart facing each other, as OBJ groups, 2 x 2 quads each.
 void write_two_plates(const fs::path& path) {
@@ -57,9 +42,9 @@ void write_two_plates(const fs::path& path) {
 TEST(ViewFactorsCli, plain_obj_of_two_plates_gives_the_catalog_factor_and_all_keys) {
   const fs::path dir = temp_dir("cli_vf");
   write_two_plates(dir / "plates.obj");
-  ASSERT_EQ(run("viewfactors " + (dir / "plates.obj").string() + " --json " + (dir / "vf.json").string(), dir / "log"), 0)
-      << read(dir / "log");
-  const auto j = nlohmann::json::parse(read(dir / "vf.json"));
+  ASSERT_EQ(run_cli_logged("viewfactors " + (dir / "plates.obj").string() + " --json " + (dir / "vf.json").string(), dir / "log"), 0)
+      << read_text(dir / "log");
+  const auto j = nlohmann::json::parse(read_text(dir / "vf.json"));
   for (const char* key : {"nodes", "area_m2", "view_factors", "to_space", "radiative_couplings_m2", "to_space_couplings_m2",
                           "standard_error"})
     EXPECT_TRUE(j.contains(key)) << key;
@@ -77,36 +62,36 @@ TEST(ViewFactorsCli, plain_obj_of_two_plates_gives_the_catalog_factor_and_all_ke
 
 TEST(ViewFactorsCli, missing_model_exits_1_with_a_message) {
   const fs::path dir = temp_dir("cli_missing");
-  EXPECT_EQ(run("viewfactors " + (dir / "nope.obj").string() + " --json " + (dir / "vf.json").string(), dir / "log"), 1);
-  EXPECT_NE(read(dir / "log").find("nope.obj"), std::string::npos) << read(dir / "log");
+  EXPECT_EQ(run_cli_logged("viewfactors " + (dir / "nope.obj").string() + " --json " + (dir / "vf.json").string(), dir / "log"), 1);
+  EXPECT_NE(read_text(dir / "log").find("nope.obj"), std::string::npos) << read_text(dir / "log");
   EXPECT_FALSE(fs::exists(dir / "vf.json"));
 }
 
 TEST(ExternalCli, writes_the_external_mesh_and_refuses_to_overwrite_its_input) {
   const fs::path dir = temp_dir("cli_ext");
   write_two_plates(dir / "plates.obj");
-  ASSERT_EQ(run("external " + (dir / "plates.obj").string() + " -o " + (dir / "ext.obj").string(), dir / "log"), 0)
-      << read(dir / "log");
+  ASSERT_EQ(run_cli_logged("external " + (dir / "plates.obj").string() + " -o " + (dir / "ext.obj").string(), dir / "log"), 0)
+      << read_text(dir / "log");
   EXPECT_TRUE(fs::exists(dir / "ext.obj"));
-  EXPECT_NE(read(dir / "log").find("plate0"), std::string::npos);
-  EXPECT_EQ(run("external " + (dir / "plates.obj").string() + " -o " + (dir / "plates.obj").string(), dir / "log2"), 1);
+  EXPECT_NE(read_text(dir / "log").find("plate0"), std::string::npos);
+  EXPECT_EQ(run_cli_logged("external " + (dir / "plates.obj").string() + " -o " + (dir / "plates.obj").string(), dir / "log2"), 1);
   // A model output (.json + .obj beside it) is a valid MODEL for the next step.
-  ASSERT_EQ(run("external " + (dir / "plates.obj").string() + " -o " + (dir / "ext" / "model.json").string(), dir / "log3"), 0)
-      << read(dir / "log3");
+  ASSERT_EQ(run_cli_logged("external " + (dir / "plates.obj").string() + " -o " + (dir / "ext" / "model.json").string(), dir / "log3"), 0)
+      << read_text(dir / "log3");
   EXPECT_TRUE(fs::exists(dir / "ext" / "model.obj"));
-  EXPECT_EQ(run("viewfactors " + (dir / "ext" / "model.json").string() + " --rays 200 --json " + (dir / "vf.json").string(),
-                dir / "log4"), 0) << read(dir / "log4");
+  EXPECT_EQ(run_cli_logged("viewfactors " + (dir / "ext" / "model.json").string() + " --rays 200 --json " + (dir / "vf.json").string(),
+                dir / "log4"), 0) << read_text(dir / "log4");
 }
 
 TEST(SharedModelsRadiation, nasa_models_run_through_viewfactors_and_external) {
   const fs::path nasa = fs::path(THERMODEC_SHARED_DIR) / "models" / "nasa";
   if (!fs::exists(nasa / "NPP_16.stl")) GTEST_SKIP() << "no " << nasa;
   const fs::path dir = temp_dir("cli_nasa");
-  ASSERT_EQ(run("viewfactors " + (nasa / "NPP_16.stl").string() + " --rays 64 --json " + (dir / "vf.json").string(),
-                dir / "log"), 0) << read(dir / "log");
-  const auto j = nlohmann::json::parse(read(dir / "vf.json"));
+  ASSERT_EQ(run_cli_logged("viewfactors " + (nasa / "NPP_16.stl").string() + " --rays 64 --json " + (dir / "vf.json").string(),
+                dir / "log"), 0) << read_text(dir / "log");
+  const auto j = nlohmann::json::parse(read_text(dir / "vf.json"));
   EXPECT_GE(j["nodes"].size(), 1u);
-  ASSERT_EQ(run("external " + (nasa / "NPP_16.stl").string() + " -o " + (dir / "ext.stl").string(), dir / "log2"), 0)
-      << read(dir / "log2");
+  ASSERT_EQ(run_cli_logged("external " + (nasa / "NPP_16.stl").string() + " -o " + (dir / "ext.stl").string(), dir / "log2"), 0)
+      << read_text(dir / "log2");
   EXPECT_TRUE(fs::exists(dir / "ext.stl"));
 }

@@ -7,36 +7,26 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "common/cli_run.h"
+
 namespace fs = std::filesystem;
 
 namespace {
-fs::path temp_dir(const char* name) {
-  fs::path d = fs::temp_directory_path() / ("thermodec_thermal_" + std::string(name));
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-int run(const std::string& args, const fs::path& out) {
-  const std::string cmd = std::string(THERMODEC_CLI) + " " + args + " > " + out.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using thermodec::test::read_text;
+using thermodec::test::run_cli_logged;
+using thermodec::test::temp_dir;
 const fs::path kSatellite = fs::path(THERMODEC_SOURCE_DIR) / "sample_models/satellite/model.json";
 }  // namespace
 
 TEST(SimulateCli, sample_satellite_orbit_writes_result_json_plot_and_compares_to_itself) {
   const fs::path d = temp_dir("cli");
-  ASSERT_EQ(run("simulate " + kSatellite.string() + " --json " + (d / "a.json").string() + " --plot " +
+  ASSERT_EQ(run_cli_logged("simulate " + kSatellite.string() + " --json " + (d / "a.json").string() + " --plot " +
                     (d / "a.png").string(),
                 d / "log.txt"),
             0)
-      << slurp(d / "log.txt");
-  EXPECT_NE(slurp(d / "log.txt").find("orbit 1"), std::string::npos);  // progress on stderr
-  const nlohmann::json j = nlohmann::json::parse(slurp(d / "a.json"));
+      << read_text(d / "log.txt");
+  EXPECT_NE(read_text(d / "log.txt").find("orbit 1"), std::string::npos);  // progress on stderr
+  const nlohmann::json j = nlohmann::json::parse(read_text(d / "a.json"));
   const auto nodes = j.at("nodes").get<std::vector<std::string>>();
   ASSERT_EQ(nodes.size(), 13u);
   const auto times = j.at("times_s").get<std::vector<double>>();
@@ -56,10 +46,10 @@ TEST(SimulateCli, sample_satellite_orbit_writes_result_json_plot_and_compares_to
   EXPECT_GT(fs::file_size(d / "a.png"), 10000u);
 
   // Same seed: bit-identical temperatures, compare says 0.
-  ASSERT_EQ(run("simulate -q " + kSatellite.string() + " --json " + (d / "b.json").string(), d / "log2.txt"), 0);
-  EXPECT_EQ(nlohmann::json::parse(slurp(d / "b.json")).at("temperatures_K"), j.at("temperatures_K"));
-  ASSERT_EQ(run("compare " + (d / "a.json").string() + " " + (d / "b.json").string(), d / "cmp.txt"), 0);
-  EXPECT_NE(slurp(d / "cmp.txt").find("max |dT| = 0 K"), std::string::npos) << slurp(d / "cmp.txt");
+  ASSERT_EQ(run_cli_logged("simulate -q " + kSatellite.string() + " --json " + (d / "b.json").string(), d / "log2.txt"), 0);
+  EXPECT_EQ(nlohmann::json::parse(read_text(d / "b.json")).at("temperatures_K"), j.at("temperatures_K"));
+  ASSERT_EQ(run_cli_logged("compare " + (d / "a.json").string() + " " + (d / "b.json").string(), d / "cmp.txt"), 0);
+  EXPECT_NE(read_text(d / "cmp.txt").find("max |dT| = 0 K"), std::string::npos) << read_text(d / "cmp.txt");
 }
 
 TEST(CompareCli, reports_node_and_time_of_the_largest_difference_and_rejects_mismatched_nodes) {
@@ -71,39 +61,39 @@ TEST(CompareCli, reports_node_and_time_of_the_largest_difference_and_rejects_mis
   b["temperatures_K"]["y"] = {250.0, 249.75, 250.1};
   std::ofstream(d / "a.json") << a.dump();
   std::ofstream(d / "b.json") << b.dump();
-  ASSERT_EQ(run("compare --json " + (d / "a.json").string() + " " + (d / "b.json").string(), d / "out.txt"), 0);
-  const nlohmann::json r = nlohmann::json::parse(slurp(d / "out.txt"));
+  ASSERT_EQ(run_cli_logged("compare --json " + (d / "a.json").string() + " " + (d / "b.json").string(), d / "out.txt"), 0);
+  const nlohmann::json r = nlohmann::json::parse(read_text(d / "out.txt"));
   EXPECT_NEAR(r.at("max_abs_dT_K").get<double>(), 0.25, 1e-12);
   EXPECT_EQ(r.at("node"), "y");
   EXPECT_EQ(r.at("time_s").get<double>(), 60.0);
   b["nodes"] = {"x", "z"};
   b["temperatures_K"]["z"] = b["temperatures_K"]["y"];
   std::ofstream(d / "c.json") << b.dump();
-  EXPECT_EQ(run("compare " + (d / "a.json").string() + " " + (d / "c.json").string(), d / "err.txt"), 1);
-  EXPECT_NE(slurp(d / "err.txt").find("'z'"), std::string::npos) << slurp(d / "err.txt");
-  EXPECT_EQ(run("compare " + (d / "a.json").string() + " " + (d / "missing.json").string(), d / "err2.txt"), 1);
+  EXPECT_EQ(run_cli_logged("compare " + (d / "a.json").string() + " " + (d / "c.json").string(), d / "err.txt"), 1);
+  EXPECT_NE(read_text(d / "err.txt").find("'z'"), std::string::npos) << read_text(d / "err.txt");
+  EXPECT_EQ(run_cli_logged("compare " + (d / "a.json").string() + " " + (d / "missing.json").string(), d / "err2.txt"), 1);
 }
 
 TEST(SimulateCli, refuses_to_overwrite_its_input) {
   const fs::path d = temp_dir("overwrite");
   fs::copy_file(kSatellite, d / "model.json");
   fs::copy_file(kSatellite.parent_path() / "satellite.obj", d / "satellite.obj");
-  EXPECT_EQ(run("simulate -q " + (d / "model.json").string() + " --json " + (d / "model.json").string(), d / "log.txt"), 1);
-  EXPECT_EQ(slurp(d / "model.json"), slurp(kSatellite));
+  EXPECT_EQ(run_cli_logged("simulate -q " + (d / "model.json").string() + " --json " + (d / "model.json").string(), d / "log.txt"), 1);
+  EXPECT_EQ(read_text(d / "model.json"), read_text(kSatellite));
 }
 
 TEST(SimulateCli, noise_floor_reports_max_difference_between_seeds_and_run_time) {
   const fs::path d = temp_dir("noise");
-  ASSERT_EQ(run("simulate -q " + kSatellite.string() + " --noise-floor --noise-runs 3 --rays 500 --earth-rays 512 --noise-budget 2 "
+  ASSERT_EQ(run_cli_logged("simulate -q " + kSatellite.string() + " --noise-floor --noise-runs 3 --rays 500 --earth-rays 512 --noise-budget 2 "
                 "--json " + (d / "n.json").string(),
                 d / "out.txt"),
             0)
-      << slurp(d / "out.txt");
-  const std::string out = slurp(d / "out.txt");
+      << read_text(d / "out.txt");
+  const std::string out = read_text(d / "out.txt");
   EXPECT_NE(out.find("noise floor over 3 seeds (1..3), all 3 pairs: max |dT| = "), std::string::npos) << out;
   EXPECT_NE(out.find("median pair "), std::string::npos) << out;
   EXPECT_NE(out.find("run time: "), std::string::npos) << out;
-  const nlohmann::json j = nlohmann::json::parse(slurp(d / "n.json"));
+  const nlohmann::json j = nlohmann::json::parse(read_text(d / "n.json"));
   const double dT = j.at("noise_floor").at("max_abs_dT_K").get<double>();
   EXPECT_GT(dT, 0.0);   // different seeds do differ...
   EXPECT_LT(dT, 0.5);   // ...by Monte Carlo noise only (500 rays per face)
@@ -131,16 +121,16 @@ TEST(CompareCli, marks_differences_within_two_sigma_of_the_results_noise) {
   b["temperatures_K"]["y"] = {250.25, 250.0};
   std::ofstream(d / "a.json") << a.dump();
   std::ofstream(d / "b.json") << b.dump();
-  ASSERT_EQ(run("compare --json " + (d / "a.json").string() + " " + (d / "b.json").string(), d / "out.txt"), 0);
-  const nlohmann::json r = nlohmann::json::parse(slurp(d / "out.txt"));
+  ASSERT_EQ(run_cli_logged("compare --json " + (d / "a.json").string() + " " + (d / "b.json").string(), d / "out.txt"), 0);
+  const nlohmann::json r = nlohmann::json::parse(read_text(d / "out.txt"));
   EXPECT_NEAR(r.at("nodes").at(0).at("noise_K").get<double>(), std::sqrt(2.0) * 0.004, 1e-12);
   EXPECT_TRUE(r.at("nodes").at(0).at("within_2_sigma_noise").get<bool>());
   EXPECT_FALSE(r.at("nodes").at(1).at("within_2_sigma_noise").get<bool>());
-  ASSERT_EQ(run("compare " + (d / "a.json").string() + " " + (d / "b.json").string(), d / "table.txt"), 0);
-  const std::string table = slurp(d / "table.txt");
+  ASSERT_EQ(run_cli_logged("compare " + (d / "a.json").string() + " " + (d / "b.json").string(), d / "table.txt"), 0);
+  const std::string table = read_text(d / "table.txt");
   EXPECT_NE(table.find("within 2 sigma of noise"), std::string::npos) << table;
   a.erase("summary");
   std::ofstream(d / "c.json") << a.dump();
-  ASSERT_EQ(run("compare --json " + (d / "c.json").string() + " " + (d / "b.json").string(), d / "out2.txt"), 0);
-  EXPECT_TRUE(nlohmann::json::parse(slurp(d / "out2.txt")).at("nodes").at(0).contains("noise_K"));  // b's alone
+  ASSERT_EQ(run_cli_logged("compare --json " + (d / "c.json").string() + " " + (d / "b.json").string(), d / "out2.txt"), 0);
+  EXPECT_TRUE(nlohmann::json::parse(read_text(d / "out2.txt")).at("nodes").at(0).contains("noise_K"));  // b's alone
 }
