@@ -144,32 +144,8 @@ ThermalModel model_from_bare_mesh(const fs::path& path, const ModelLoadOptions& 
   return model;
 }
 
-
-ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& options) {
-  const std::string file = path.string();
-  const Keys k(file, options.allow_unknown_keys);
-  const json j = read_json(path);
-  k.require_object(j, "");
-  if (!j.contains("mesh") && j.contains("environment") && !j.contains("nodes") && !j.contains("materials"))
-    k.fail("", "this looks like a load case file (environment/analysis only, no mesh): give it to "
-               "`thermodec reduce MODEL --case FILE`; a model file needs a 'mesh' key");
-  for (const auto& item : j.items()) {
-    static const std::vector<std::string> known = {"mesh", "unit_scale", "materials", "default_material", "nodes",
-                                                   "conductances", "environment", "analysis", "radiation", "description",
-                                                   "certificate"};
-    if (std::find(known.begin(), known.end(), item.key()) == known.end() && item.key().rfind("_", 0) != 0)
-      k.unknown("", item.key(), known, " at the top level");
-  }
-  ThermalModel model;
-  if (!j.contains("mesh")) k.fail("mesh", "missing: the model needs a mesh file (.obj, .ply or .stl)");
-  const fs::path mesh_rel = k.string(j, "", "mesh");
-  if (!is_mesh_path(mesh_rel)) k.fail("mesh", "'" + mesh_rel.string() + "' is not a .obj, .ply or .stl file");
-  model.mesh_path = mesh_rel.is_absolute() ? mesh_rel : path.parent_path() / mesh_rel;
-  // Micrometres to kilometres: far smaller or larger scales put the geometry where the ray
-  // tracer's offsets and the double range no longer hold (1e-200 underflows the areas).
-  if (j.contains("unit_scale")) model.unit_scale = k.number_in(j, "", "unit_scale", 1e-6, 1e6, false, " m per file unit");
-
-  // Materials, in file order.
+// The "materials" section in file order, and the default material (added when no file names it).
+void parse_materials(const json& j, const Keys& k, ThermalModel& model) {
   if (j.contains("materials")) {
     const json& mats = j.at("materials");
     k.require_object(mats, "materials");
@@ -198,6 +174,59 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
       model.materials.push_back({kDefaultMaterialName, kDefaultAbsorptivity, kDefaultEmissivity});
     }
   }
+}
+
+// The "conductances" list: GL [W/K] between two nodes of the mesh.
+void parse_conductances(const json& j, const Keys& k, ThermalModel& model) {
+  if (j.contains("conductances")) {
+    const json& list = j.at("conductances");
+    if (!list.is_array()) k.fail("conductances", "must be an array of {\"from\", \"to\", \"value\"}");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string key = "conductances[" + std::to_string(i) + "]";
+      const json& c = list[i];
+      k.require_object(c, key);
+      k.only_keys(c, key, {"from", "to", "value"});
+      for (const char* req : {"from", "to", "value"})
+        if (!c.contains(req)) k.fail(key, std::string("missing '") + req + "'");
+      Conductance link;
+      for (const char* end : {"from", "to"}) {
+        const std::string name = k.string(c, key, end);
+        const int n = index_of(model.nodes, name);
+        if (n < 0) k.fail(key + "." + end, "unknown node '" + name + "' (not a group of the mesh)");
+        (std::string(end) == "from" ? link.from : link.to) = n;
+      }
+      if (link.from == link.to) k.fail(key, "links node '" + model.nodes[link.from].name + "' to itself");
+      link.conductance_W_per_K = k.number_in(c, key, "value", 0, 1e12, false, " W/K");
+      model.conductances.push_back(link);
+    }
+  }
+}
+
+ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& options) {
+  const std::string file = path.string();
+  const Keys k(file, options.allow_unknown_keys);
+  const json j = read_json(path);
+  k.require_object(j, "");
+  if (!j.contains("mesh") && j.contains("environment") && !j.contains("nodes") && !j.contains("materials"))
+    k.fail("", "this looks like a load case file (environment/analysis only, no mesh): give it to "
+               "`thermodec reduce MODEL --case FILE`; a model file needs a 'mesh' key");
+  for (const auto& item : j.items()) {
+    static const std::vector<std::string> known = {"mesh", "unit_scale", "materials", "default_material", "nodes",
+                                                   "conductances", "environment", "analysis", "radiation", "description",
+                                                   "certificate"};
+    if (std::find(known.begin(), known.end(), item.key()) == known.end() && item.key().rfind("_", 0) != 0)
+      k.unknown("", item.key(), known, " at the top level");
+  }
+  ThermalModel model;
+  if (!j.contains("mesh")) k.fail("mesh", "missing: the model needs a mesh file (.obj, .ply or .stl)");
+  const fs::path mesh_rel = k.string(j, "", "mesh");
+  if (!is_mesh_path(mesh_rel)) k.fail("mesh", "'" + mesh_rel.string() + "' is not a .obj, .ply or .stl file");
+  model.mesh_path = mesh_rel.is_absolute() ? mesh_rel : path.parent_path() / mesh_rel;
+  // Micrometres to kilometres: far smaller or larger scales put the geometry where the ray
+  // tracer's offsets and the double range no longer hold (1e-200 underflows the areas).
+  if (j.contains("unit_scale")) model.unit_scale = k.number_in(j, "", "unit_scale", 1e-6, 1e6, false, " m per file unit");
+
+  parse_materials(j, k, model);
 
   // The mesh: its groups are the nodes.
   model.mesh = read_mesh(model.mesh_path, options.mesh);
@@ -265,28 +294,7 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
   for (int f = 0; f < two_sided.size(); ++f)  // as for a bare mesh (model_from_bare_mesh)
     if (two_sided[f] && model.mesh.face_back_material[f] < 0) model.mesh.face_back_material[f] = model.mesh.face_material[f];
 
-  if (j.contains("conductances")) {
-    const json& list = j.at("conductances");
-    if (!list.is_array()) k.fail("conductances", "must be an array of {\"from\", \"to\", \"value\"}");
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      const std::string key = "conductances[" + std::to_string(i) + "]";
-      const json& c = list[i];
-      k.require_object(c, key);
-      k.only_keys(c, key, {"from", "to", "value"});
-      for (const char* req : {"from", "to", "value"})
-        if (!c.contains(req)) k.fail(key, std::string("missing '") + req + "'");
-      Conductance link;
-      for (const char* end : {"from", "to"}) {
-        const std::string name = k.string(c, key, end);
-        const int n = index_of(model.nodes, name);
-        if (n < 0) k.fail(key + "." + end, "unknown node '" + name + "' (not a group of the mesh)");
-        (std::string(end) == "from" ? link.from : link.to) = n;
-      }
-      if (link.from == link.to) k.fail(key, "links node '" + model.nodes[link.from].name + "' to itself");
-      link.conductance_W_per_K = k.number_in(c, key, "value", 0, 1e12, false, " W/K");
-      model.conductances.push_back(link);
-    }
-  }
+  parse_conductances(j, k, model);
   if (j.contains("environment")) parse_environment(j.at("environment"), k, model.environment);
   if (j.contains("analysis")) parse_analysis(j.at("analysis"), k, model.analysis);
   check_analysis_fits_environment(model.analysis, model.environment, k);
