@@ -7,7 +7,7 @@ namespace thermodec_meshlab {
 
 std::vector<std::string> export_document(const DocumentModelRequest& request, const DocumentExport& what) {
   // The format is checked before the model is built: a misspelt format costs nothing.
-  const thermodec::ExchangeFormat format = thermodec::exchange_format(what.format);
+  thermodec::export_format(what.format);
   std::vector<int> model_node;
   std::string description;
   thermodec::ThermalModel model =
@@ -21,9 +21,24 @@ std::vector<std::string> export_document(const DocumentModelRequest& request, co
   if (!request.model_file.empty()) settings.protected_inputs.push_back(request.model_file);
   if (!model.mesh_path.empty()) settings.protected_inputs.push_back(model.mesh_path);
   std::vector<std::string> files;
-  for (const auto& f : thermodec::export_model(std::move(model), format, what.out, what.stem, settings))
+  for (const auto& f : thermodec::export_model(std::move(model), what.format, what.out, what.stem, settings))
     files.push_back(f.string());
   return files;
+}
+
+std::vector<ExportFormatRow> export_format_rows() {
+  std::vector<ExportFormatRow> rows;
+  for (const thermodec::ExportFormat& f : thermodec::export_formats()) {
+    std::string help = f.help;
+    for (char& c : help)
+      if (c == '\n') c = ' ';
+    rows.push_back({f.name, f.title, help, f.needs_simulation});
+  }
+  return rows;
+}
+
+std::string default_export_path(const std::string& format, const std::string& base) {
+  return thermodec::default_export_output(thermodec::export_format(format), base).string();
 }
 
 }  // namespace thermodec_meshlab

@@ -1,36 +1,33 @@
 // "Thermal: export for other tools": the document's thermal model written by the core's exchange
-// export (core/include/thermodec/exchange/export_model.h) in one of its five formats, exactly as
+// export (core/include/thermodec/exchange/export_model.h) in one of the formats of its table (exchange/export_formats.h), exactly as
 // `thermodec export` writes a model file. The filter only reads its parameters, picks the
 // default output path and logs what was written.
 #include <algorithm>
+#include <string>
+#include <vector>
 
 #include <QDir>
 #include <QFileInfo>
 #include <QStringList>
 
 #include "filter_thermodec.h"
+#include "export_calls.h"
 #include "thermodec/common/errors.h"
 #ifdef THERMODEC_FILTER_EXPORT
 #include "document_mesh.h"
-#include "export_calls.h"
 #include "filter_support.h"
 #endif
 
 namespace {
 
-// Menu order of the format parameter; the names are those of `thermodec export --format`.
-const char* const kFormats[] = {"nastran", "esatan", "sinda", "vtk", "csv"};
-constexpr int kFormatCount = 5;
-
-// Default output beside the current layer's file: <stem>.bdf, <stem>.d, <stem>.inp, the folder
-// <stem>_vtk, or the prefix <stem> of the three CSV tables (the CLI's documented examples).
-QString default_output(const QFileInfo& layer_file, const QString& format) {
-  const QString base = layer_file.dir().filePath(layer_file.completeBaseName());
-  if (format == "nastran") return base + ".bdf";
-  if (format == "esatan") return base + ".d";
-  if (format == "sinda") return base + ".inp";
-  if (format == "vtk") return base + "_vtk";
-  return base;
+// The core's table of export formats (exchange/export_formats.h) in menu order: the format
+// parameter's choices, their tooltips and the default output names all come from it.
+std::vector<thermodec_meshlab::ExportFormatRow> format_rows() {
+#ifdef THERMODEC_FILTER_EXPORT
+  return thermodec_meshlab::export_format_rows();
+#else
+  return {};
+#endif
 }
 
 inline void progress(vcg::CallBackPos* cb, int percent, const char* what) {
@@ -40,13 +37,13 @@ inline void progress(vcg::CallBackPos* cb, int percent, const char* what) {
 }  // namespace
 
 QString ThermodecFilterPlugin::export_info() const {
+  QString formats;
+  for (const auto& f : format_rows())
+    formats += QString("<b>%1</b> %2; ").arg(QString::fromStdString(f.name), QString::fromStdString(f.title));
   return "Writes the thermal model of the document for other thermal tools, as <code>thermodec "
-         "export</code> does (docs/exchange.md): <b>nastran</b> NASTRAN bulk data (GRID*, CTRIA3, one "
-         "PSHELL per node, RADM per coating) for Thermal Desktop, TASverter, Simcenter or FreeCAD; "
-         "<b>esatan</b> an ESATAN-TMS network; <b>sinda</b> a SINDA/FLUINT network; <b>vtk</b> a "
-         "ParaView series (a folder of .vtu files and a .pvd); <b>csv</b> temperature, coupling and "
-         "load tables. The network and result formats first simulate the model as <i>Thermal: "
-         "simulate</i> does; nastran needs no simulation. Materials, node data, environment and "
+         "export</code> does (docs/exchange.md): " + formats +
+         "the formats that need results first simulate the model as <i>Thermal: simulate</i> does; "
+         "the NASTRAN mesh needs no simulation. Materials, node data, environment and "
          "analysis come from the optional model file, else the core defaults. The output defaults "
          "to a file (a folder for vtk, a prefix for csv) beside the current layer's file; the "
          "files written go to the log. The document is not changed."
@@ -57,11 +54,12 @@ QString ThermodecFilterPlugin::export_info() const {
 
 void ThermodecFilterPlugin::export_parameters(MeshModel& m, RichParameterList& params) const {
   QStringList formats;
-  for (const char* f : kFormats) formats << f;
-  params.addParam(RichEnum("format", 0, formats, "Format",
-                           "nastran: NASTRAN bulk data (.bdf); esatan: ESATAN-TMS network (.d); sinda: "
-                           "SINDA/FLUINT network (.inp); vtk: ParaView series (a folder); csv: tables "
-                           "(a file prefix)."));
+  QString tooltip;
+  for (const auto& f : format_rows()) {
+    formats << QString::fromStdString(f.name);
+    tooltip += QString::fromStdString(f.name + ": " + f.help + "\n");
+  }
+  params.addParam(RichEnum("format", 0, formats, "Format", tooltip.trimmed()));
   params.addParam(RichString("output", "", "Output",
                              "The file to write (vtk: the folder; csv: the prefix of "
                              "<prefix>_temperatures.csv, _couplings.csv and _loads.csv). Empty: "
@@ -82,9 +80,10 @@ bool ThermodecFilterPlugin::export_for_tools(MeshDocument& md, const RichParamet
                                              vcg::CallBackPos* cb) {
 #ifdef THERMODEC_FILTER_EXPORT
   using namespace thermodec_meshlab;
+  const std::vector<ExportFormatRow> rows = format_rows();
   const int choice = params.getEnum("format");
-  if (choice < 0 || choice >= kFormatCount) throw thermodec::InvalidInput("unknown export format");
-  const QString format = kFormats[choice];
+  if (choice < 0 || choice >= int(rows.size())) throw thermodec::InvalidInput("unknown export format");
+  const QString format = QString::fromStdString(rows[choice].name);
   if (params.getInt("rays_per_face") < 0)
     throw thermodec::InvalidInput("rays_per_face must be >= 0 (0 = the model's)");
   if (params.getFloat("noise_target_K") < 0.0f)
@@ -96,7 +95,9 @@ bool ThermodecFilterPlugin::export_for_tools(MeshDocument& md, const RichParamet
   if (out.isEmpty()) {
     if (layer_file.filePath().isEmpty() || !layer_file.dir().exists())
       throw thermodec::InvalidInput("output: the current layer has no file to put the export beside; set output");
-    out = default_output(layer_file, format);
+    // Beside the layer's file, named after it: <stem>.bdf, <stem>.d, the folder <stem>_vtk, ...
+    out = QString::fromStdString(default_export_path(
+        format.toStdString(), layer_file.dir().filePath(layer_file.completeBaseName()).toStdString()));
   }
   out = QDir(out).absolutePath();
 

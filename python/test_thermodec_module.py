@@ -210,5 +210,28 @@ class BadFilesRaiseInsteadOfCrashing(unittest.TestCase):
             thermodec.read_mesh(link)
 
 
+
+class ExportFormats(unittest.TestCase):
+    """The core's table of export formats, as the FreeCAD workbench reads it."""
+
+    def test_the_table_lists_the_formats_with_what_the_dialogs_need(self):
+        rows = thermodec.export_formats()
+        self.assertEqual([r["name"] for r in rows][:5], ["nastran", "esatan", "sinda", "vtk", "csv"])
+        for r in rows:
+            self.assertTrue(r["title"] and r["help"] and r["extensions"], r)
+            self.assertIn(r["output"], ("file", "folder", "prefix"))
+        nastran = rows[0]
+        self.assertFalse(nastran["needs_simulation"])
+        self.assertEqual(nastran["extensions"][0], ".bdf")
+        self.assertEqual(str(thermodec.default_export_output("esatan", "/tmp/sat")), "/tmp/sat.d")
+        self.assertEqual(str(thermodec.default_export_output("vtk", "/tmp/sat")), "/tmp/sat_vtk")
+
+    def test_an_unknown_format_names_every_choice(self):
+        with self.assertRaises(thermodec.InvalidInput) as caught:
+            thermodec.default_export_output("esatn", "/tmp/sat")
+        for r in thermodec.export_formats():
+            self.assertIn(r["name"], str(caught.exception))
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -431,13 +431,42 @@ void bind_functions(py::module_& m) {
               progress(message);
             };
           }
-          const ExchangeFormat f = exchange_format(format);
+          export_format(format);  // an unknown name is refused before any work
           py::gil_scoped_release unlocked;
-          return export_model(model, f, out, stem, settings);
+          return export_model(model, format, out, stem, settings);
         },
         py::arg("model"), py::arg("format"), py::arg("out"), py::arg("stem") = "model", py::arg("progress") = nullptr,
-        "`thermodec export`: format 'nastran', 'esatan', 'sinda', 'vtk' (out = folder) or 'csv' (out = prefix); "
-        "returns the files written (docs/exchange.md). Raises InvalidInput, SolverError.");
+        "`thermodec export`: format = a name of export_formats() (out = a file, a folder or a prefix as its "
+        "'output' says); returns the files written (docs/exchange.md). Raises InvalidInput, SolverError.");
+  // exchange/export_formats.h
+  m.def(
+      "export_formats",
+      [] {
+        py::list rows;
+        for (const ExportFormat& f : export_formats()) {
+          py::dict row;
+          row["name"] = f.name;
+          row["title"] = f.title;
+          row["extensions"] = f.extensions;
+          row["only_these_extensions"] = f.only_these_extensions;
+          row["output"] = f.output == ExportOutput::file ? "file" : f.output == ExportOutput::folder ? "folder" : "prefix";
+          row["needs_simulation"] = f.needs_simulation;
+          row["help"] = f.help;
+          rows.append(row);
+        }
+        return rows;
+      },
+      "The export formats, in menu order, as the CLI's `export --format` offers them: dicts with name, title, "
+      "extensions (the first the default), only_these_extensions, output ('file', 'folder' or 'prefix'), "
+      "needs_simulation and help (exchange/export_formats.h).");
+  m.def(
+      "default_export_output",
+      [](const std::string& format, const std::filesystem::path& base) {
+        return default_export_output(export_format(format), base);
+      },
+      py::arg("format"), py::arg("base"),
+      "The default output of `format` for a model at `base` (a path without extension): base + the first "
+      "extension for a file, base_<name> for a folder, base for a prefix.");
   m.def("compare_results", &compare_results, py::arg("a"), py::arg("b"));
   m.def("read_result", &read_result, py::arg("path"), "Reads a result JSON (nodes, times, temperatures).");
 

@@ -614,6 +614,13 @@ class CoreRuns(_DocTest):
         self.assertEqual(len(back.mesh.F), len(self.analysis.ThermalMesh.FaceNode))
         self.assertEqual(sorted(back.mesh.node_names), sorted(self.analysis.ThermalMesh.NodeNames))
 
+    def test_export_dialog_offers_the_cores_format_table(self):
+        rows = results.exchange_formats()
+        self.assertEqual([r["name"] for r in rows], [r["name"] for r in thermodec.export_formats()])
+        esatan = [r for r in rows if r["name"] == "esatan"][0]
+        self.assertEqual(results.file_dialog_filter(esatan), "ESATAN-TMS network (*.d)")
+        self.assertEqual([r["output"] for r in rows if r["name"] == "vtk"], ["folder"])
+
     def test_decimation_keeps_every_node_and_its_area(self):
         results.simulate(self.analysis)
         feature, summary = results.decimate(self.analysis, 0.8)

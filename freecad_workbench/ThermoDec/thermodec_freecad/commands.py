@@ -232,7 +232,7 @@ class Reduce(_CoreCommand):
 
 class ExportTool(_CoreCommand):
     icon, menu, tip, function = "Export.svg", "Export for other tools", \
-        "Write NASTRAN bulk data, an ESATAN-TMS or SINDA/FLUINT network, a ParaView series or CSV tables", \
+        "Write the model for other thermal and post-processing tools, in a format of `thermodec export`", \
         "export_model"
 
     def Activated(self):
@@ -242,16 +242,16 @@ class ExportTool(_CoreCommand):
         analysis = active_analysis()
         which = "the reduced model (%s)" % analysis.ReducedModelFile if results.reduced_model_current(analysis) \
             else "the dense model (no current reduced model: Reduce first to export it)"
+        formats = {f["name"]: f for f in results.exchange_formats()}  # the core's table, in menu order
         fmt, ok = QtGui.QInputDialog.getItem(window, "Export for other tools", "Exports %s\nFormat" % which,
-                                             list(results.EXCHANGE_FORMATS), 0, False)
+                                             list(formats), 0, False)
         if not ok:
             return
-        if fmt == "vtk":
-            out = QtGui.QFileDialog.getExistingDirectory(window, "Folder of the ParaView series")
+        row = formats[fmt]
+        if row["output"] == "folder":
+            out = QtGui.QFileDialog.getExistingDirectory(window, "Folder of the %s" % row["title"])
         else:
-            filters = {"nastran": "NASTRAN bulk data (*.bdf)", "esatan": "ESATAN-TMS (*.d)",
-                       "sinda": "SINDA/FLUINT (*.inp)", "csv": "CSV tables prefix (*.csv)"}
-            out, _ = QtGui.QFileDialog.getSaveFileName(window, "Export as " + fmt, "", filters[fmt])
+            out, _ = QtGui.QFileDialog.getSaveFileName(window, "Export as " + fmt, "", results.file_dialog_filter(row))
         if out:
             taskpanels.start_export(analysis, fmt, out)  # in the background, with progress and Cancel
 

@@ -204,7 +204,16 @@ def simulate(analysis, json_path=None):
     return result_path, summary
 
 
-EXCHANGE_FORMATS = ("nastran", "esatan", "sinda", "vtk", "csv")
+def exchange_formats():
+    """The core's export formats in menu order (thermodec.export_formats(): dicts with name,
+    title, extensions, output 'file'/'folder'/'prefix', needs_simulation, help), the same table
+    `thermodec export --format` offers."""
+    return core.require("export_formats")()
+
+
+def file_dialog_filter(fmt):
+    """The file-dialog filter of a format row: 'ESATAN-TMS network (*.d)'."""
+    return "%s (%s)" % (fmt["title"], " ".join("*" + e for e in fmt["extensions"]))
 
 
 def dense_result_current(analysis):
@@ -236,8 +245,8 @@ def model_for_tools(analysis):
 
 
 def export_for_tool(analysis, fmt, out, model_path=None):
-    """Writes the analysis for another tool (docs/exchange.md): 'nastran' (.bdf), 'esatan' (.d),
-    'sinda' (.inp), 'vtk' (out = folder, ParaView series) or 'csv' (out = prefix): the reduced
+    """Writes the analysis for another tool (docs/exchange.md) in the format named `fmt`, a name
+    of exchange_formats() (out = a file, a folder or a prefix as the row's 'output' says): the reduced
     model when Reduce made a current one, else the dense model (model_for_tools). The network
     formats run the reference simulation first. Returns the files written."""
     td = core.module()
