@@ -18,7 +18,8 @@ using Paths = std::vector<fs::path>;
 fs::path csv_prefix(const fs::path& out) { return out.extension() == ".csv" ? fs::path(out).replace_extension() : out; }
 
 // The table. A row: name, title, extensions (first = default), only those extensions, output
-// kind, needs the simulation, help, writer, output files (null = the one file `out`).
+// kind, needs the simulation, help, writer, output files (null = the one file `out`). New rows
+// go at the end: MeshLab .mlx scripts store the menu index of the format.
 std::vector<ExportFormat> built_in_formats() {
   return {
       {"nastran", "NASTRAN bulk data", {".bdf", ".nas", ".dat"}, true, ExportOutput::file, false,

@@ -4,6 +4,7 @@
 //! workbench (format list, file-dialog filters) and the Python module (`export_formats()`).
 //! A new format is one writer (its own file, as write_esatan_network.h) and one row of the table
 //! in export_formats.cpp; add_export_format adds a row at run time (tests, embedding programs).
+//! New rows go at the end: MeshLab's .mlx scripts record the format menu's index.
 #include <filesystem>
 #include <functional>
 #include <string>
