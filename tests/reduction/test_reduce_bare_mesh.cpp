@@ -14,6 +14,7 @@
 #include <sstream>
 #include <vector>
 
+#include "common/cli_run.h"
 #include "common/scratch_dir.h"
 #include "thermodec/nodes/load_model.h"
 
@@ -63,13 +64,11 @@ TEST(ReduceBareMesh, defective_stl_with_duplicates_and_an_open_sheet_reduces_wit
   std::ofstream(dir / "defective.stl") << ascii_stl(tris);
 
   const fs::path out = dir / "out";
-  const std::string cmd = std::string(THERMODEC_CLI) + " reduce " + (dir / "defective.stl").string() + " --out " +
-                          out.string() + " --no-plots > " + (dir / "stdout.txt").string() + " 2> " +
-                          (dir / "stderr.txt").string();
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << std::ifstream(dir / "stderr.txt").rdbuf();
-  std::stringstream stdout_text;
-  stdout_text << std::ifstream(dir / "stdout.txt").rdbuf();
-  EXPECT_NE(stdout_text.str().find("duplicate faces dropped: 6"), std::string::npos) << stdout_text.str();
+  using thermodec::test::q;
+  const thermodec::test::CliRun r =
+      thermodec::test::run_cli("reduce " + q(dir / "defective.stl") + " --output " + q(out) + " --no-plots", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("duplicate faces dropped: 6"), std::string::npos) << r.out;
 
   const auto j = nlohmann::json::parse(std::ifstream(out / "report.json"));
   ASSERT_TRUE(j.contains("mesh_cleanup"));
