@@ -1,7 +1,7 @@
 // "Thermal: export for other tools": the document's thermal model written by the core's exchange
-// export (core/include/thermodec/exchange/export_model.h) in one of the formats of its table (exchange/export_formats.h), exactly as
-// `thermodec export` writes a model file. The filter only reads its parameters, picks the
-// default output path and logs what was written.
+// export (core/include/thermodec/exchange/export_model.h) in one of the formats of the core's
+// table (exchange/export_formats.h), exactly as `thermodec export` writes a model file. The
+// filter only reads its parameters, picks the default output path and logs what was written.
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -37,16 +37,19 @@ inline void progress(vcg::CallBackPos* cb, int percent, const char* what) {
 }  // namespace
 
 QString ThermodecFilterPlugin::export_info() const {
-  QString formats;
-  for (const auto& f : format_rows())
+  QString formats, without_simulation;
+  for (const auto& f : format_rows()) {
     formats += QString("<b>%1</b> %2; ").arg(QString::fromStdString(f.name), QString::fromStdString(f.title));
+    if (!f.needs_simulation) without_simulation += QString(" %1").arg(QString::fromStdString(f.name));
+  }
   return "Writes the thermal model of the document for other thermal tools, as <code>thermodec "
          "export</code> does (docs/exchange.md): " + formats +
-         "the formats that need results first simulate the model as <i>Thermal: simulate</i> does; "
-         "the NASTRAN mesh needs no simulation. Materials, node data, environment and "
+         "the formats that carry results first simulate the model as <i>Thermal: simulate</i> does "
+         "(not needed:" + without_simulation + "). Materials, node data, environment and "
          "analysis come from the optional model file, else the core defaults. The output defaults "
-         "to a file (a folder for vtk, a prefix for csv) beside the current layer's file; the "
-         "files written go to the log. The document is not changed."
+         "to a file, a folder or a file prefix, as the format writes one or several files, beside "
+         "the current layer's file and named after it; the files written go to the log. The "
+         "document is not changed."
          "<br>Nodes: with one layer, its face quality holds node ids (see <i>Thermal: assign "
          "nodes</i>); with several layers, every layer is one node (the one-file-per-node "
          "layout, e.g. an .mlp project).";
@@ -61,16 +64,16 @@ void ThermodecFilterPlugin::export_parameters(MeshModel& m, RichParameterList& p
   }
   params.addParam(RichEnum("format", 0, formats, "Format", tooltip.trimmed()));
   params.addParam(RichString("output", "", "Output",
-                             "The file to write (vtk: the folder; csv: the prefix of "
-                             "<prefix>_temperatures.csv, _couplings.csv and _loads.csv). Empty: "
-                             "beside the current layer's file, named after it."));
+                             "The file to write, or the folder or file prefix of a format that writes "
+                             "several files (see Format). Empty: beside the current layer's file, "
+                             "named after it."));
   thermodec_meshlab::add_model_file_parameter(params, m,
                            "thermodec model file giving materials, node capacitances and powers, "
                            "conductances, environment, analysis and radiation settings (found and matched "
                            "as in Thermal: simulate). Empty and none found: the core defaults.");
   params.addParam(RichInt("rays_per_face", 0, "Rays per face",
                           "Monte Carlo rays per face for the radiative couplings; 0 = the model's "
-                          "setting. Not used by nastran."));
+                          "setting. Not used by formats that need no simulation."));
   params.addParam(RichFloat("noise_target_K", 0.0025f, "Noise target [K]",
                             "Noise-targeted sampling as `thermodec export --noise-target` (0 = off): "
                             "extra rays for the nodes whose temperature noise exceeds it."));
