@@ -48,15 +48,15 @@ std::vector<ExportFormat> built_in_formats() {
        },
        nullptr},
       {"vtk", "ParaView series", {".pvd", ".vtu"}, false, ExportOutput::folder, true,
-       "ParaView series: OUT is a folder; one .vtu per orbit step (cells: node_id, material_id,\n"
-       "area_m2, temperature_K, absorbed_flux_W_per_m2) and MODEL.pvd indexing them by time.",
+       "ParaView series: the output is a folder; one .vtu per orbit step (cells: node_id, material_id,\n"
+       "area_m2, temperature_K, absorbed_flux_W_per_m2) and <model>.pvd indexing them by time.",
        [](const fs::path& out, const ExportInput& in) {
          return Paths{write_vtk_series(out, in.stem, in.model, *in.network, in.protected_inputs)};
        },
        [](const fs::path& out, const std::string& stem) { return Paths{out / (stem + ".pvd")}; }},
       {"csv", "CSV tables", {".csv"}, false, ExportOutput::prefix, true,
-       "CSV tables; OUT is a prefix: OUT_temperatures.csv (K vs s), OUT_couplings.csv (GL W/K,\n"
-       "GR m^2), OUT_loads.csv (W per node and time), OUT_nodes.csv (node data, period).",
+       "CSV tables; the output is a prefix P: P_temperatures.csv (K vs s), P_couplings.csv (GL W/K,\n"
+       "GR m^2), P_loads.csv (W per node and time), P_nodes.csv (node data, period).",
        [](const fs::path& out, const ExportInput& in) {
          return write_csv_tables(csv_prefix(out), *in.network, in.protected_inputs);
        },
