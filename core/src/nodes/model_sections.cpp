@@ -6,6 +6,43 @@
 
 namespace thermodec::model_json {
 
+namespace {
+
+std::string known_body_names() {
+  std::string s;
+  for (const CentralBody& b : central_bodies()) s += (s.empty() ? "" : ", ") + b.name;
+  return s;
+}
+
+// "central_body": a name of the table, or an object {name, radius_km, gm_km3_per_s2, albedo,
+// ir_flux, sun_distance_au}: a known name's row with the numbers given overriding it, or an
+// unknown name with all five numbers.
+CentralBody parse_central_body(const json& j, const Keys& k) {
+  const std::string key = "environment.central_body";
+  if (j.is_string()) {
+    const CentralBody* b = find_central_body(j.get<std::string>());
+    if (!b) k.fail(key, "unknown body '" + j.get<std::string>() + "' (known: " + known_body_names() + "; or an object with the numbers)");
+    return *b;
+  }
+  if (!j.is_object()) k.fail(key, "must be a body name (" + known_body_names() + ") or an object with its numbers");
+  k.only_keys(j, key, {"name", "radius_km", "gm_km3_per_s2", "albedo", "ir_flux", "sun_distance_au"}, "");
+  if (!j.contains("name")) k.fail(key, "missing 'name'");
+  const std::string name = k.string(j, key, "name");
+  const CentralBody* row = find_central_body(name);
+  CentralBody b = row ? *row : CentralBody{};
+  b.name = name;
+  for (const char* n : {"radius_km", "gm_km3_per_s2", "albedo", "ir_flux", "sun_distance_au"})
+    if (!row && !j.contains(n)) k.fail(key, "'" + name + "' is not a known body (" + known_body_names() + "): give '" + n + "' too");
+  if (j.contains("radius_km")) b.radius_m = 1e3 * k.number_in(j, key, "radius_km", 0, 1e6, true, " km");
+  if (j.contains("gm_km3_per_s2")) b.gravitational_parameter_m3_per_s2 = 1e9 * k.number_in(j, key, "gm_km3_per_s2", 0, 1e9, true, " km^3/s^2");
+  if (j.contains("albedo")) b.albedo = k.number_in(j, key, "albedo", 0, 1, false, "");
+  if (j.contains("ir_flux")) b.ir_flux_W_per_m2 = k.number_in(j, key, "ir_flux", 0, 1e4, false, " W/m^2");
+  if (j.contains("sun_distance_au")) b.sun_distance_au = k.number_in(j, key, "sun_distance_au", 0, 1e3, false, " AU");
+  return b;
+}
+
+}  // namespace
+
 void parse_environment(const json& j, const Keys& k, Environment& env) {
   const std::string key = "environment";
   k.require_object(j, key);
@@ -30,7 +67,7 @@ void parse_environment(const json& j, const Keys& k, Environment& env) {
     if (j.contains("solar_flux")) env.solar_flux_W_per_m2 = k.number_in(j, key, "solar_flux", 0, 1e7, false, " W/m^2");
   } else if (type == "orbit") {
     env.type = EnvironmentType::orbit;
-    k.only_keys(j, key, {"type", "altitude_km", "inclination_deg", "raan_deg", "day_of_year", "attitude", "albedo", "earth_ir_flux"},
+    k.only_keys(j, key, {"type", "altitude_km", "inclination_deg", "raan_deg", "day_of_year", "attitude", "central_body", "albedo", "earth_ir_flux"},
                 " for type orbit");
     if (j.contains("altitude_km")) env.altitude_km = k.number_in(j, key, "altitude_km", 0, 1e6, true, " km");
     if (j.contains("inclination_deg")) env.inclination_deg = k.number_in(j, key, "inclination_deg", 0, 180, false, " deg");
@@ -43,6 +80,8 @@ void parse_environment(const json& j, const Keys& k, Environment& env) {
       else if (a == "inertial") env.attitude = Attitude::inertial;
       else k.fail(key + ".attitude", "unknown attitude '" + a + "' (known: nadir, sun, inertial)");
     }
+    // The body first: its albedo and IR are the defaults the two keys below override.
+    if (j.contains("central_body")) set_central_body(env, parse_central_body(j.at("central_body"), k));
     if (j.contains("albedo")) env.albedo = k.number_in(j, key, "albedo", 0, 1, false, "");
     if (j.contains("earth_ir_flux")) env.earth_ir_flux_W_per_m2 = k.number_in(j, key, "earth_ir_flux", 0, 1e4, false, " W/m^2");
   } else {

@@ -92,6 +92,19 @@ void save_model(const ThermalModel& model, const fs::path& json_path, const fs::
     j["environment"] = {{"type", "orbit"},          {"altitude_km", e.altitude_km}, {"inclination_deg", e.inclination_deg},
                         {"raan_deg", e.raan_deg},   {"day_of_year", e.day_of_year}, {"attitude", attitude_name(e.attitude)},
                         {"albedo", e.albedo},       {"earth_ir_flux", e.earth_ir_flux_W_per_m2}};
+  if (e.type == EnvironmentType::orbit) {
+    // A table row by name (albedo and IR are saved apart, above); other numbers in full.
+    const CentralBody* row = find_central_body(e.central_body);
+    const bool is_row = row && row->radius_m == e.body_radius_m && row->sun_distance_au == e.sun_distance_au &&
+                        row->gravitational_parameter_m3_per_s2 == e.body_gravitational_parameter_m3_per_s2;
+    if (!is_row)
+      j["environment"]["central_body"] = {{"name", e.central_body}, {"radius_km", e.body_radius_m / 1e3},
+                                          {"gm_km3_per_s2", e.body_gravitational_parameter_m3_per_s2 / 1e9},
+                                          {"albedo", e.albedo}, {"ir_flux", e.earth_ir_flux_W_per_m2},
+                                          {"sun_distance_au", e.sun_distance_au}};
+    else if (e.central_body != "earth")
+      j["environment"]["central_body"] = e.central_body;
+  }
   if (model.analysis.type == AnalysisType::steady)
     j["analysis"] = {{"type", "steady"}};
   else {

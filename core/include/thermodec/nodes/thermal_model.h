@@ -11,6 +11,7 @@
 
 #include "thermodec/mesh/bare_mesh_cleanup.h"
 #include "thermodec/mesh/mesh.h"
+#include "thermodec/nodes/central_body.h"
 #include "thermodec/nodes/model_certificate.h"
 
 namespace thermodec {
@@ -60,7 +61,8 @@ struct Conductance {
 enum class EnvironmentType { fixed_sun, orbit };
 enum class Attitude { nadir, sun, inertial };
 
-//! External heat sources. fixed_sun: deep space with a sun. orbit: circular Earth orbit.
+//! External heat sources. fixed_sun: deep space with a sun. orbit: circular orbit around a
+//! central body (the Earth by default; nodes/central_body.h).
 struct Environment {
   EnvironmentType type = EnvironmentType::orbit;
   Eigen::Vector3d sun_direction{1.0, 0.0, 0.0};  //!< fixed_sun: unit vector towards the sun, body axes
@@ -70,9 +72,32 @@ struct Environment {
   double raan_deg = 0.0;
   int day_of_year = 80;  //!< 1..366
   Attitude attitude = Attitude::nadir;
+  //! orbit: the central body (set_central_body() fills these five from a CentralBody row).
+  //! albedo and earth_ir_flux_W_per_m2 are the central body's Bond albedo and surface IR flux
+  //! (the name is kept for the Earth, the default body).
+  std::string central_body = "earth";
+  double body_radius_m = 6371.0e3;                                 //!< R [m]
+  double body_gravitational_parameter_m3_per_s2 = 3.986004418e14;  //!< GM [m^3/s^2]
+  double sun_distance_au = 0.0;  //!< sets the solar flux; 0 = the Earth's on day_of_year
   double albedo = 0.30;
   double earth_ir_flux_W_per_m2 = 237.0;
 };
+
+//! Sets the environment's central body (name, radius, GM, sun distance, albedo, IR flux).
+inline void set_central_body(Environment& env, const CentralBody& body) {
+  env.central_body = body.name;
+  env.body_radius_m = body.radius_m;
+  env.body_gravitational_parameter_m3_per_s2 = body.gravitational_parameter_m3_per_s2;
+  env.sun_distance_au = body.sun_distance_au;
+  env.albedo = body.albedo;
+  env.earth_ir_flux_W_per_m2 = body.ir_flux_W_per_m2;
+}
+
+//! The environment's central body as a CentralBody row.
+inline CentralBody central_body_of(const Environment& env) {
+  return CentralBody{env.central_body, env.body_radius_m, env.body_gravitational_parameter_m3_per_s2,
+                     env.albedo, env.earth_ir_flux_W_per_m2, env.sun_distance_au};
+}
 
 enum class AnalysisType { steady, transient_orbit };
 
