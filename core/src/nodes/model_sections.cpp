@@ -89,6 +89,35 @@ void parse_environment(const json& j, const Keys& k, Environment& env) {
   }
 }
 
+std::vector<std::pair<double, double>> power_schedule(const json& j, const Keys& k, const std::string& key) {
+  if (!j.is_array() || j.empty()) k.fail(key, "must be a non-empty array of [t_s, W] pairs");
+  std::vector<std::pair<double, double>> out;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const json& p = j[i];
+    const std::string at = key + "[" + std::to_string(i) + "]";
+    if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number()) k.fail(at, "must be a pair [t_s, W] of numbers");
+    const double t = p[0].get<double>(), w = p[1].get<double>();
+    if (!std::isfinite(t) || !std::isfinite(w)) k.fail(at, "must be finite");
+    if (i == 0 && t != 0.0) k.fail(at, "the first time must be 0 s (the schedule repeats every orbit)");
+    if (i > 0 && !(t > out.back().first)) k.fail(at, "times must increase");
+    out.emplace_back(t, w);
+  }
+  return out;
+}
+
+Thermostat thermostat(const json& j, const Keys& k, const std::string& key) {
+  k.require_object(j, key);
+  k.only_keys(j, key, {"on_K", "off_K", "power_W"}, "");
+  for (const char* n : {"on_K", "off_K", "power_W"})
+    if (!j.contains(n)) k.fail(key, std::string("missing '") + n + "' (a heater is {\"on_K\", \"off_K\", \"power_W\"})");
+  Thermostat t;
+  t.on_K = k.number_in(j, key, "on_K", 0, 1e5, true, " K");
+  t.off_K = k.number_in(j, key, "off_K", 0, 1e5, true, " K");
+  t.power_W = k.number_in(j, key, "power_W", 0, 1e12, true, " W");
+  if (!(t.on_K < t.off_K)) k.fail(key, "on_K must be below off_K (the hysteresis band)");
+  return t;
+}
+
 void parse_analysis(const json& j, const Keys& k, Analysis& a) {
   const std::string key = "analysis";
   k.require_object(j, key);

@@ -13,6 +13,7 @@
 
 #include "thermodec/common/errors.h"
 #include "thermodec/environment/orbit.h"
+#include "thermodec/thermal/internal_power.h"
 
 namespace thermodec {
 
@@ -142,7 +143,8 @@ Grid solver_grid(int S, double P, const Eigen::VectorXd& switches, int substeps,
     g.at_load.push_back(static_cast<int>(t.size()));
     std::vector<double> cuts{k * dt};
     for (int i = 0; i < switches.size(); ++i)
-      if (switches[i] > k * dt + 1e-9 * P && switches[i] < (k + 1) * dt - 1e-9 * P) cuts.push_back(switches[i]);
+      if (switches[i] > k * dt + 1e-9 * P && switches[i] < (k + 1) * dt - 1e-9 * P && switches[i] > cuts.back() + 1e-9 * P)
+        cuts.push_back(switches[i]);
     cuts.push_back((k + 1) * dt);
     for (size_t c = 0; c + 1 < cuts.size(); ++c) {
       // The coarsest grid's count times 2^level: every step of a level halves one of the last.
@@ -167,12 +169,35 @@ OrbitTransient orbit_transient(const ThermalNetwork& network, const Loads& loads
   if (!(time.time_tolerance_K > 0.0)) throw InvalidInput("orbit transient: time tolerance must be > 0 K");
   if (time.substeps < 1 || time.max_levels < 3) throw InvalidInput("orbit transient: substeps >= 1 and max_levels >= 3");
 
+  // Step boundaries: the eclipse switches and the instants where a power schedule changes.
+  const bool schedules = has_power_schedules(network);
+  Eigen::VectorXd cuts = switches;
+  if (schedules) {
+    const Eigen::VectorXd power_switches = power_switch_times_s(network, P);
+    std::vector<double> all(switches.data(), switches.data() + switches.size());
+    all.insert(all.end(), power_switches.data(), power_switches.data() + power_switches.size());
+    std::sort(all.begin(), all.end());
+    cuts = Eigen::Map<const Eigen::VectorXd>(all.data(), static_cast<Eigen::Index>(all.size()));
+  }
+  Eigen::VectorXd heater_mean_W;
   auto solve_level = [&](int level, PeriodicTransient* full) {
-    const Grid g = solver_grid(S, P, switches, time.substeps, level);
-    PeriodicTransient tr =
-        periodic_transient_on_grid(network, interpolated_loads_W(loads, g.times_s, switches), g.times_s, P, settings);
+    const Grid g = solver_grid(S, P, cuts, time.substeps, level);
+    Eigen::MatrixXd applied = interpolated_loads_W(loads, g.times_s, switches);
+    if (schedules) applied += scheduled_power_W(network, g.times_s, P);
+    PeriodicTransient tr = periodic_transient_on_grid(network, applied, g.times_s, P, settings);
     Eigen::MatrixXd at(tr.temperature_K.rows(), S);
     for (int k = 0; k < S; ++k) at.col(k) = tr.temperature_K.col(g.at_load[k]);
+    if (full && tr.heater_power_W.cols() == g.times_s.size()) {
+      // Orbit mean over the grid (column c: the step ending at times_s[c]), then the power at
+      // the load positions.
+      const Eigen::Index K = g.times_s.size();
+      heater_mean_W = Eigen::VectorXd::Zero(tr.heater_power_W.rows());
+      for (Eigen::Index c = 0; c < K; ++c)
+        heater_mean_W += tr.heater_power_W.col(c) * ((c > 0 ? g.times_s[c] : P) - g.times_s[(c + K - 1) % K]) / P;
+      Eigen::MatrixXd h(tr.heater_power_W.rows(), S);
+      for (int k = 0; k < S; ++k) h.col(k) = tr.heater_power_W.col(g.at_load[k]);
+      tr.heater_power_W = h;
+    }
     if (full) *full = std::move(tr);
     return std::make_pair(at, static_cast<int>(g.times_s.size()));
   };
@@ -193,6 +218,7 @@ OrbitTransient orbit_transient(const ThermalNetwork& network, const Loads& loads
         out.transient = std::move(finest);
         out.transient.times_s = loads.times_s;
         out.transient.temperature_K = R;
+        out.heater_mean_W = heater_mean_W;
         return out;
       }
     }

@@ -34,6 +34,7 @@ nlohmann::json result_to_json(const SimulationResult& r) {
     l["earth_ir"] = row(r.loads.earth_ir_W, n);
     l["reflected_solar"] = row(r.loads.reflected_solar_W, n);
     l["internal"] = r.internal_power_W.size() > n ? r.internal_power_W[n] : 0.0;
+    if (r.heater_power_W.size() > n) l["heater"] = r.heater_power_W[n];  // orbit mean [W]
     l["total_external"] = row(total, n);
     loads[r.nodes[i]] = l;
     summary[r.nodes[i]] = {{"min_K", r.temperature_K.row(n).minCoeff()},

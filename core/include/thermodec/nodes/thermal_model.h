@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "thermodec/mesh/bare_mesh_cleanup.h"
@@ -23,12 +24,29 @@ struct Material {
   double emissivity = 0.5;    //!< IR hemispherical emissivity epsilon in (0, 1]
 };
 
+//! A heater switched by a thermostat on its own node's temperature (hysteresis band): on when
+//! the node falls below on_K, off when it rises above off_K, unchanged in between
+//! (thermal/transient.h: evaluated at the start of each solver step).
+struct Thermostat {
+  double on_K = 0.0;     //!< switch-on temperature [K], < off_K
+  double off_K = 0.0;    //!< switch-off temperature [K]
+  double power_W = 0.0;  //!< heater power while on [W], > 0
+  bool operator==(const Thermostat& o) const { return on_K == o.on_K && off_K == o.off_K && power_W == o.power_W; }
+};
+
 //! A thermal node: an isothermal set of faces (same name as its mesh group).
 struct Node {
   std::string name;
   int material = -1;                        //!< default material of its faces (index), -1 = model default
   double capacitance_J_per_K = 0.0;         //!< heat capacity C [J/K]; 0 = arithmetic (massless) node
   double power_W = 0.0;                     //!< internal dissipation Q [W]
+  //! Time-varying internal dissipation over the orbit, piecewise constant: (t [s], Q [W]) pairs,
+  //! t increasing from 0; Q applies from its t to the next pair's (the last's to the period P,
+  //! then the schedule repeats every orbit). Every t must be < P. Empty = constant power_W;
+  //! when set, it replaces power_W (which is then 0).
+  std::vector<std::pair<double, double>> power_schedule_W;
+  //! A thermostat heater on this node (transient orbit analyses only; a node with C > 0).
+  std::optional<Thermostat> heater;
   std::optional<double> fixed_temperature_K;  //!< boundary node held at this temperature [K]
   //! Mixed into the sampling seeds of the node's faces (rays, sun and Earth samples); 0 in
   //! every normal run. Changing it redraws this node's samples only, with the same geometry:
