@@ -145,6 +145,27 @@ ThermalModel model_from_bare_mesh(const fs::path& path, const ModelLoadOptions& 
 }
 
 
+// The "materials" section, in file order.
+void parse_materials(const json& j, const Keys& k, ThermalModel& model) {
+  if (j.contains("materials")) {
+    const json& mats = j.at("materials");
+    k.require_object(mats, "materials");
+    for (const auto& item : mats.items()) {
+      const std::string key = "materials." + item.key();
+      k.require_object(item.value(), key);
+      k.only_keys(item.value(), key, {"absorptivity", "emissivity"});
+      for (const char* req : {"absorptivity", "emissivity"})
+        if (!item.value().contains(req)) k.fail(key, std::string("missing '") + req + "'");
+      Material m;
+      m.name = item.key();
+      k.name(key, m.name);
+      m.absorptivity = k.number_in(item.value(), key, "absorptivity", 0, 1, true, "");
+      m.emissivity = k.number_in(item.value(), key, "emissivity", 0, 1, true, "");
+      model.materials.push_back(m);
+    }
+  }
+}
+
 ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& options) {
   const std::string file = path.string();
   const Keys k(file, options.allow_unknown_keys);
@@ -169,24 +190,7 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
   // tracer's offsets and the double range no longer hold (1e-200 underflows the areas).
   if (j.contains("unit_scale")) model.unit_scale = k.number_in(j, "", "unit_scale", 1e-6, 1e6, false, " m per file unit");
 
-  // Materials, in file order.
-  if (j.contains("materials")) {
-    const json& mats = j.at("materials");
-    k.require_object(mats, "materials");
-    for (const auto& item : mats.items()) {
-      const std::string key = "materials." + item.key();
-      k.require_object(item.value(), key);
-      k.only_keys(item.value(), key, {"absorptivity", "emissivity"});
-      for (const char* req : {"absorptivity", "emissivity"})
-        if (!item.value().contains(req)) k.fail(key, std::string("missing '") + req + "'");
-      Material m;
-      m.name = item.key();
-      k.name(key, m.name);
-      m.absorptivity = k.number_in(item.value(), key, "absorptivity", 0, 1, true, "");
-      m.emissivity = k.number_in(item.value(), key, "emissivity", 0, 1, true, "");
-      model.materials.push_back(m);
-    }
-  }
+  parse_materials(j, k, model);
   if (j.contains("default_material")) {
     const std::string name = k.string(j, "", "default_material");
     model.default_material = index_of(model.materials, name);
@@ -296,15 +300,7 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
   if (j.contains("environment")) parse_environment(j.at("environment"), k, model.environment);
   if (j.contains("analysis")) parse_analysis(j.at("analysis"), k, model.analysis);
   check_analysis_fits_environment(model.analysis, model.environment, k);
-  for (const Node& node : model.nodes) {
-    const std::string key = "nodes." + node.name;
-    if (node.heater && (node.fixed_temperature_K || !(node.capacitance_J_per_K > 0.0)))
-      k.fail(key + ".heater", "a thermostat needs a free node with a capacitance > 0 J/K");
-    if (node.heater && model.analysis.type != AnalysisType::transient_orbit)
-      k.fail(key + ".heater", "a thermostat switches over time: it needs analysis.type transient_orbit");
-    if (!node.power_schedule_W.empty() && model.environment.type != EnvironmentType::orbit)
-      k.fail(key + ".power_schedule_W", "a schedule repeats every orbit: it needs an environment of type orbit");
-  }
+  check_internal_power(model, k);
   if (j.contains("radiation")) parse_radiation(j.at("radiation"), k, model.radiation);
   if (j.contains("certificate")) {
     try {

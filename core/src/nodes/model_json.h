@@ -136,6 +136,8 @@ void check_analysis_fits_environment(const Analysis& a, const Environment& e, co
 std::vector<std::pair<double, double>> power_schedule(const json& j, const Keys& k, const std::string& key);
 //! A node's "heater": {"on_K", "off_K", "power_W"}, 0 < on_K < off_K, power_W > 0.
 Thermostat thermostat(const json& j, const Keys& k, const std::string& key);
+//! Heaters need a free node with C > 0 and a transient orbit analysis; schedules an orbit.
+void check_internal_power(const ThermalModel& model, const Keys& k);
 //! The "radiation" section (rays per face, minimum rays per node, seed).
 void parse_radiation(const json& j, const Keys& k, RadiationSettings& r);
 

@@ -118,6 +118,18 @@ Thermostat thermostat(const json& j, const Keys& k, const std::string& key) {
   return t;
 }
 
+void check_internal_power(const ThermalModel& model, const Keys& k) {
+  for (const Node& node : model.nodes) {
+    const std::string key = "nodes." + node.name;
+    if (node.heater && (node.fixed_temperature_K || !(node.capacitance_J_per_K > 0.0)))
+      k.fail(key + ".heater", "a thermostat needs a free node with a capacitance > 0 J/K");
+    if (node.heater && model.analysis.type != AnalysisType::transient_orbit)
+      k.fail(key + ".heater", "a thermostat switches over time: it needs analysis.type transient_orbit");
+    if (!node.power_schedule_W.empty() && model.environment.type != EnvironmentType::orbit)
+      k.fail(key + ".power_schedule_W", "a schedule repeats every orbit: it needs an environment of type orbit");
+  }
+}
+
 void parse_analysis(const json& j, const Keys& k, Analysis& a) {
   const std::string key = "analysis";
   k.require_object(j, key);

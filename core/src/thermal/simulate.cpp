@@ -86,10 +86,7 @@ SimulationResult simulate(const ThermalModel& model, const NodeCouplings& coupli
       auto avg = [](const Eigen::MatrixXd& m) { return Eigen::MatrixXd(m.rowwise().mean()); };
       Loads mean;
       if (orbit) mean = orbit_mean_loads(loads, switches);
-      r.loads.solar_W = orbit ? mean.solar_W : avg(loads.solar_W);
-      r.loads.albedo_W = orbit ? mean.albedo_W : avg(loads.albedo_W);
-      r.loads.earth_ir_W = orbit ? mean.earth_ir_W : avg(loads.earth_ir_W);
-      r.loads.reflected_solar_W = orbit ? mean.reflected_solar_W : avg(loads.reflected_solar_W);
+      for (const LoadComponent& c : load_components()) r.loads.*c.W = orbit ? mean.*c.W : avg(loads.*c.W);
       r.loads.times_s = r.times_s;
       r.loads.in_shadow.assign(1, 0);
       r.loads.knot_times_s.resize(0);
