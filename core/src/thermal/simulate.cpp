@@ -63,7 +63,10 @@ SimulationResult simulate(const ThermalModel& model, const NodeCouplings& coupli
       throw InvalidInput("simulate: node '" + net.node_names[net.heaters[0].node] +
                          "' has a thermostat heater, which needs analysis.type transient_orbit (a steady state has no on/off cycle)");
     // The orbit mean of the schedules: exact for the steady state of the mean loads.
-    if (schedules) net.power_W = r.internal_power_W, net.power_schedule_W.clear();
+    if (schedules) {
+      net.power_W = r.internal_power_W;
+      net.power_schedule_W.clear();
+    }
     // Steady: the time-averaged loads (a fixed sun has one time step, so this is exact there). An
     // orbit's mean integrates the loads as the transient applies them, with the exact eclipse
     // fraction, not the share of positions that happen to be in shadow.
