@@ -9,6 +9,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/mesh/io.h"
 #include "thermodec/mesh/mesh_stats.h"
+#include "thermodec/nodes/load_case.h"
 #include "thermodec/nodes/load_model.h"
 
 namespace fs = std::filesystem;
@@ -452,4 +453,22 @@ TEST(LoadModelErrors, power_schedules_and_heaters_are_validated) {
   bad["analysis"] = {{"type", "transient_orbit"}};
   bad["nodes"][a]["capacitance"] = 0.0;
   expect_rejected(bad, "heater", "capacitance");
+}
+
+TEST(LoadModelErrors, a_steady_load_case_on_a_model_with_a_heater_is_refused_before_any_work) {
+  json j = example();
+  j["environment"] = {{"type", "orbit"}};
+  j["analysis"] = {{"type", "transient_orbit"}};
+  j["nodes"]["body_px"]["heater"] = {{"on_K", 270.0}, {"off_K", 275.0}, {"power_W", 1.0}};
+  const ThermalModel m = load_variant(j);
+  LoadCase steady = own_case(m, "cold");
+  steady.analysis.type = AnalysisType::steady;
+  try {
+    with_case(m, steady);
+    ADD_FAILURE() << "a steady case with a thermostat was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("load case 'cold'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("transient_orbit"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(with_case(m, own_case(m)));
 }
