@@ -27,6 +27,20 @@ class MeshCrossesAsNumpy(unittest.TestCase):
         self.assertEqual(model.nodes[0].power_W, 5.0)
         self.assertIsNone(model.nodes[0].fixed_temperature_K)
 
+    def test_central_body_schedule_and_heater_are_exposed(self):
+        env = thermodec.Environment()
+        self.assertEqual(env.central_body, "earth")
+        env.set_central_body("mars")
+        self.assertEqual(env.body_radius_m, 3389.5e3)
+        self.assertEqual(env.albedo, 0.25)
+        with self.assertRaises(thermodec.InvalidInput):
+            env.set_central_body("venus")
+        node = thermodec.Node("body", capacitance_J_per_K=2000.0)
+        node.power_schedule_W = [(0.0, 5.0), (100.0, 45.0)]
+        node.heater = thermodec.Thermostat(270.0, 275.0, 10.0)
+        self.assertEqual(node.power_schedule_W[1], (100.0, 45.0))
+        self.assertEqual(node.heater.off_K, 275.0)
+
     def test_radiation_settings_expose_the_per_node_ray_budget(self):
         model = thermodec.ThermalModel()
         self.assertEqual(model.radiation.min_rays_per_node, 250000)

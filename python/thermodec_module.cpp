@@ -140,6 +140,13 @@ void bind_model(py::module_& m) {
                " e=" + std::to_string(mat.emissivity) + ">";
       });
 
+  py::class_<Thermostat>(m, "Thermostat", "Thermostat heater: on below on_K, off above off_K, power_W while on.")
+      .def(py::init([](double on_K, double off_K, double power_W) { return Thermostat{on_K, off_K, power_W}; }),
+           py::arg("on_K") = 0.0, py::arg("off_K") = 0.0, py::arg("power_W") = 0.0)
+      .def_readwrite("on_K", &Thermostat::on_K)
+      .def_readwrite("off_K", &Thermostat::off_K)
+      .def_readwrite("power_W", &Thermostat::power_W);
+
   py::class_<Node>(m, "Node", "Isothermal node (SI: J/K, W, K).")
       .def(py::init([](std::string name, int material, double capacitance_J_per_K, double power_W,
                        std::optional<double> fixed_temperature_K) {
@@ -157,6 +164,8 @@ void bind_model(py::module_& m) {
       .def_readwrite("material", &Node::material)
       .def_readwrite("capacitance_J_per_K", &Node::capacitance_J_per_K)
       .def_readwrite("power_W", &Node::power_W)
+      .def_readwrite("power_schedule_W", &Node::power_schedule_W, "[(t_s, W), ...] over the orbit (replaces power_W)")
+      .def_readwrite("heater", &Node::heater, "Thermostat or None")
       .def_readwrite("fixed_temperature_K", &Node::fixed_temperature_K);
 
   py::class_<Conductance>(m, "Conductance", "Conductive link between two node indices [W/K].")
@@ -190,7 +199,19 @@ void bind_model(py::module_& m) {
       .def_readwrite("day_of_year", &Environment::day_of_year)
       .def_readwrite("attitude", &Environment::attitude)
       .def_readwrite("albedo", &Environment::albedo)
-      .def_readwrite("earth_ir_flux_W_per_m2", &Environment::earth_ir_flux_W_per_m2);
+      .def_readwrite("earth_ir_flux_W_per_m2", &Environment::earth_ir_flux_W_per_m2)
+      .def_readonly("central_body", &Environment::central_body)
+      .def_readwrite("body_radius_m", &Environment::body_radius_m)
+      .def_readwrite("body_gravitational_parameter_m3_per_s2", &Environment::body_gravitational_parameter_m3_per_s2)
+      .def_readwrite("sun_distance_au", &Environment::sun_distance_au)
+      .def(
+          "set_central_body",
+          [](Environment& e, const std::string& name) {
+            const CentralBody* b = find_central_body(name);
+            if (!b) throw InvalidInput("unknown central body '" + name + "'");
+            set_central_body(e, *b);
+          },
+          py::arg("name"), "earth, moon or mars: radius, GM, albedo, IR flux and sun distance of that body");
 
   py::enum_<AnalysisType>(m, "AnalysisType")
       .value("steady", AnalysisType::steady)

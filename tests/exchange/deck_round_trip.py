@@ -1,9 +1,11 @@
 """Exported decks integrated from the file alone, as the target tool integrates them, reproduce
 `thermodec simulate`.
 
-ESATAN-TMS (.d): nodes, GL/GR, STEFAN, PERIOD and the doublet tables QSOLn/QALBn/QEIRn that
-$VARIABLES1 reads with INTCY1 (cyclic linear interpolation); one orbit integrated from the
-deck's initial temperatures (the periodic state SOLCYC converges to).
+ESATAN-TMS (.d): nodes, GL/GR, STEFAN, PERIOD and the doublet tables QSOLn/QALBn/QEIRn (and
+QINTn, a node's internal power schedule) that $VARIABLES1 reads with INTCY1 (cyclic linear
+interpolation); one orbit integrated from the deck's initial temperatures (the periodic state
+SOLCYC converges to). Run on MODEL and on a copy of it whose `instrument` node (if any) has a
+square-wave `power_schedule_W` instead of its constant power.
 SINDA/FLUINT (.inp): node and conductor data, SIGMA, the arrays D11CYL reads (cyclic linear),
 TIMEND; integrated from the initial temperatures over TIMEND, the last orbit compared.
 CSV: the nodes, couplings and loads tables alone (capacitances, fixed nodes, sink, period).
@@ -61,13 +63,17 @@ class Network:
         self.period = 0.0
         self.table_t = None  # K times in [0, P)
         self.table_q = None  # n x K external loads [W]
+        self.extra = []  # (node, times over [0, P], W): other cyclic tables (power schedules)
 
     def loads(self, t):
         """Cyclic linear interpolation of the tables (INTCY1 / D11CYL)."""
         tt = np.concatenate([self.table_t, [self.period]])
         qq = np.concatenate([self.table_q, self.table_q[:, :1]], axis=1)
         x = t % self.period
-        return np.array([np.interp(x, tt, q) for q in qq])
+        q = np.array([np.interp(x, tt, q) for q in qq])
+        for i, et, ev in self.extra:
+            q[i] += np.interp(x, et, ev)
+        return q
 
     def integrate(self, T0, t_end, out_times):
         free = np.isnan(self.fixed)
@@ -97,7 +103,8 @@ class Network:
         # Pieces between table points (repeated every orbit) and the output times.
         orbits = int(round(t_end / self.period))
         cuts = sorted(set(np.round(np.concatenate(
-            [k * self.period + np.concatenate([self.table_t, out_times]) for k in range(orbits)] + [[t_end]]), 9)))
+            [k * self.period + np.concatenate([self.table_t, out_times] + [e[1] for e in self.extra])
+             for k in range(orbits)] + [[t_end]]), 9)))
         y = T[free]
         states = {0.0: T.copy()}
         for a, b in zip(cuts[:-1], cuts[1:]):
@@ -160,6 +167,8 @@ def read_esatan(path):
         if not np.array_equal(tt[:-1], t):
             sys.exit("ESATAN deck: tables with different times")
         net.table_q[int(i) - 1] += vv[:-1]
+    for i, name in re.findall(r"QI\((\d+)\) = INTCY1\(TIMEM, ([A-Z]+\d+), PERIOD\)", text):
+        net.extra.append((int(i) - 1, *arrays[name]))
     return net
 
 
@@ -291,6 +300,22 @@ for fmt, out in (("esatan", "sat.d"), ("sinda", "sat.inp"), ("csv", "sat")):
 
 net = read_esatan(os.path.join(work, "sat.d"))
 compare("ESATAN (INTCY1)", net, net.period, names, ref)
+
+# The same with an internal power schedule on `instrument` (0.2, 1.8, 1 x its power: up to 3 K off the constant).
+m = json.load(open(model))
+if "instrument" in m.get("nodes", {}) and m.get("environment", {}).get("type") == "orbit":
+    m["mesh"] = os.path.join(os.path.dirname(os.path.abspath(model)), m["mesh"])
+    q = m["nodes"]["instrument"].pop("power", 0.0)
+    m["nodes"]["instrument"]["power_schedule_W"] = [[0.0, 0.2 * q], [1000.0, 1.8 * q], [3000.0, q]]
+    scheduled = os.path.join(work, "scheduled.json")
+    json.dump(m, open(scheduled, "w"))
+    ref_s_path = os.path.join(work, "scheduled_simulate.json")
+    run("simulate", scheduled, "--json", ref_s_path, *FAST)
+    run("export", scheduled, "-f", "esatan", "-o", os.path.join(work, "scheduled.d"), *FAST)
+    net = read_esatan(os.path.join(work, "scheduled.d"))
+    if not net.extra:
+        failures.append("ESATAN deck: the power schedule's QINT table is missing")
+    compare("ESATAN with a power schedule", net, net.period, names, json.load(open(ref_s_path)))
 net, t_end = read_sinda(os.path.join(work, "sat.inp"))
 compare("SINDA (D11CYL, %g orbits)" % round(t_end / net.period), net, t_end, names, ref)
 net, csv_names = read_csv(os.path.join(work, "sat"))

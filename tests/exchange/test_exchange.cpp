@@ -426,3 +426,35 @@ TEST(ExchangeCli, simulate_vtk_writes_a_series_beside_the_result) {
   EXPECT_TRUE(fs::exists(d / "vtk" / "example_model_0000.vtu"));  // steady: one step
   EXPECT_FALSE(fs::exists(d / "vtk" / "example_model_0001.vtu"));
 }
+
+TEST(ExchangeNetworks, power_schedule_and_thermostat_reach_the_esatan_and_sinda_decks) {
+  // schedule_doublets: each value held to 1 ms before the next time, the first repeated at P.
+  const auto d = schedule_doublets({{0.0, 5.0}, {100.0, 45.0}}, 300.0);
+  const double r = ExportedNetwork::kSwitchRamp_s;
+  const std::vector<std::pair<double, double>> expected{{0.0, 5.0}, {100.0 - r, 5.0}, {100.0, 45.0}, {300.0 - r, 45.0}, {300.0, 5.0}};
+  EXPECT_EQ(d, expected);
+  ExportedNetwork e = exported_network(sample_transient().model, sample_transient().couplings, sample_transient().result, "sample");
+  const int n = e.num_nodes();
+  e.network.power_schedule_W.assign(n, {});
+  e.network.power_schedule_W[12] = {{0.0, 5.0}, {0.5 * e.period_s, 45.0}};
+  e.network.power_W[12] = 0.0;
+  e.network.heaters = {{5, Thermostat{240.0, 245.0, 120.0}}};
+  const auto dir = temp_dir("schedules");
+  write_esatan_network(dir / "sat.d", e);
+  const std::string esatan = exchange_test::slurp((dir / "sat.d").string());
+  for (const char* line : {"QINT13(10) =", "      QI(13) = INTCY1(TIMEM, QINT13, PERIOD)", "HON6 = 240.0;", "HOF6 = 245.0;",
+                           "HPW6 = 120.0;", "      IF (T(6) .LT. HON6) HTR6 = 1", "      IF (T(6) .GT. HOF6) HTR6 = 0",
+                           "      IF (HTR6 .EQ. 1) QI(6) = QI(6) + HPW6"})
+    EXPECT_NE(esatan.find(line), std::string::npos) << line;
+  write_sinda_network(dir / "sat.inp", e);
+  const std::string sinda = exchange_test::slurp((dir / "sat.inp").string());
+  for (const char* line : {"      2013 = 0.0, 5.0", "      Q13 = D11CYL(TIMEN, A2013, ", "HEADER REGISTER DATA", "      HON6 = 240.0",
+                           "      IF (T6 .LT. HON6) HTR6 = 1.0", "      Q6 = Q6 + HTR6 * HPW6"})
+    EXPECT_NE(sinda.find(line), std::string::npos) << line;
+  // A deck without schedules or heaters is written as before: none of these lines.
+  const ExportedNetwork plain = exported_network(sample_transient().model, sample_transient().couplings, sample_transient().result, "sample");
+  write_esatan_network(dir / "plain.d", plain);
+  const std::string p = exchange_test::slurp((dir / "plain.d").string());
+  EXPECT_EQ(p.find("QINT"), std::string::npos);
+  EXPECT_EQ(p.find("HTR"), std::string::npos);
+}

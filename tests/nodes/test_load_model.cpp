@@ -9,6 +9,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/mesh/io.h"
 #include "thermodec/mesh/mesh_stats.h"
+#include "thermodec/nodes/load_case.h"
 #include "thermodec/nodes/load_model.h"
 
 namespace fs = std::filesystem;
@@ -398,4 +399,76 @@ TEST(LoadModel, sun_direction_with_extreme_components_keeps_its_direction) {
   EXPECT_TRUE(load_variant(j).environment.sun_direction.isApprox(Eigen::Vector3d(0, 0, -1)));
   j["environment"]["sun_direction"] = json::array({1e-200, 0, 0});
   EXPECT_EQ(load_variant(j).environment.sun_direction, Eigen::Vector3d(1, 0, 0));
+}
+
+TEST(LoadModel, power_schedule_and_heater_load_save_and_load_again) {
+  json j = example();
+  j["environment"] = {{"type", "orbit"}};
+  j["analysis"] = {{"type", "transient_orbit"}};
+  const std::string a = "body_px", b = a;  // capacitance 2000 J/K
+  j["nodes"][a].erase("power");
+  j["nodes"][a]["power_schedule_W"] = {{0.0, 5.0}, {1200.0, 40.0}};
+  j["nodes"][b]["heater"] = {{"on_K", 270.0}, {"off_K", 275.0}, {"power_W", 12.0}};
+  const ThermalModel m = load_variant(j);
+  const auto node = [&](const ThermalModel& model, const std::string& name) {
+    for (const Node& n : model.nodes)
+      if (n.name == name) return n;
+    return Node{};
+  };
+  ASSERT_EQ(node(m, a).power_schedule_W.size(), 2u);
+  EXPECT_EQ(node(m, a).power_schedule_W[1], std::make_pair(1200.0, 40.0));
+  ASSERT_TRUE(node(m, b).heater.has_value());
+  EXPECT_EQ(node(m, b).heater->off_K, 275.0);
+  // The reduced model.json of `reduce` is written by save_model: both keys survive it.
+  const fs::path d = temp_dir("saved_schedule");
+  save_model(m, d / "model.json", d / "mesh.obj");
+  const ThermalModel back = load_model(d / "model.json");
+  EXPECT_EQ(node(back, a).power_schedule_W, node(m, a).power_schedule_W);
+  EXPECT_EQ(node(back, a).power_W, 0.0);
+  ASSERT_TRUE(node(back, b).heater.has_value());
+  EXPECT_TRUE(*node(back, b).heater == *node(m, b).heater);
+}
+
+TEST(LoadModelErrors, power_schedules_and_heaters_are_validated) {
+  json j = example();
+  j["environment"] = {{"type", "orbit"}};
+  j["analysis"] = {{"type", "transient_orbit"}};
+  const std::string a = "body_px";
+  json bad = j;
+  bad["nodes"][a]["power_schedule_W"] = {{0.0, 5.0}};  // beside "power"
+  expect_rejected(bad, "nodes." + a, "either");
+  bad = j;
+  bad["nodes"][a].erase("power");
+  bad["nodes"][a]["power_schedule_W"] = {{10.0, 5.0}};
+  expect_rejected(bad, "power_schedule_W[0]", "0 s");
+  bad["nodes"][a]["power_schedule_W"] = {{0.0, 5.0}, {0.0, 1.0}};
+  expect_rejected(bad, "power_schedule_W[1]", "increase");
+  bad = j;
+  bad["nodes"][a]["capacitance"] = 100.0;
+  bad["nodes"][a]["heater"] = {{"on_K", 275.0}, {"off_K", 270.0}, {"power_W", 1.0}};
+  expect_rejected(bad, "heater", "below");
+  bad["nodes"][a]["heater"] = {{"on_K", 270.0}, {"off_K", 275.0}, {"power_W", 1.0}};
+  bad["analysis"] = {{"type", "steady"}};
+  expect_rejected(bad, "heater", "transient_orbit");
+  bad["analysis"] = {{"type", "transient_orbit"}};
+  bad["nodes"][a]["capacitance"] = 0.0;
+  expect_rejected(bad, "heater", "capacitance");
+}
+
+TEST(LoadModelErrors, a_steady_load_case_on_a_model_with_a_heater_is_refused_before_any_work) {
+  json j = example();
+  j["environment"] = {{"type", "orbit"}};
+  j["analysis"] = {{"type", "transient_orbit"}};
+  j["nodes"]["body_px"]["heater"] = {{"on_K", 270.0}, {"off_K", 275.0}, {"power_W", 1.0}};
+  const ThermalModel m = load_variant(j);
+  LoadCase steady = own_case(m, "cold");
+  steady.analysis.type = AnalysisType::steady;
+  try {
+    with_case(m, steady);
+    ADD_FAILURE() << "a steady case with a thermostat was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("load case 'cold'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("transient_orbit"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(with_case(m, own_case(m)));
 }

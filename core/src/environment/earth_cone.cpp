@@ -119,7 +119,7 @@ bool cells_seeing_box(const EarthCellTable& cells, const Eigen::Vector3d& c, dou
 struct EarthCone {
   Eigen::Vector3f fe, ft, fu;
   float one_minus_cos_half;
-  double distance_m, R2;
+  double distance_m, R2, radius_m;
   // Ray k of this side: origin on the side (if asked) and direction in the Earth's cone;
   // false if it points behind the side (not traced, not recorded).
   bool make_ray(const Side& g, const std::array<std::uint32_t, 4>& sd, const tracing::SobolTable& sobol, int k,
@@ -143,7 +143,7 @@ struct EarthCone {
   Eigen::Vector3f normal_at_hit(const EarthRay& ray) const {
     const double ca = ray.cos_a, sa = ray.sin_a;
     const double t_hit = distance_m * ca - std::sqrt(std::max(0.0, R2 - distance_m * distance_m * sa * sa));
-    const double n_axis = (t_hit * ca - distance_m) / kEarthRadius_m, n_side = t_hit * sa / kEarthRadius_m;
+    const double n_axis = (t_hit * ca - distance_m) / radius_m, n_side = t_hit * sa / radius_m;
     Eigen::Vector3f n_earth;
     for (int i = 0; i < 3; ++i) n_earth[i] = float(n_axis * fe[i] + n_side * (ray.cp * ft[i] + ray.sp * fu[i]));
     return n_earth;
@@ -155,7 +155,7 @@ struct EarthPass {
   const std::vector<Side>& geo;
   const SurfaceSides& sides;
   Eigen::Vector3d earth_dir;  // unit
-  double distance_m, sin_half, cap_over_pi;
+  double distance_m, radius_m, sin_half, cap_over_pi;
   const Eigen::VectorXi& side_rays;
   int pilot_rays;
   std::uint64_t seed;
@@ -195,7 +195,7 @@ bool patch_side(const EarthPass& ep, int s, const std::array<std::uint32_t, 4>& 
   const int pilot_rays = ep.pilot_rays;
   const std::vector<Side>& geo = ep.geo;
   const Eigen::Vector3d& earth_dir = ep.earth_dir;
-  const double distance_m = ep.distance_m, cap_over_pi = ep.cap_over_pi;
+  const double distance_m = ep.distance_m, radius_m = ep.radius_m, cap_over_pi = ep.cap_over_pi;
   auto& status = x.status;
   auto& again = x.again;
   auto& again_o = x.again_o;
@@ -272,7 +272,7 @@ bool patch_side(const EarthPass& ep, int s, const std::array<std::uint32_t, 4>& 
   const float* cos_t = rec.cos_theta.data() + cursor.ray0;
   double all = 0.0;
   for (std::int64_t i = 0; i < cursor.count; ++i) all += cos_t[i];
-  const double f_open = unobstructed_earth_view_factor(geo[s].normal.dot(earth_dir), distance_m);
+  const double f_open = unobstructed_earth_view_factor(geo[s].normal.dot(earth_dir), distance_m, radius_m);
   const double weight = all > 0.0 ? f_open / all : cap_over_pi / (all_now ? rays : pilot);
   auto& keep = out.rays[s];
   keep.clear();
@@ -306,7 +306,7 @@ void trace_side(const EarthPass& ep, int s, SideTracer& tracer, EarthScratch& x,
   const std::vector<Side>& geo = ep.geo;
   const SurfaceSides& sides = ep.sides;
   const Eigen::Vector3d& earth_dir = ep.earth_dir;
-  const double sin_half = ep.sin_half, distance_m = ep.distance_m, cap_over_pi = ep.cap_over_pi;
+  const double sin_half = ep.sin_half, distance_m = ep.distance_m, radius_m = ep.radius_m, cap_over_pi = ep.cap_over_pi;
   const std::vector<char>* todo = ep.todo;
   const Eigen::VectorXi& side_rays = ep.side_rays;
   const int pilot_rays = ep.pilot_rays;
@@ -398,7 +398,7 @@ void trace_side(const EarthPass& ep, int s, SideTracer& tracer, EarthScratch& x,
   // weights are scaled alike.
   double all = 0.0;
   for (float c : cos_theta) all += c;
-  const double f_open = unobstructed_earth_view_factor(g.normal.dot(earth_dir), distance_m);
+  const double f_open = unobstructed_earth_view_factor(g.normal.dot(earth_dir), distance_m, radius_m);
   const double weight = all > 0.0 ? f_open / all : cap_over_pi / used;
   auto& keep = out.rays[s];
   keep.reserve(cos_theta.size());
@@ -416,7 +416,7 @@ void trace_side(const EarthPass& ep, int s, SideTracer& tracer, EarthScratch& x,
 }  // namespace
 
 EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
-                     const Eigen::Vector3d& earth_dir_in, double distance_m, const Eigen::VectorXi& side_rays,
+                     const Eigen::Vector3d& earth_dir_in, double distance_m, double radius_m, const Eigen::VectorXi& side_rays,
                      int pilot_rays, std::uint64_t seed, const tracing::SobolTable& sobol,
                      const std::vector<char>& may_be_blocked, const PassContext& pass,
                      const std::vector<char>* todo, bool flatten, const EarthReplay& replay) {
@@ -427,8 +427,8 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   out.relative_error = Eigen::VectorXd::Zero(ns);
   out.replayed.assign(ns, 0);
   const Eigen::Vector3d earth_dir = earth_dir_in.normalized();
-  const double R2 = kEarthRadius_m * kEarthRadius_m;
-  const double sin_half = kEarthRadius_m / distance_m;
+  const double R2 = radius_m * radius_m;
+  const double sin_half = radius_m / distance_m;
   const double cos_half = std::sqrt(1.0 - sin_half * sin_half);
   const double cap_over_pi = 2.0 * (1.0 - cos_half);  // Omega_cap / pi
   Eigen::Vector3d et, eu;
@@ -445,8 +445,8 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
                           replay.ref->earth_relative_error.size() == replay.ref->earth_view_factor.size();
   Eigen::AlignedBox3d change_box;  // the changed region, margin included
   if (can_replay) change_box = Eigen::AlignedBox3d(pass.change->box.min().cast<double>(), pass.change->box.max().cast<double>());
-  const EarthPass ep{geo, sides, earth_dir, distance_m, sin_half, cap_over_pi, side_rays, pilot_rays, seed, sobol,
-                     may_be_blocked, pass, todo, replay, EarthCone{fe, ft, fu, one_minus_cos_half, distance_m, R2},
+  const EarthPass ep{geo, sides, earth_dir, distance_m, radius_m, sin_half, cap_over_pi, side_rays, pilot_rays, seed, sobol,
+                     may_be_blocked, pass, todo, replay, EarthCone{fe, ft, fu, one_minus_cos_half, distance_m, R2, radius_m},
                      cells, recording, can_replay, change_box};
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 16), [&](const tbb::blocked_range<int>& range) {
     SideTracer tracer(scene, recording, pass.change);
@@ -464,12 +464,12 @@ namespace thermodec {
 
 using namespace load_rays;
 
-double unobstructed_earth_view_factor(double cos_angle, double distance_m) {
+double unobstructed_earth_view_factor(double cos_angle, double distance_m, double radius_m) {
   // Differential plane element to a sphere (Howell's catalog, configuration B-?: "plane
   // element to sphere, element tilted"): cos(phi) / H^2 while the whole sphere is above the
   // element's horizon, the horizon-cut formula in between, 0 when it is all below.
-  const double H = distance_m / kEarthRadius_m;
-  if (!(H > 1.0)) throw InvalidInput("Earth view factor: distance must exceed the Earth radius");
+  const double H = distance_m / radius_m;
+  if (!(H > 1.0)) throw InvalidInput("Earth view factor: distance must exceed the central body's radius");
   const double c = std::clamp(cos_angle, -1.0, 1.0);
   if (c >= 1.0 / H) return c / (H * H);
   if (c <= -1.0 / H) return 0.0;
@@ -483,15 +483,15 @@ double unobstructed_earth_view_factor(double cos_angle, double distance_m) {
 
 Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& sides,
                                    const Eigen::Vector3d& earth_direction_body, double distance_m, int rays,
-                                   std::uint64_t seed) {
+                                   std::uint64_t seed, double radius_m) {
   if (rays < 1) throw InvalidInput("earth_rays_per_face must be >= 1");
-  if (!(distance_m > kEarthRadius_m)) throw InvalidInput("Earth view factors: distance must exceed the Earth radius");
+  if (!(distance_m > radius_m)) throw InvalidInput("Earth view factors: distance must exceed the central body's radius");
   const auto geo = side_geometry(scene.mesh(), sides);
   const auto table = tracing::shared_sobol_table(rays);
   const tracing::SobolTable& sobol = *table;
   const auto may_be_blocked = may_be_blocked_from_earth(geo, occluders(geo, sides), earth_direction_body.normalized(),
-                                                        kEarthRadius_m / distance_m, nullptr);
-  const EarthHits hits = earth_hits(scene, geo, sides, earth_direction_body, distance_m,
+                                                        radius_m / distance_m, nullptr);
+  const EarthHits hits = earth_hits(scene, geo, sides, earth_direction_body, distance_m, radius_m,
                                     Eigen::VectorXi::Constant(sides.size(), rays), rays, seed, sobol, may_be_blocked,
                                     PassContext{});
   return hits.view_factor;

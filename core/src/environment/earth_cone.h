@@ -73,10 +73,10 @@ struct EarthReplay {
   std::atomic<int>* replayed_sides = nullptr;  // counts the sides replayed so
 };
 
-//! Earth cone rays of every side (see EarthHits) for an Earth centre at earth_dir_in * distance_m
-//! [m] (body axes); `side_rays` = #sides rays for a side whose view is partly blocked (the pilot decides).
+//! Earth cone rays of every side (see EarthHits) for a central body of radius `radius_m` [m] with
+//! its centre at earth_dir_in * distance_m [m] (body axes); `side_rays` = #sides rays for a side whose view is partly blocked (the pilot decides).
 EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
-                     const Eigen::Vector3d& earth_dir_in, double distance_m, const Eigen::VectorXi& side_rays,
+                     const Eigen::Vector3d& earth_dir_in, double distance_m, double radius_m, const Eigen::VectorXi& side_rays,
                      int pilot_rays, std::uint64_t seed, const tracing::SobolTable& sobol,
                      const std::vector<char>& may_be_blocked, const PassContext& pass,
                      const std::vector<char>* todo = nullptr, bool flatten = true, const EarthReplay& replay = {});

@@ -52,13 +52,14 @@ EarthSampling sample_earth(LoadRun& run) {
   const Eigen::VectorXi& earth_rays = run.earth_rays;
   EarthSampling e;
   if (progress) progress("Earth view factors");
-  e.distance = orbit_radius_m(env.altitude_km);
+  e.distance = orbit_radius_m(env);
   const double distance = e.distance;
   bool& earth_fixed = e.earth_fixed;
   earth_fixed = earth_fixed_in_body(states);
   if (ref && ref->earth_fixed != earth_fixed)
     throw InvalidInput("external loads: reference samples are for another attitude");
-  const double half_angle = std::asin(kEarthRadius_m / distance);
+  const double radius = env.body_radius_m;
+  const double half_angle = std::asin(radius / distance);
   std::vector<char>& earth_todo = e.earth_todo;
   earth_todo.assign(ns, 1);
   std::vector<char> may_be_blocked;
@@ -66,7 +67,7 @@ EarthSampling sample_earth(LoadRun& run) {
     // For every side (not only those traced): a side reused whole must also have taken the
     // same pilot decision, which depends on this conservative test as well as on its rays.
     may_be_blocked = may_be_blocked_from_earth(geo, occ, states[0].earth_direction_body.normalized(),
-                                               kEarthRadius_m / distance, nullptr);
+                                               radius / distance, nullptr);
     if (samples) samples->earth_may_be_blocked = may_be_blocked;
   }
   const bool ref_has_decisions = ref && static_cast<int>(ref->earth_may_be_blocked.size()) == static_cast<int>(ref->key.size());
@@ -95,7 +96,7 @@ EarthSampling sample_earth(LoadRun& run) {
   const PassContext pass = run.make_pass(ref ? &ref->earth_records : nullptr, &run.reused_earth_rays, &run.traced_earth_rays);
   std::atomic<int> replayed_by_cells{0};
   if (earth_fixed) {
-    hits = earth_hits(scene, geo, sides, states[0].earth_direction_body, distance, earth_rays, settings.earth_pilot_rays,
+    hits = earth_hits(scene, geo, sides, states[0].earth_direction_body, distance, radius, earth_rays, settings.earth_pilot_rays,
                       settings.seed, sobol, may_be_blocked, pass, ref ? &earth_todo : nullptr, /*flatten=*/false,
                       EarthReplay{ref, samples != nullptr || !ref_lit, &replayed_by_cells});
     if (ref)
@@ -207,7 +208,7 @@ void earth_loads(LoadRun& run) {
       for (int s = 0; s < ns; ++s) lit_sum[s] = lit_per_step(k, s);
       view_factor = hits.view_factor;
     } else {
-      earth_view_from_escaping(escaping, st.earth_direction_body, distance, st.sun_direction_body, view_factor, lit_sum);
+      earth_view_from_escaping(escaping, st.earth_direction_body, distance, run.model.environment.body_radius_m, st.sun_direction_body, view_factor, lit_sum);
     }
     for (int s = 0; s < ns; ++s) {
       if (view_factor[s] == 0.0) continue;

@@ -70,12 +70,12 @@ EscapingRays pack_escaping(const std::vector<std::vector<Eigen::Vector3f>>& per_
 }
 
 // Per side, at one step: F_side->Earth and sum over Earth hits of w max(0, n_E . sun).
-void earth_view_from_escaping(const EscapingRays& esc, const Eigen::Vector3d& earth_dir_in, double distance_m,
+void earth_view_from_escaping(const EscapingRays& esc, const Eigen::Vector3d& earth_dir_in, double distance_m, double radius_m,
                               const Eigen::Vector3d& sun, Eigen::VectorXd& view_factor, Eigen::VectorXd& lit_sum) {
   const int ns = static_cast<int>(esc.begin.size()) - 1;
   const Eigen::Vector3d e = earth_dir_in.normalized();
-  const double sin_half = kEarthRadius_m / distance_m, cos_half = std::sqrt(1.0 - sin_half * sin_half);
-  const double R2 = kEarthRadius_m * kEarthRadius_m, r2 = distance_m * distance_m;
+  const double sin_half = radius_m / distance_m, cos_half = std::sqrt(1.0 - sin_half * sin_half);
+  const double R2 = radius_m * radius_m, r2 = distance_m * distance_m;
   view_factor.setZero(ns);
   lit_sum.setZero(ns);
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 64), [&](const tbb::blocked_range<int>& range) {
@@ -88,7 +88,7 @@ void earth_view_from_escaping(const EscapingRays& esc, const Eigen::Vector3d& ea
         if (c <= cos_half) continue;
         // Nearest intersection with the sphere of the ray from the body origin.
         const double t = distance_m * c - std::sqrt(std::max(0.0, R2 - r2 * (1.0 - c * c)));
-        const Eigen::Vector3d n = (t * d - distance_m * e) / kEarthRadius_m;
+        const Eigen::Vector3d n = (t * d - distance_m * e) / radius_m;
         f += w;
         lit += w * std::max(0.0, n.dot(sun));
       }

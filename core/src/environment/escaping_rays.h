@@ -37,7 +37,8 @@ std::vector<std::vector<Eigen::Vector3f>> escaping_directions(const RayScene& sc
 EscapingRays pack_escaping(const std::vector<std::vector<Eigen::Vector3f>>& per_side, const Eigen::VectorXi& rays);
 
 // Per side, at one step: F_side->Earth and sum over Earth hits of w max(0, n_E . sun).
-void earth_view_from_escaping(const EscapingRays& esc, const Eigen::Vector3d& earth_dir_in, double distance_m,
+// radius_m: the central body's radius [m].
+void earth_view_from_escaping(const EscapingRays& esc, const Eigen::Vector3d& earth_dir_in, double distance_m, double radius_m,
                               const Eigen::Vector3d& sun, Eigen::VectorXd& view_factor, Eigen::VectorXd& lit_sum);
 
 }  // namespace thermodec::load_rays

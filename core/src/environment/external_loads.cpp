@@ -33,7 +33,7 @@ LoadRun::LoadRun(const ThermalModel& model_in, const RayScene& scene_in, const S
   orbit = env.type == EnvironmentType::orbit;
   steps = orbit ? (settings.steps_per_orbit > 0 ? settings.steps_per_orbit : model.analysis.steps_per_orbit) : 1;
   if (orbit && steps < 2) throw InvalidInput("analysis.steps_per_orbit must be >= 2 for an orbit");
-  loads.period_s = orbit ? orbit_period_s(env.altitude_km) : 0.0;
+  loads.period_s = orbit ? orbit_period_s(env) : 0.0;
   loads.times_s = Eigen::VectorXd::LinSpaced(steps, 0.0, loads.period_s * (steps - 1) / steps);
   if (!orbit) loads.times_s = Eigen::VectorXd::Zero(1);
   loads.in_shadow.assign(steps, 0);
@@ -42,7 +42,7 @@ LoadRun::LoadRun(const ThermalModel& model_in, const RayScene& scene_in, const S
     *m = Eigen::MatrixXd::Zero(num_nodes, steps);
 
   if (orbit) {
-    flux = solar_flux_on_day_W_per_m2(env.day_of_year);
+    flux = solar_flux_W_per_m2(env);
     for (int k = 0; k < steps; ++k) states.push_back(orbit_state(env, loads.times_s[k]));
   } else {
     flux = env.solar_flux_W_per_m2;

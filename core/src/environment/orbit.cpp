@@ -52,6 +52,22 @@ double solar_flux_on_day_W_per_m2(int day_of_year) {
   return kSolarConstantAt1AU_W_per_m2 / (d * d);
 }
 
+double solar_flux_W_per_m2(const Environment& env) {
+  if (env.sun_distance_au > 0.0) return kSolarConstantAt1AU_W_per_m2 / (env.sun_distance_au * env.sun_distance_au);
+  return solar_flux_on_day_W_per_m2(env.day_of_year);
+}
+
+double orbit_radius_m(const Environment& env) {
+  if (!(env.altitude_km > 0.0))
+    throw InvalidInput("environment.altitude_km must be > 0, got " + std::to_string(env.altitude_km));
+  return env.body_radius_m + env.altitude_km * 1e3;
+}
+
+double orbit_period_s(const Environment& env) {
+  const double r = orbit_radius_m(env);
+  return 2.0 * kPi * std::sqrt(r * r * r / env.body_gravitational_parameter_m3_per_s2);
+}
+
 double orbit_radius_m(double altitude_km) {
   if (!(altitude_km > 0.0))
     throw InvalidInput("environment.altitude_km must be > 0, got " + std::to_string(altitude_km));
@@ -63,14 +79,14 @@ double orbit_period_s(double altitude_km) {
   return 2.0 * kPi * std::sqrt(r * r * r / kEarthGravitationalParameter_m3_per_s2);
 }
 
-bool in_cylindrical_shadow(const Eigen::Vector3d& r, const Eigen::Vector3d& s) {
+bool in_cylindrical_shadow(const Eigen::Vector3d& r, const Eigen::Vector3d& s, double radius_m) {
   const double along = r.dot(s);
-  return along < 0.0 && (r - along * s).squaredNorm() < kEarthRadius_m * kEarthRadius_m;
+  return along < 0.0 && (r - along * s).squaredNorm() < radius_m * radius_m;
 }
 
 OrbitState orbit_state(const Environment& env, double time_s) {
-  const double radius = orbit_radius_m(env.altitude_km);
-  const double period = orbit_period_s(env.altitude_km);
+  const double radius = orbit_radius_m(env);
+  const double period = orbit_period_s(env);
   const double i = env.inclination_deg * kDeg, raan = env.raan_deg * kDeg;
   const double u = 2.0 * kPi * time_s / period;  // argument of latitude, 0 at the ascending node
   // Perifocal-to-ECI for a circular orbit: position along P(u), velocity along Q(u).
@@ -116,7 +132,7 @@ OrbitState orbit_state(const Environment& env, double time_s) {
   st.body_to_eci.col(2) = z;
   st.sun_direction_body = st.body_to_eci.transpose() * s;
   st.earth_direction_body = st.body_to_eci.transpose() * (-r_hat);
-  st.in_shadow = in_cylindrical_shadow(st.position_eci_m, s);
+  st.in_shadow = in_cylindrical_shadow(st.position_eci_m, s, env.body_radius_m);
   return st;
 }
 
@@ -126,11 +142,11 @@ double beta_angle_rad(const Environment& env) {
 }
 
 double eclipse_fraction(const Environment& env) {
-  const double r = orbit_radius_m(env.altitude_km);
-  const double h = r - kEarthRadius_m;
+  const double r = orbit_radius_m(env), R = env.body_radius_m;
+  const double h = r - R;
   const double beta = beta_angle_rad(env);
-  if (std::abs(beta) >= std::asin(kEarthRadius_m / r)) return 0.0;
-  const double c = std::sqrt(h * h + 2.0 * kEarthRadius_m * h) / (r * std::cos(beta));
+  if (std::abs(beta) >= std::asin(R / r)) return 0.0;
+  const double c = std::sqrt(h * h + 2.0 * R * h) / (r * std::cos(beta));
   return std::acos(std::clamp(c, -1.0, 1.0)) / kPi;
 }
 

@@ -17,7 +17,7 @@ std::vector<double> sun_kink_times_s(const ThermalModel& model, const std::vecto
   std::vector<double> out;
   if (positions < 2 || max_knots < 1 || !(flux > 0.0) || !(threshold_K > 0.0)) return out;
   constexpr int kFine = 16;
-  const double P = orbit_period_s(model.environment.altitude_km), h = P / positions, dt = h / kFine;
+  const double P = orbit_period_s(model.environment), h = P / positions, dt = h / kFine;
   const int M = positions * kFine;
   std::vector<Eigen::Vector3d> sun(M);
   std::vector<char> lit(M);

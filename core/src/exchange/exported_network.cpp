@@ -2,12 +2,25 @@
 
 #include "thermodec/common/errors.h"
 #include "thermodec/mesh/face_geometry.h"
+#include "thermodec/thermal/internal_power.h"
 #include "thermodec/thermal/orbit_transient.h"
 
 #include <algorithm>
 #include <vector>
 
 namespace thermodec {
+
+std::vector<std::pair<double, double>> schedule_doublets(const std::vector<std::pair<double, double>>& s, double P) {
+  std::vector<std::pair<double, double>> out;
+  const double ramp = ExportedNetwork::kSwitchRamp_s;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const double end = k + 1 < s.size() ? s[k + 1].first : P;
+    out.emplace_back(s[k].first, s[k].second);
+    if (end - ramp > s[k].first) out.emplace_back(end - ramp, s[k].second);
+  }
+  if (!s.empty()) out.emplace_back(P, s.front().second);
+  return out;
+}
 
 ExportedNetwork exported_network(const ThermalModel& model, const NodeCouplings& couplings,
                                  const SimulationResult& result, const std::string& title) {
@@ -38,6 +51,10 @@ ExportedNetwork exported_network(const ThermalModel& model, const NodeCouplings&
   e.absorptivity = alpha_area.cwiseQuotient(e.area_m2.cwiseMax(1e-300));
   e.emissivity = eps_area.cwiseQuotient(e.area_m2.cwiseMax(1e-300));
   e.transient = result.transient;
+  if (!result.transient && has_power_schedules(e.network) && result.internal_power_W.size() == n) {
+    e.network.power_W = result.internal_power_W;  // the orbit mean the steady state solved
+    e.network.power_schedule_W.assign(static_cast<std::size_t>(n), {});
+  }
   e.period_s = result.transient ? result.loads.period_s : 0.0;
   e.orbits = result.orbits;
   e.times_s = result.loads.times_s;

@@ -1,4 +1,5 @@
 #include "thermodec/exchange/write_csv_tables.h"
+#include "thermodec/thermal/internal_power.h"
 
 #include <ostream>
 
@@ -57,12 +58,17 @@ std::vector<std::filesystem::path> write_csv_tables(const std::filesystem::path&
   files.add(loads, [&](std::ostream& out) {
     out << "time_s,node,solar_W,albedo_W,earth_ir_W,internal_W\n";
     const int K = tables ? static_cast<int>(e.table_times_s.size()) : S;
+    // Scheduled internal power: the value over the interval ending at each time (as simulate).
+    const Eigen::MatrixXd scheduled = tables && has_power_schedules(net)
+                                          ? scheduled_power_W(net, e.table_times_s, e.period_s)
+                                          : Eigen::MatrixXd::Zero(n, K);
     for (int k = 0; k < K; ++k)
       for (int i = 0; i < n; ++i)
         out << real(tables ? e.table_times_s[k] : e.times_s[k]) << "," << csv_field(net.node_names[i]) << ","
             << real(tables ? e.table_solar_W(i, k) : e.solar_W(i, k)) << ","
             << real(tables ? e.table_albedo_W(i, k) : e.albedo_W(i, k)) << ","
-            << real(tables ? e.table_earth_ir_W(i, k) : e.earth_ir_W(i, k)) << "," << real(net.power_W[i]) << "\n";
+            << real(tables ? e.table_earth_ir_W(i, k) : e.earth_ir_W(i, k)) << ","
+            << real(net.power_W[i] + scheduled(i, k)) << "\n";
   }, protected_inputs);
   files.add(nodes, [&](std::ostream& out) {
     for (const std::string& line : e.provenance) out << "# " << line << "\n";

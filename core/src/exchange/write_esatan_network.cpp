@@ -10,6 +10,7 @@
 
 #include "number_text.h"
 #include "thermodec/common/atomic_write.h"
+#include "thermodec/thermal/internal_power.h"
 
 namespace thermodec {
 namespace {
@@ -41,6 +42,30 @@ void write_table(std::ostream& out, const std::string& name, const ExportedNetwo
   }
 }
 
+// Doublet array of a node's power schedule (schedule_doublets).
+void write_schedule(std::ostream& out, const std::string& name, const std::vector<std::pair<double, double>>& d) {
+  out << name << "(" << 2 * d.size() << ") =\n";
+  for (std::size_t k = 0; k < d.size(); ++k)
+    out << "    " << real(d[k].first) << ", " << real(d[k].second) << (k + 1 < d.size() ? ",\n" : ";\n");
+}
+
+// $VARIABLES1 lines of node i's internal power: its schedule (INTCY1 over the doublets QINTi)
+// and its thermostat heater (state HTRi switched on below HONi, off above HOFi, power HPWi),
+// evaluated as ESATAN evaluates $VARIABLES1, once per solution step.
+void write_internal_power(std::ostream& out, const ThermalNetwork& net, int i) {
+  const std::string k = std::to_string(i + 1);
+  const bool scheduled = i < static_cast<int>(net.power_schedule_W.size()) && !net.power_schedule_W[i].empty();
+  const NetworkHeater* heater = nullptr;
+  for (const NetworkHeater& h : net.heaters)
+    if (h.node == i) heater = &h;
+  if (scheduled) out << "      QI(" << k << ") = INTCY1(TIMEM, QINT" << k << ", PERIOD)\n";
+  if (!heater) return;
+  if (!scheduled) out << "      QI(" << k << ") = " << real(net.power_W[i]) << "\n";
+  out << "      IF (T(" << k << ") .LT. HON" << k << ") HTR" << k << " = 1\n"
+      << "      IF (T(" << k << ") .GT. HOF" << k << ") HTR" << k << " = 0\n"
+      << "      IF (HTR" << k << " .EQ. 1) QI(" << k << ") = QI(" << k << ") + HPW" << k << "\n";
+}
+
 }  // namespace
 
 void write_esatan_network(const std::filesystem::path& path, const ExportedNetwork& e,
@@ -56,6 +81,9 @@ void write_esatan_network(const std::filesystem::path& path, const ExportedNetwo
            "# node n = thermodec node n - 1; " << kSpaceNode << " = deep space (boundary, " << real(net.sink_temperature_K) << " K)\n"
            "# loads: QS = direct + reflected solar, QA = albedo, QE = Earth IR [W], "
         << (tables ? "cyclic tables over one orbit, linear between points, both sides of each eclipse switch" : "orbit-averaged (steady)") << "\n";
+    if (tables && (has_power_schedules(net) || !net.heaters.empty()))
+      out << "# QI: internal power [W]; a schedule as the cyclic table QINTn; a thermostat heater as\n"
+             "# state HTRn (1 = on), on below HONn, off above HOFn [K], adding HPWn [W]\n";
     for (const std::string& line : e.provenance) out << "# " << line << "\n";
     out << "$MODEL THERMODEC\n$LOCALS\n$NODES\n";
     const Eigen::MatrixXd& T = e.temperature_K;
@@ -77,7 +105,20 @@ void write_esatan_network(const std::filesystem::path& path, const ExportedNetwo
         if (net.radiative_couplings_m2(i, j) != 0.0) out << "GR(" << i + 1 << ", " << j + 1 << ") = " << real(net.radiative_couplings_m2(i, j)) << ";\n";
     for (int i = 0; i < n; ++i)
       if (net.to_space_couplings_m2[i] != 0.0) out << "GR(" << i + 1 << ", " << kSpaceNode << ") = " << real(net.to_space_couplings_m2[i]) << ";\n";
-    out << "$CONSTANTS\n$REAL\nPERIOD = " << real(e.period_s) << ";\n$CONTROL\nTABS = 0.0;\nSTEFAN = 5.670374419D-8;\n"
+    out << "$CONSTANTS\n";
+    if (tables && !net.heaters.empty()) {
+      out << "$INTEGER\n";
+      for (const NetworkHeater& h : net.heaters)  // initial state: from the initial temperature
+        out << "HTR" << h.node + 1 << " = " << (T(h.node, 0) < h.thermostat.on_K ? 1 : 0) << ";\n";
+    }
+    out << "$REAL\nPERIOD = " << real(e.period_s) << ";\n";
+    if (tables)
+      for (const NetworkHeater& h : net.heaters) {
+        const std::string k = std::to_string(h.node + 1);
+        out << "HON" << k << " = " << real(h.thermostat.on_K) << ";\nHOF" << k << " = " << real(h.thermostat.off_K)
+            << ";\nHPW" << k << " = " << real(h.thermostat.power_W) << ";\n";
+      }
+    out << "$CONTROL\nTABS = 0.0;\nSTEFAN = 5.670374419D-8;\n"
            "RELXCA = 1.0D-6;\nRELXCB = 1.0D-6;\nNLOOP = 1000;\n";
     if (tables) {
       const double dt = e.period_s / S;
@@ -87,6 +128,8 @@ void write_esatan_network(const std::filesystem::path& path, const ExportedNetwo
         write_table(out, "QSOL" + std::to_string(i + 1), e, e.table_solar_W, i);
         write_table(out, "QALB" + std::to_string(i + 1), e, e.table_albedo_W, i);
         write_table(out, "QEIR" + std::to_string(i + 1), e, e.table_earth_ir_W, i);
+        if (i < static_cast<int>(net.power_schedule_W.size()) && !net.power_schedule_W[i].empty())
+          write_schedule(out, "QINT" + std::to_string(i + 1), schedule_doublets(net.power_schedule_W[i], e.period_s));
       }
     } else {
       out << "$ARRAYS\n";
@@ -105,6 +148,7 @@ void write_esatan_network(const std::filesystem::path& path, const ExportedNetwo
         out << "      QS(" << k << ") = INTCY1(TIMEM, QSOL" << k << ", PERIOD)\n"
             << "      QA(" << k << ") = INTCY1(TIMEM, QALB" << k << ", PERIOD)\n"
             << "      QE(" << k << ") = INTCY1(TIMEM, QEIR" << k << ", PERIOD)\n";
+        write_internal_power(out, net, i);
       }
     }
     out << "$VARIABLES2\n$OUTPUTS\n      CALL PRNDTB(' ', 'L, T, QS, QA, QE, QI, C', CURRENT)\n$ENDMODEL THERMODEC\n";

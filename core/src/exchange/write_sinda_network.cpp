@@ -10,6 +10,7 @@
 
 #include "number_text.h"
 #include "thermodec/common/atomic_write.h"
+#include "thermodec/thermal/internal_power.h"
 
 namespace thermodec {
 namespace {
@@ -17,6 +18,7 @@ namespace {
 std::string real(double x) { return exchange_text::fortran_real(x); }
 constexpr int kSpaceNode = 99999;
 constexpr int kFirstArray = 1000;  // array id of node n's external load: kFirstArray + n
+constexpr int kFirstSchedule = 2000;  // array id of node n's power schedule: kFirstSchedule + n
 
 std::string one_line(std::string s) {
   for (char& c : s)
@@ -42,6 +44,9 @@ void write_sinda_network(const std::filesystem::path& path, const ExportedNetwor
            "C Q: internal power + absorbed solar, albedo and Earth IR [W], "
         << (tables ? "cyclic tables over one orbit, linear between points, both sides of each eclipse switch"
                    : "orbit-averaged (steady)") << "\n";
+    if (tables && (has_power_schedules(net) || !net.heaters.empty()))
+      out << "C internal power schedules: arrays " << kFirstSchedule << " + n; thermostat heaters: register HTRn (1 = on),\n"
+             "C on below HONn, off above HOFn [K], adding HPWn [W], switched in VARIABLES 1\n";
     if (tables)
       out << "C initial temperatures: the orbit-periodic state at t = 0 (thermodec simulate); TRANSIENT runs\n"
              "C " << std::max(1, e.orbits) << " orbit(s) from it, every one of them the periodic orbit\n";
@@ -52,6 +57,15 @@ void write_sinda_network(const std::filesystem::path& path, const ExportedNetwor
     if (tables)
       out << "      TIMEO  = 0.0\n      TIMEND = " << real(e.period_s * std::max(1, e.orbits)) << "\n      DTIMEI = "
           << real(e.period_s / S) << "\n      OUTPUT = " << real(e.period_s / S) << "\n";
+    if (tables && !net.heaters.empty()) {
+      out << "HEADER REGISTER DATA\n";
+      for (const NetworkHeater& h : net.heaters) {
+        const std::string k = std::to_string(h.node + 1);
+        out << "      HTR" << k << " = " << (e.temperature_K(h.node, 0) < h.thermostat.on_K ? "1.0" : "0.0") << "\n      HON" << k
+            << " = " << real(h.thermostat.on_K) << "\n      HOF" << k << " = " << real(h.thermostat.off_K) << "\n      HPW" << k
+            << " = " << real(h.thermostat.power_W) << "\n";
+      }
+    }
     out << "HEADER NODE DATA, MAIN\n";
     for (int i = 0; i < n; ++i) {
       // Boundary nodes: negative id; arithmetic and boundary: capacitance -1.0 (SINDA ignores it).
@@ -82,15 +96,35 @@ void write_sinda_network(const std::filesystem::path& path, const ExportedNetwor
           out << (k ? "\n            , " : " ") << real(k < K ? e.table_times_s[k] : e.period_s) << ", " << real(external(i, k % K));
         out << "\n";
       }
+      for (int i = 0; i < n; ++i)
+        if (i < static_cast<int>(net.power_schedule_W.size()) && !net.power_schedule_W[i].empty()) {
+          const auto d = schedule_doublets(net.power_schedule_W[i], e.period_s);
+          out << "      " << kFirstSchedule + i + 1 << " =";
+          for (std::size_t k = 0; k < d.size(); ++k) out << (k ? "\n            , " : " ") << real(d[k].first) << ", " << real(d[k].second);
+          out << "\n";
+        }
     }
     out << "HEADER VARIABLES 1, MAIN\n";
     for (int i = 0; i < n; ++i) {
       if (net.is_fixed(i)) continue;
-      out << "      Q" << i + 1 << " = " << real(net.power_W[i]);
-      if (tables)
+      const bool scheduled = tables && i < static_cast<int>(net.power_schedule_W.size()) && !net.power_schedule_W[i].empty();
+      if (scheduled)
+        out << "      Q" << i + 1 << " = D11CYL(TIMEN, A" << kFirstSchedule + i + 1 << ", " << real(e.period_s) << ")\n"
+            << "      Q" << i + 1 << " = Q" << i + 1 << " + D11CYL(TIMEN, A" << kFirstArray + i + 1 << ", " << real(e.period_s) << ")\n";
+      else
+        out << "      Q" << i + 1 << " = " << real(net.power_W[i]);
+      if (scheduled) {
+      } else if (tables)
         out << " + D11CYL(TIMEN, A" << kFirstArray + i + 1 << ", " << real(e.period_s) << ")\n";
       else
         out << " + " << real(external(i, 0)) << "\n";
+      for (const NetworkHeater& h : net.heaters)
+        if (tables && h.node == i) {
+          const std::string k = std::to_string(i + 1);
+          out << "      IF (T" << k << " .LT. HON" << k << ") HTR" << k << " = 1.0\n"
+              << "      IF (T" << k << " .GT. HOF" << k << ") HTR" << k << " = 0.0\n"
+              << "      Q" << k << " = Q" << k << " + HTR" << k << " * HPW" << k << "\n";
+        }
     }
     // A transient starts from the periodic state above (a STEADY first would replace it with the
     // steady state of the loads at t = 0, several orbits away from periodicity).

@@ -29,6 +29,8 @@ ThermalModel with_case(const ThermalModel& model, const LoadCase& c) {
   ThermalModel m = model;
   m.environment = c.environment;
   m.analysis = c.analysis;
+  // As the model file's own check (check_internal_power), before any work on the case.
+  check_internal_power(m, Keys("load case '" + c.name + "'", false));
   return m;
 }
 

@@ -261,7 +261,7 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
       const json& v = item.value();
       k.require_object(v, key);
       k.only_keys(v, key, {"material", "capacitance", "power", "fixed_temperature", "two_sided", "back_material",
-                               "sampling_boost"});
+                               "sampling_boost", "power_schedule_W", "heater"});
       Node& node = model.nodes[n];
       auto material_key = [&](const char* name) {
         const std::string m = k.string(v, key, name);
@@ -272,6 +272,12 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
       if (v.contains("material")) node.material = material_key("material");
       if (v.contains("capacitance")) node.capacitance_J_per_K = k.number_in(v, key, "capacitance", 0, 1e15, false, " J/K");
       if (v.contains("power")) node.power_W = k.number(v, key, "power");
+      if (v.contains("power_schedule_W")) {
+        if (v.contains("power")) k.fail(key, "give either 'power' or 'power_schedule_W', not both");
+        node.power_W = 0.0;
+        node.power_schedule_W = model_json::power_schedule(v.at("power_schedule_W"), k, key + ".power_schedule_W");
+      }
+      if (v.contains("heater")) node.heater = model_json::thermostat(v.at("heater"), k, key + ".heater");
       if (v.contains("fixed_temperature")) node.fixed_temperature_K = k.number_in(v, key, "fixed_temperature", 1, 1e5, false, " K");
       if (v.contains("sampling_boost")) {
         const json& b = v.at("sampling_boost");
@@ -298,6 +304,7 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
   if (j.contains("environment")) parse_environment(j.at("environment"), k, model.environment);
   if (j.contains("analysis")) parse_analysis(j.at("analysis"), k, model.analysis);
   check_analysis_fits_environment(model.analysis, model.environment, k);
+  check_internal_power(model, k);
   if (j.contains("radiation")) parse_radiation(j.at("radiation"), k, model.radiation);
   if (j.contains("certificate")) {
     try {

@@ -132,6 +132,12 @@ void parse_environment(const json& j, const Keys& k, Environment& env);
 void parse_analysis(const json& j, const Keys& k, Analysis& a);
 //! An orbit transient needs an orbit: refused otherwise, in model files and case files alike.
 void check_analysis_fits_environment(const Analysis& a, const Environment& e, const Keys& k);
+//! A node's "power_schedule_W": [[t_s, W], ...], t from 0, increasing, finite W.
+std::vector<std::pair<double, double>> power_schedule(const json& j, const Keys& k, const std::string& key);
+//! A node's "heater": {"on_K", "off_K", "power_W"}, 0 < on_K < off_K, power_W > 0.
+Thermostat thermostat(const json& j, const Keys& k, const std::string& key);
+//! Heaters need a free node with C > 0 and a transient orbit analysis; schedules an orbit.
+void check_internal_power(const ThermalModel& model, const Keys& k);
 //! The "radiation" section (rays per face, minimum rays per node, seed).
 void parse_radiation(const json& j, const Keys& k, RadiationSettings& r);
 

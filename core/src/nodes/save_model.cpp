@@ -45,7 +45,13 @@ void save_model(const ThermalModel& model, const fs::path& json_path, const fs::
     json v = json::object();
     if (node.material >= 0) v["material"] = model.materials.at(node.material).name;
     v["capacitance"] = node.capacitance_J_per_K;
-    v["power"] = node.power_W;
+    if (node.power_schedule_W.empty()) v["power"] = node.power_W;
+    else {
+      json s = json::array();
+      for (const auto& [t, w] : node.power_schedule_W) s.push_back({t, w});
+      v["power_schedule_W"] = s;
+    }
+    if (node.heater) v["heater"] = {{"on_K", node.heater->on_K}, {"off_K", node.heater->off_K}, {"power_W", node.heater->power_W}};
     if (node.fixed_temperature_K) v["fixed_temperature"] = *node.fixed_temperature_K;
     if (node.sampling_boost != Node::SamplingBoost{})
       v["sampling_boost"] = {{"ir", node.sampling_boost.ir}, {"loads", node.sampling_boost.loads}};

@@ -23,7 +23,9 @@ ThermalNetwork thermal_network(const ThermalModel& model, const NodeCouplings& c
     const Node& node = model.nodes[i];
     net.node_names.push_back(node.name);
     net.capacitance_J_per_K[i] = node.capacitance_J_per_K;
-    net.power_W[i] = node.power_W;
+    net.power_W[i] = node.power_schedule_W.empty() ? node.power_W : 0.0;
+    net.power_schedule_W.push_back(node.power_schedule_W);
+    if (node.heater) net.heaters.push_back({i, *node.heater});
     net.fixed_temperature_K[i] = node.fixed_temperature_K ? *node.fixed_temperature_K
                                                           : std::numeric_limits<double>::quiet_NaN();
   }
@@ -61,8 +63,22 @@ void validate_network(const ThermalNetwork& net) {
     if (!std::isfinite(net.power_W[i])) throw InvalidInput("node '" + name + "': power is not finite");
     if (net.is_fixed(i) && !(net.fixed_temperature_K[i] > 0.0 && std::isfinite(net.fixed_temperature_K[i])))
       throw InvalidInput("node '" + name + "': fixed temperature must be > 0 K");
+    if (!net.power_schedule_W.empty())
+      for (const auto& [t, w] : net.power_schedule_W[i])
+        if (!std::isfinite(t) || !std::isfinite(w)) throw InvalidInput("node '" + name + "': power schedule is not finite");
     if (!(net.to_space_couplings_m2[i] >= 0.0))
       throw InvalidInput("node '" + name + "': radiative coupling to space must be >= 0 m^2");
+  }
+  if (!net.power_schedule_W.empty() && static_cast<int>(net.power_schedule_W.size()) != n)
+    throw InvalidInput("thermal network: power schedules for " + std::to_string(net.power_schedule_W.size()) + " of " +
+                       std::to_string(n) + " nodes");
+  for (const NetworkHeater& h : net.heaters) {
+    if (h.node < 0 || h.node >= n) throw InvalidInput("thermal network: a heater names a node out of range");
+    const Thermostat& t = h.thermostat;
+    if (net.is_fixed(h.node) || !(net.capacitance_J_per_K[h.node] > 0.0))
+      throw InvalidInput("node '" + net.node_names[h.node] + "': a thermostat needs a free node with a capacitance > 0 J/K");
+    if (!(t.on_K > 0.0 && t.on_K < t.off_K && std::isfinite(t.off_K) && t.power_W > 0.0 && std::isfinite(t.power_W)))
+      throw InvalidInput("node '" + net.node_names[h.node] + "': heater needs 0 < on_K < off_K and power_W > 0");
   }
   if (!net.conductance_W_per_K.allFinite() || (net.conductance_W_per_K.array() < 0.0).any())
     throw InvalidInput("thermal network: conductances must be finite and >= 0 W/K");

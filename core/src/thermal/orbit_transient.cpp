@@ -13,10 +13,23 @@
 
 #include "thermodec/common/errors.h"
 #include "thermodec/environment/orbit.h"
+#include "thermodec/thermal/internal_power.h"
 
 namespace thermodec {
 
 namespace {
+
+// Sum of the components that are (direct_sun) or are not switched at the eclipse, in table order.
+Eigen::MatrixXd sum_of(const Loads& loads, bool direct_sun, bool knots) {
+  Eigen::MatrixXd t;
+  for (const LoadComponent& c : load_components()) {
+    if (c.direct_sun != direct_sun) continue;
+    const Eigen::MatrixXd& m = loads.*(knots ? c.knot_W : c.W);
+    if (t.size() == 0) t = m;
+    else t += m;
+  }
+  return t;
+}
 
 // Shadow state over the step ending at t (left limit; t = 0 is the end of the orbit).
 bool shadow_before(double t, double period_s, bool shadow_at_0, const Eigen::VectorXd& switches) {
@@ -67,9 +80,8 @@ SunlitKnots sunlit_knots(const Loads& loads) {
   const double dt = loads.period_s / S;
   std::vector<double> all_t, lit_t;
   Eigen::MatrixXd all_v(loads.solar_W.rows(), S + E), lit_v(loads.solar_W.rows(), S + E);
-  const Eigen::MatrixXd smooth = loads.albedo_W + loads.earth_ir_W, sun = loads.solar_W + loads.reflected_solar_W;
-  const Eigen::MatrixXd knot_smooth = loads.knot_albedo_W + loads.knot_earth_ir_W;
-  const Eigen::MatrixXd knot_sun = loads.knot_solar_W + loads.knot_reflected_solar_W;
+  const Eigen::MatrixXd smooth = sum_of(loads, false, false), sun = sum_of(loads, true, false);
+  const Eigen::MatrixXd knot_smooth = sum_of(loads, false, true), knot_sun = sum_of(loads, true, true);
   for (int k = 0; k < S; ++k) {
     all_v.col(static_cast<Eigen::Index>(all_t.size())) = smooth.col(k);
     all_t.push_back(k * dt);
@@ -94,8 +106,8 @@ Eigen::MatrixXd interpolated_loads_W(const Loads& loads, const Eigen::VectorXd& 
                                      const Eigen::VectorXd& switches) {
   const int S = loads.num_steps();
   const double P = loads.period_s, dt = P / S;
-  const Eigen::MatrixXd smooth = loads.albedo_W + loads.earth_ir_W;
-  const Eigen::MatrixXd sun = loads.solar_W + loads.reflected_solar_W;
+  const Eigen::MatrixXd smooth = sum_of(loads, false, false);
+  const Eigen::MatrixXd sun = sum_of(loads, true, false);
   const int n = static_cast<int>(smooth.rows());
   auto sh = [&](int k) { return static_cast<int>(S == static_cast<int>(loads.in_shadow.size()) && loads.in_shadow[(k + S) % S]); };
   const bool shadow0 = sh(0);
@@ -142,7 +154,8 @@ Grid solver_grid(int S, double P, const Eigen::VectorXd& switches, int substeps,
     g.at_load.push_back(static_cast<int>(t.size()));
     std::vector<double> cuts{k * dt};
     for (int i = 0; i < switches.size(); ++i)
-      if (switches[i] > k * dt + 1e-9 * P && switches[i] < (k + 1) * dt - 1e-9 * P) cuts.push_back(switches[i]);
+      if (switches[i] > k * dt + 1e-9 * P && switches[i] < (k + 1) * dt - 1e-9 * P && switches[i] > cuts.back() + 1e-9 * P)
+        cuts.push_back(switches[i]);
     cuts.push_back((k + 1) * dt);
     for (size_t c = 0; c + 1 < cuts.size(); ++c) {
       // The coarsest grid's count times 2^level: every step of a level halves one of the last.
@@ -167,12 +180,35 @@ OrbitTransient orbit_transient(const ThermalNetwork& network, const Loads& loads
   if (!(time.time_tolerance_K > 0.0)) throw InvalidInput("orbit transient: time tolerance must be > 0 K");
   if (time.substeps < 1 || time.max_levels < 3) throw InvalidInput("orbit transient: substeps >= 1 and max_levels >= 3");
 
+  // Step boundaries: the eclipse switches and the instants where a power schedule changes.
+  const bool schedules = has_power_schedules(network);
+  Eigen::VectorXd cuts = switches;
+  if (schedules) {
+    const Eigen::VectorXd power_switches = power_switch_times_s(network, P);
+    std::vector<double> all(switches.data(), switches.data() + switches.size());
+    all.insert(all.end(), power_switches.data(), power_switches.data() + power_switches.size());
+    std::sort(all.begin(), all.end());
+    cuts = Eigen::Map<const Eigen::VectorXd>(all.data(), static_cast<Eigen::Index>(all.size()));
+  }
+  Eigen::VectorXd heater_mean_W;
   auto solve_level = [&](int level, PeriodicTransient* full) {
-    const Grid g = solver_grid(S, P, switches, time.substeps, level);
-    PeriodicTransient tr =
-        periodic_transient_on_grid(network, interpolated_loads_W(loads, g.times_s, switches), g.times_s, P, settings);
+    const Grid g = solver_grid(S, P, cuts, time.substeps, level);
+    Eigen::MatrixXd applied = interpolated_loads_W(loads, g.times_s, switches);
+    if (schedules) applied += scheduled_power_W(network, g.times_s, P);
+    PeriodicTransient tr = periodic_transient_on_grid(network, applied, g.times_s, P, settings);
     Eigen::MatrixXd at(tr.temperature_K.rows(), S);
     for (int k = 0; k < S; ++k) at.col(k) = tr.temperature_K.col(g.at_load[k]);
+    if (full && tr.heater_power_W.cols() == g.times_s.size()) {
+      // Orbit mean over the grid (column c: the step ending at times_s[c]), then the power at
+      // the load positions.
+      const Eigen::Index K = g.times_s.size();
+      heater_mean_W = Eigen::VectorXd::Zero(tr.heater_power_W.rows());
+      for (Eigen::Index c = 0; c < K; ++c)
+        heater_mean_W += tr.heater_power_W.col(c) * ((c > 0 ? g.times_s[c] : P) - g.times_s[(c + K - 1) % K]) / P;
+      Eigen::MatrixXd h(tr.heater_power_W.rows(), S);
+      for (int k = 0; k < S; ++k) h.col(k) = tr.heater_power_W.col(g.at_load[k]);
+      tr.heater_power_W = h;
+    }
     if (full) *full = std::move(tr);
     return std::make_pair(at, static_cast<int>(g.times_s.size()));
   };
@@ -193,6 +229,7 @@ OrbitTransient orbit_transient(const ThermalNetwork& network, const Loads& loads
         out.transient = std::move(finest);
         out.transient.times_s = loads.times_s;
         out.transient.temperature_K = R;
+        out.heater_mean_W = heater_mean_W;
         return out;
       }
     }
@@ -204,9 +241,7 @@ OrbitTransient orbit_transient(const ThermalNetwork& network, const Loads& loads
 
 Loads loads_at(const Loads& loads, const Eigen::VectorXd& times_s, const Eigen::VectorXd& switches) {
   // One component at a time (the others zeroed): the interpolation is linear in the loads.
-  const std::vector<std::pair<Eigen::MatrixXd Loads::*, Eigen::MatrixXd Loads::*>> parts{
-      {&Loads::solar_W, &Loads::knot_solar_W}, {&Loads::albedo_W, &Loads::knot_albedo_W},
-      {&Loads::earth_ir_W, &Loads::knot_earth_ir_W}, {&Loads::reflected_solar_W, &Loads::knot_reflected_solar_W}};
+  const auto& parts = load_components();
   Loads out;
   out.period_s = loads.period_s;
   out.times_s = times_s;
@@ -214,10 +249,10 @@ Loads loads_at(const Loads& loads, const Eigen::VectorXd& times_s, const Eigen::
     Loads one = loads;
     for (std::size_t q = 0; q < parts.size(); ++q) {
       if (q == p) continue;
-      (one.*(parts[q].first)).setZero();
-      (one.*(parts[q].second)).setZero();
+      (one.*(parts[q].W)).setZero();
+      (one.*(parts[q].knot_W)).setZero();
     }
-    out.*(parts[p].first) = interpolated_loads_W(one, times_s, switches);
+    out.*(parts[p].W) = interpolated_loads_W(one, times_s, switches);
   }
   out.in_shadow.assign(static_cast<std::size_t>(times_s.size()), 0);
   return out;
@@ -244,10 +279,7 @@ Loads orbit_mean_loads(const Loads& loads, const Eigen::VectorXd& switches) {
   out.period_s = P;
   out.times_s = Eigen::VectorXd::Zero(1);
   out.in_shadow.assign(1, 0);
-  out.solar_W = at.solar_W * w / P;
-  out.albedo_W = at.albedo_W * w / P;
-  out.earth_ir_W = at.earth_ir_W * w / P;
-  out.reflected_solar_W = at.reflected_solar_W * w / P;
+  for (const LoadComponent& c : load_components()) out.*c.W = at.*c.W * w / P;
   return out;
 }
 
@@ -262,10 +294,7 @@ Loads every_other_position(const Loads& loads) {
     return h;
   };
   out.times_s = half(loads.times_s.transpose()).transpose();
-  out.solar_W = half(loads.solar_W);
-  out.albedo_W = half(loads.albedo_W);
-  out.earth_ir_W = half(loads.earth_ir_W);
-  out.reflected_solar_W = half(loads.reflected_solar_W);
+  for (const LoadComponent& c : load_components()) out.*c.W = half(loads.*c.W);
   if (loads.sampling_standard_error_W.cols() == S) out.sampling_standard_error_W = half(loads.sampling_standard_error_W);
   if (static_cast<int>(loads.in_shadow.size()) == S) {
     out.in_shadow.resize(H);

@@ -29,11 +29,9 @@ nlohmann::json result_to_json(const SimulationResult& r) {
     const int n = static_cast<int>(i);
     temps[r.nodes[i]] = row(r.temperature_K, n);
     json l;
-    l["solar"] = row(r.loads.solar_W, n);
-    l["albedo"] = row(r.loads.albedo_W, n);
-    l["earth_ir"] = row(r.loads.earth_ir_W, n);
-    l["reflected_solar"] = row(r.loads.reflected_solar_W, n);
+    for (const LoadComponent& c : load_components()) l[c.name] = row(r.loads.*c.W, n);
     l["internal"] = r.internal_power_W.size() > n ? r.internal_power_W[n] : 0.0;
+    if (r.heater_power_W.size() > n) l["heater"] = r.heater_power_W[n];  // orbit mean [W]
     l["total_external"] = row(total, n);
     loads[r.nodes[i]] = l;
     summary[r.nodes[i]] = {{"min_K", r.temperature_K.row(n).minCoeff()},

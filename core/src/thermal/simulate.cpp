@@ -5,6 +5,7 @@
 #include <map>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/thermal/internal_power.h"
 #include "thermodec/thermal/orbit_transient.h"
 #include "thermodec/thermal/temperature_noise.h"
 
@@ -12,7 +13,7 @@ namespace thermodec {
 
 SimulationResult simulate(const ThermalModel& model, const NodeCouplings& couplings, const Loads& loads,
                           const SimulationSettings& settings) {
-  const ThermalNetwork net = thermal_network(model, couplings);
+  ThermalNetwork net = thermal_network(model, couplings);
   const int n = net.num_nodes();
   const Eigen::MatrixXd total = loads.total_W();
   const int S = loads.num_steps();
@@ -25,6 +26,9 @@ SimulationResult simulate(const ThermalModel& model, const NodeCouplings& coupli
   r.loads = loads;
   r.internal_power_W = net.power_W;
   const bool orbit = loads.period_s > 0.0 && S >= 2;
+  const bool schedules = has_power_schedules(net);
+  if (schedules && !orbit) throw InvalidInput("simulate: power_schedule_W needs an orbit (a period)");
+  if (schedules) r.internal_power_W += scheduled_power_mean_W(net, loads.period_s);
   if (model.analysis.type == AnalysisType::transient_orbit && orbit) {
     TransientSettings ts = settings.transient;
     if (ts.max_orbits < 1) ts.max_orbits = model.analysis.orbits;
@@ -53,7 +57,16 @@ SimulationResult simulate(const ThermalModel& model, const NodeCouplings& coupli
     r.orbits = tr.orbits;
     r.periodicity_residual_K = tr.periodicity_residual_K;
     r.energy = tr.energy;
+    r.heater_power_W = ot.heater_mean_W;
   } else {
+    if (!net.heaters.empty())
+      throw InvalidInput("simulate: node '" + net.node_names[net.heaters[0].node] +
+                         "' has a thermostat heater, which needs analysis.type transient_orbit (a steady state has no on/off cycle)");
+    // The orbit mean of the schedules: exact for the steady state of the mean loads.
+    if (schedules) {
+      net.power_W = r.internal_power_W;
+      net.power_schedule_W.clear();
+    }
     // Steady: the time-averaged loads (a fixed sun has one time step, so this is exact there). An
     // orbit's mean integrates the loads as the transient applies them, with the exact eclipse
     // fraction, not the share of positions that happen to be in shadow.
@@ -76,10 +89,7 @@ SimulationResult simulate(const ThermalModel& model, const NodeCouplings& coupli
       auto avg = [](const Eigen::MatrixXd& m) { return Eigen::MatrixXd(m.rowwise().mean()); };
       Loads mean;
       if (orbit) mean = orbit_mean_loads(loads, switches);
-      r.loads.solar_W = orbit ? mean.solar_W : avg(loads.solar_W);
-      r.loads.albedo_W = orbit ? mean.albedo_W : avg(loads.albedo_W);
-      r.loads.earth_ir_W = orbit ? mean.earth_ir_W : avg(loads.earth_ir_W);
-      r.loads.reflected_solar_W = orbit ? mean.reflected_solar_W : avg(loads.reflected_solar_W);
+      for (const LoadComponent& c : load_components()) r.loads.*c.W = orbit ? mean.*c.W : avg(loads.*c.W);
       r.loads.times_s = r.times_s;
       r.loads.in_shadow.assign(1, 0);
       r.loads.knot_times_s.resize(0);

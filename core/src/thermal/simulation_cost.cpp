@@ -51,7 +51,7 @@ OrbitPasses orbit_passes(const ThermalModel& model, int positions) {
     out.shadow = env.solar_flux_W_per_m2 > 0.0 ? 1 : 0;
     return out;
   }
-  const double period_s = orbit_period_s(env.altitude_km);
+  const double period_s = orbit_period_s(env);
   std::vector<OrbitState> states;
   for (int k = 0; k < positions; ++k) states.push_back(orbit_state(env, period_s * k / positions));
   out.shadow = sun_passes(states);

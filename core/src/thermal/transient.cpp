@@ -6,6 +6,7 @@
 #include "thermodec/thermal/transient.h"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -29,11 +30,54 @@ struct OrbitRun {
   Eigen::MatrixXd x;             // free x (S + 1): states at t_0 .. t_S
   Eigen::MatrixXd sensitivity;   // d x_S / d x_0
   OrbitEnergy energy;
+  Eigen::MatrixXd heater_W;      // N x S, column k: heater power over the step ending at t_k (empty: no heaters)
 };
+
+// Thermostats. A heater's state at the start of a step: from its node's temperature there
+// (below on_K: on; above off_K: off; else unchanged; this only acts on a start outside the
+// band). Within the step, a node that crosses the band edge its heater's state heads for is
+// located by linear interpolation of T between the step's ends: the heater is on for its share
+// of the step (power x share: the step's energy to first order) and switched for the next one.
+// Without that location the orbit map would jump with the step a switch falls in, and the
+// shooting could cycle between two neighbouring steps instead of converging. A switch pins the
+// node's temperature at that instant to the band edge whatever the orbit's start: the node's
+// row of the sensitivity d x / d x_0 is zeroed there (the first-order effect of an event; the
+// other nodes' dependence through the switch time is neglected).
+bool locate_heater_switches(const detail::HeatBalance& hb, const Eigen::VectorXd& T0, const Eigen::VectorXd& T1,
+                            std::vector<char>& on, Eigen::VectorXd& heater_W, std::vector<int>& switched) {
+  switched.clear();
+  for (std::size_t h = 0; h < hb.net.heaters.size(); ++h) {
+    const NetworkHeater& heater = hb.net.heaters[h];
+    const int i = heater.node;
+    const double edge = on[h] ? heater.thermostat.off_K : heater.thermostat.on_K;
+    if (on[h] ? !(T1[i] > edge) : !(T1[i] < edge)) continue;
+    const double before = std::clamp((edge - T0[i]) / (T1[i] - T0[i]), 0.0, 1.0);  // share before the crossing
+    heater_W[i] += heater.thermostat.power_W * ((on[h] ? before : 1.0 - before) - (on[h] ? 1.0 : 0.0));
+    on[h] = !on[h];
+    switched.push_back(i);
+  }
+  return !switched.empty();
+}
+
+void switch_heaters(const detail::HeatBalance& hb, const Eigen::VectorXd& T, std::vector<char>& on,
+                    const std::vector<int>& free_index, Eigen::MatrixXd& sensitivity, Eigen::VectorXd& E,
+                    Eigen::VectorXd& heater_W) {
+  heater_W.setZero();
+  for (std::size_t h = 0; h < hb.net.heaters.size(); ++h) {
+    const NetworkHeater& heater = hb.net.heaters[h];
+    const int i = heater.node;
+    const char was = on[h];
+    if (T[i] < heater.thermostat.on_K) on[h] = 1;
+    else if (T[i] > heater.thermostat.off_K) on[h] = 0;
+    if (on[h] != was && free_index[i] >= 0) sensitivity.row(free_index[i]).setZero();
+    if (on[h]) heater_W[i] += heater.thermostat.power_W;
+  }
+  E += heater_W;
+}
 
 OrbitRun run_orbit(const detail::HeatBalance& hb, const Eigen::MatrixXd& loads, const Eigen::VectorXd& dts,
                    const Eigen::VectorXd& theta, const Eigen::VectorXd& x0, const NewtonSettings& newton,
-                   const std::vector<std::string>& names) {
+                   const std::vector<std::string>& names, std::vector<char>& heater_on) {
   const int m = static_cast<int>(x0.size());
   const int S = static_cast<int>(loads.cols());
   Eigen::VectorXd c_dt(m);
@@ -51,28 +95,47 @@ OrbitRun run_orbit(const detail::HeatBalance& hb, const Eigen::MatrixXd& loads, 
   };
   Eigen::VectorXd ext_free_prev = hb.restrict(Eigen::VectorXd(hb.net.power_W + loads.col(0)));
   Eigen::VectorXd space_prev = hb.to_space_W(T_prev), fixed_prev = hb.to_fixed_W(T_prev);
+  const bool heaters = !hb.net.heaters.empty();
+  std::vector<int> free_index(hb.net.num_nodes(), -1);
+  for (std::size_t a = 0; a < hb.free_nodes.size(); ++a) free_index[hb.free_nodes[a]] = static_cast<int>(a);
+  Eigen::VectorXd heat(heaters ? hb.net.num_nodes() : 0);
+  if (heaters) run.heater_W = Eigen::MatrixXd::Zero(hb.net.num_nodes(), S);
+  std::vector<int> switched;
 
   for (int k = 0; k < S; ++k) {
     const double dt = dts[k];
     for (int a = 0; a < m; ++a) c_dt[a] = hb.net.capacitance_J_per_K[hb.free_nodes[a]] / dt;
-    const Eigen::VectorXd E = loads.col((k + 1) % S);
+    Eigen::VectorXd E = loads.col((k + 1) % S);
+    if (heaters) {
+      switch_heaters(hb, hb.full(run.x.col(k)), heater_on, free_index, run.sensitivity, E, heat);
+      run.heater_W.col((k + 1) % S) = heat;
+    }
     const Eigen::VectorXd xk = run.x.col(k);
-    Eigen::VectorXd x = xk;
-    Eigen::MatrixXd J_new;
     std::ostringstream what;
     what << "transient step " << k + 1 << "/" << S;
-    detail::newton_solve(
-        x,
-        [&](const Eigen::VectorXd& xf, Eigen::VectorXd& G, Eigen::MatrixXd* J) {
-          const Eigen::VectorXd T = hb.full(xf);
-          const Eigen::VectorXd R = hb.restrict(hb.residual(T, E));
-          G = c_dt.cwiseProduct(xf - xk) - theta.cwiseProduct(R) - one_minus_theta.cwiseProduct(R_prev);
-          if (J) {
-            *J = -(theta.asDiagonal() * hb.restrict(hb.jacobian(T)));
-            J->diagonal() += c_dt;
-          }
-        },
-        newton, what.str(), names);
+    auto solve_step = [&]() {
+      Eigen::VectorXd x = xk;
+      detail::newton_solve(
+          x,
+          [&](const Eigen::VectorXd& xf, Eigen::VectorXd& G, Eigen::MatrixXd* J) {
+            const Eigen::VectorXd T = hb.full(xf);
+            const Eigen::VectorXd R = hb.restrict(hb.residual(T, E));
+            G = c_dt.cwiseProduct(xf - xk) - theta.cwiseProduct(R) - one_minus_theta.cwiseProduct(R_prev);
+            if (J) {
+              *J = -(theta.asDiagonal() * hb.restrict(hb.jacobian(T)));
+              J->diagonal() += c_dt;
+            }
+          },
+          newton, what.str(), names);
+      return x;
+    };
+    Eigen::VectorXd x = solve_step();
+    switched.clear();
+    if (heaters && locate_heater_switches(hb, hb.full(xk), hb.full(x), heater_on, heat, switched)) {
+      E = loads.col((k + 1) % S) + heat;  // the heaters' power over this step, shares included
+      run.heater_W.col((k + 1) % S) = heat;
+      x = solve_step();
+    }
     run.x.col(k + 1) = x;
     const Eigen::VectorXd T = hb.full(x);
     const Eigen::MatrixXd J_full = hb.restrict(hb.jacobian(T));
@@ -81,6 +144,8 @@ OrbitRun run_orbit(const detail::HeatBalance& hb, const Eigen::MatrixXd& loads, 
     Eigen::MatrixXd B = one_minus_theta.asDiagonal() * J_prev;
     B.diagonal() += c_dt;
     run.sensitivity = Eigen::PartialPivLU<Eigen::MatrixXd>(A).solve(B * run.sensitivity);
+    for (const int i : switched)
+      if (free_index[i] >= 0) run.sensitivity.row(free_index[i]).setZero();
 
     // Energy with the scheme's own quadrature, so the discrete balance closes exactly.
     const Eigen::VectorXd ext_free = hb.restrict(Eigen::VectorXd(hb.net.power_W + E));
@@ -156,21 +221,33 @@ PeriodicTransient periodic_transient_on_grid(const ThermalNetwork& network, cons
 
   PeriodicTransient out;
   out.times_s = times_s;
+  // Heaters start on where the start guess is below the band.
+  std::vector<char> heater_on;
+  {
+    const Eigen::VectorXd T0 = hb.full(x0);
+    for (const NetworkHeater& h : network.heaters) heater_on.push_back(T0[h.node] < h.thermostat.on_K);
+  }
   for (int orbit = 1; orbit <= s.max_orbits; ++orbit) {
-    const OrbitRun run = run_orbit(hb, loads, dts, theta, x0, s.newton, names);
+    const std::vector<char> heater_start = heater_on;
+    const OrbitRun run = run_orbit(hb, loads, dts, theta, x0, s.newton, names, heater_on);
     const Eigen::VectorXd gap = run.x.col(S) - x0;
+    // A heater that ends the orbit in another state than it began is not periodic either.
     const double residual = m ? gap.cwiseAbs().maxCoeff() : 0.0;
+    const bool periodic = residual <= s.periodicity_tolerance_K && heater_on == heater_start;
     if (s.on_orbit) s.on_orbit(orbit, residual);
     out.orbits = orbit;
     out.periodicity_residual_K = residual;
-    if (residual <= s.periodicity_tolerance_K || orbit == s.max_orbits) {
+    if (periodic || orbit == s.max_orbits) {
       out.temperature_K.resize(network.num_nodes(), S);
       for (int k = 0; k < S; ++k) out.temperature_K.col(k) = hb.full(run.x.col(k));
       out.energy = run.energy;
-      if (residual > s.periodicity_tolerance_K) {
+      out.heater_power_W = run.heater_W;
+      if (!periodic) {
         std::ostringstream msg;
         msg << "transient: not orbit-periodic within " << s.periodicity_tolerance_K << " K after " << orbit
-            << " orbits (max |T(P) - T(0)| = " << residual << " K); raise analysis.orbits";
+            << " orbits (max |T(P) - T(0)| = " << residual << " K"
+            << (heater_on == heater_start ? "" : "; a thermostat heater ends the orbit in another state than it began")
+            << "); raise analysis.orbits";
         throw SolverError(msg.str());
       }
       return out;

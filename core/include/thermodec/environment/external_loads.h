@@ -105,17 +105,19 @@ Eigen::VectorXi shadow_rays_per_pass(const Eigen::VectorXi& rays, int division);
 //! View factor from each side to the Earth, F_side->Earth = (1/pi) int cos(theta) V dw over
 //! the Earth's cone, V = 0 where the spacecraft blocks the view, for an Earth centre at
 //! `earth_direction_body * distance_m` [m] from the body origin; `rays` cone rays per side
-//! (no pilot). Returns #sides. 	hrow InvalidInput if rays < 1 or distance <= Earth radius.
+//! (no pilot); `radius_m` is the central body's radius (the Earth's by default). Returns
+//! #sides. \throw InvalidInput if rays < 1 or distance <= radius.
 Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& sides,
                                    const Eigen::Vector3d& earth_direction_body, double distance_m,
-                                   int rays, std::uint64_t seed);
+                                   int rays, std::uint64_t seed, double radius_m = 6371.0e3);
 
 //! View factor from a small plane element to the whole Earth seen unobstructed, for
 //! cos_angle = cosine between the element's normal and the direction to the Earth's centre,
-//! at `distance_m` [m] from the centre: cos/H^2 (H = distance / Earth radius) while the Earth
-//! is all above the element's horizon, the horizon-cut closed form in between, 0 below.
-//! \throw InvalidInput if distance_m <= Earth radius.
-double unobstructed_earth_view_factor(double cos_angle, double distance_m);
+//! at `distance_m` [m] from the centre: cos/H^2 (H = distance / radius_m, the central body's
+//! radius, the Earth's by default) while the body is all above the element's horizon, the
+//! horizon-cut closed form in between, 0 below.
+//! \throw InvalidInput if distance_m <= radius_m.
+double unobstructed_earth_view_factor(double cos_angle, double distance_m, double radius_m = 6371.0e3);
 
 //! What each traced ray of one ray family met, all sides concatenated in side order: side s
 //! owns rays [ray_begin[s], ray_begin[s + 1]) (in the order the side generates them) and

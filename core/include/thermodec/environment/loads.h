@@ -3,6 +3,7 @@
 //! thermal solvers. Computed by environment/external_loads.h; kept separate so that a caller
 //! (the reduction driver) can reuse or combine loads without the ray tracer.
 #include <Eigen/Core>
+#include <array>
 #include <vector>
 
 namespace thermodec {
@@ -12,9 +13,10 @@ struct Loads {
   Eigen::VectorXd times_s;
   //! Orbit period P [s]; 0 for a fixed sun (no orbit, loads constant).
   double period_s = 0.0;
-  //! N x S absorbed powers [W], per component. solar: direct sunlight; albedo: sunlight
-  //! reflected by the Earth; earth_ir: Earth infrared; reflected_solar: solar-band power
-  //! (direct + albedo) reflected diffusely between the spacecraft's own faces.
+  //! N x S absorbed powers [W], per component (load_components() lists them). solar: direct
+  //! sunlight; albedo: sunlight reflected by the central body; earth_ir: the central body's
+  //! infrared; reflected_solar: solar-band power (direct + albedo) reflected diffusely between
+  //! the spacecraft's own faces.
   Eigen::MatrixXd solar_W, albedo_W, earth_ir_W, reflected_solar_W;
   //! N x S sampling standard error [W] of the absorbed loads: the binomial error of the albedo
   //! and Earth IR from their finite Earth rays (partly blocked sides, Earth fixed in body axes),
@@ -43,11 +45,45 @@ struct Loads {
   Eigen::MatrixXd knot_solar_W, knot_albedo_W, knot_earth_ir_W, knot_reflected_solar_W;
 
   //! Sum of the components, N x S [W].
-  Eigen::MatrixXd total_W() const { return solar_W + albedo_W + earth_ir_W + reflected_solar_W; }
+  Eigen::MatrixXd total_W() const;
   //! Sum of the components at the knots, N x K [W].
-  Eigen::MatrixXd knot_total_W() const { return knot_solar_W + knot_albedo_W + knot_earth_ir_W + knot_reflected_solar_W; }
+  Eigen::MatrixXd knot_total_W() const;
   bool has_knots() const { return knot_times_s.size() > 0 && knot_solar_W.cols() == knot_times_s.size(); }
   int num_steps() const { return static_cast<int>(times_s.size()); }
 };
+
+//! One external load component: its name (its key in result files, loads_W) and where Loads
+//! keeps it, at the positions (N x S) and at the sunlit knots (N x K). `direct_sun`: the
+//! component is switched at the eclipse (direct sunlight and its reflections, zero in shadow);
+//! otherwise it varies smoothly over the orbit (albedo, the central body's IR).
+struct LoadComponent {
+  const char* name;
+  Eigen::MatrixXd Loads::*W;
+  Eigen::MatrixXd Loads::*knot_W;
+  bool direct_sun;
+};
+
+//! The components of Loads, in the order every sum takes them. The interpolation in time, the
+//! orbit means, the coarser sampling and the result file go through this table: a new external
+//! component is a Loads member pair, its producer (environment/external_loads.h) and one row.
+inline const std::array<LoadComponent, 4>& load_components() {
+  static const std::array<LoadComponent, 4> table{{{"solar", &Loads::solar_W, &Loads::knot_solar_W, true},
+                                                   {"albedo", &Loads::albedo_W, &Loads::knot_albedo_W, false},
+                                                   {"earth_ir", &Loads::earth_ir_W, &Loads::knot_earth_ir_W, false},
+                                                   {"reflected_solar", &Loads::reflected_solar_W, &Loads::knot_reflected_solar_W, true}}};
+  return table;
+}
+
+inline Eigen::MatrixXd Loads::total_W() const {
+  Eigen::MatrixXd t = this->*load_components()[0].W;
+  for (std::size_t c = 1; c < load_components().size(); ++c) t += this->*load_components()[c].W;
+  return t;
+}
+
+inline Eigen::MatrixXd Loads::knot_total_W() const {
+  Eigen::MatrixXd t = this->*load_components()[0].knot_W;
+  for (std::size_t c = 1; c < load_components().size(); ++c) t += this->*load_components()[c].knot_W;
+  return t;
+}
 
 }  // namespace thermodec

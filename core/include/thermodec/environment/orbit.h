@@ -1,5 +1,6 @@
 #pragma once
-//! Circular Earth orbit geometry: sun position from the date, spacecraft position, attitude
+//! Circular orbit geometry around the environment's central body (the Earth by default; the
+//! same formulae with its radius and GM for the Moon or Mars): sun position from the date, spacecraft position, attitude
 //! (body axes), cylindrical Earth shadow and the geometric eclipse fraction.
 //!
 //! Frames. ECI: X towards the vernal equinox, Z towards the north pole (mean equator and
@@ -37,11 +38,23 @@ double sun_distance_au(int day_of_year);
 //! (about 1414 early January, 1322 early July).
 double solar_flux_on_day_W_per_m2(int day_of_year);
 
-//! Orbit radius [m] of a circular orbit at `altitude_km`.
+//! Solar flux at the environment's central body [W/m^2]: kSolarConstantAt1AU / d^2 with d its
+//! sun_distance_au, or solar_flux_on_day_W_per_m2(day_of_year) when that is 0 (Earth, Moon).
+double solar_flux_W_per_m2(const Environment& environment);
+
+//! Orbit radius [m] of a circular Earth orbit at `altitude_km`.
 double orbit_radius_m(double altitude_km);
 
-//! Period [s] of a circular orbit at `altitude_km`. \throw InvalidInput if altitude <= 0.
+//! Period [s] of a circular Earth orbit at `altitude_km`. \throw InvalidInput if altitude <= 0.
 double orbit_period_s(double altitude_km);
+
+//! Orbit radius [m] around the environment's central body: body_radius_m + altitude.
+//! \throw InvalidInput if altitude <= 0.
+double orbit_radius_m(const Environment& environment);
+
+//! Period [s] around the environment's central body: 2 pi sqrt(r^3 / GM).
+//! \throw InvalidInput if altitude <= 0.
+double orbit_period_s(const Environment& environment);
 
 //! Spacecraft state at one instant of a circular orbit.
 struct OrbitState {
@@ -75,10 +88,10 @@ int sun_passes(const std::vector<OrbitState>& states);
 //! attitude): the Earth rays are then traced once for all steps.
 bool earth_fixed_in_body(const std::vector<OrbitState>& states);
 
-//! True if `position_eci_m` lies in the cylindrical shadow of an Earth of radius
-//! kEarthRadius_m cast along `sun_direction` (unit).
+//! True if `position_eci_m` lies in the cylindrical shadow of a body of radius `radius_m`
+//! cast along `sun_direction` (unit).
 bool in_cylindrical_shadow(const Eigen::Vector3d& position_eci_m,
-                           const Eigen::Vector3d& sun_direction);
+                           const Eigen::Vector3d& sun_direction, double radius_m = kEarthRadius_m);
 
 //! Angle beta [rad] between the sun direction and the orbit plane (signed, + on the side of
 //! the orbit normal).

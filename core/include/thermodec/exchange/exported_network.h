@@ -18,7 +18,9 @@ namespace thermodec {
 
 struct ExportedNetwork {
   std::string title;                  //!< one line, e.g. the model path
-  ThermalNetwork network;             //!< C, Q, fixed T, GL, GR, GR to space, sink 2.7 K
+  //! C, Q, fixed T, GL, GR, GR to space, sink 2.7 K; Q's schedules and thermostat heaters
+  //! (transient; a steady export holds their orbit mean in power_W, without schedules).
+  ThermalNetwork network;
   Eigen::VectorXd area_m2;            //!< N radiating area (front sides; both for two-sided faces)
   Eigen::VectorXd absorptivity;       //!< N area-weighted solar absorptivity of the node's sides
   Eigen::VectorXd emissivity;         //!< N area-weighted IR emissivity
@@ -47,6 +49,12 @@ struct ExportedNetwork {
   Eigen::MatrixXd external_W() const { return solar_W + albedo_W + earth_ir_W; }
   int num_nodes() const { return network.num_nodes(); }
 };
+
+//! A node's power schedule (Node::power_schedule_W) as a cyclic doublet table (t [s], W) over
+//! [0, P] for a tool that interpolates linearly (ESATAN INTCY1, SINDA D11CYL): each value held
+//! to kSwitchRamp_s before the next time, the first point repeated at P. Empty for no schedule.
+std::vector<std::pair<double, double>> schedule_doublets(const std::vector<std::pair<double, double>>& schedule,
+                                                         double period_s);
 
 //! The exported network of `model` simulated as `result` with `couplings` (simulate_model's
 //! couplings_out). \throw InvalidInput if the sizes disagree.

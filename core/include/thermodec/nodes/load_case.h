@@ -31,6 +31,8 @@ LoadCase own_case(const ThermalModel& model, const std::string& name = "model");
 LoadCase load_case(const std::filesystem::path& path, const ThermalModel& base);
 
 //! `model` with the case's environment and analysis (everything else shared).
+//! \throw InvalidInput if a node's thermostat heater meets a case that is not transient_orbit,
+//! or a power schedule a case without an orbit.
 ThermalModel with_case(const ThermalModel& model, const LoadCase& c);
 
 }  // namespace thermodec

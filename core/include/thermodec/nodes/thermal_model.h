@@ -7,10 +7,12 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "thermodec/mesh/bare_mesh_cleanup.h"
 #include "thermodec/mesh/mesh.h"
+#include "thermodec/nodes/central_body.h"
 #include "thermodec/nodes/model_certificate.h"
 
 namespace thermodec {
@@ -22,12 +24,29 @@ struct Material {
   double emissivity = 0.5;    //!< IR hemispherical emissivity epsilon in (0, 1]
 };
 
+//! A heater switched by a thermostat on its own node's temperature (hysteresis band): on when
+//! the node falls below on_K, off when it rises above off_K, unchanged in between
+//! (thermal/transient.h: evaluated at the start of each solver step).
+struct Thermostat {
+  double on_K = 0.0;     //!< switch-on temperature [K], < off_K
+  double off_K = 0.0;    //!< switch-off temperature [K]
+  double power_W = 0.0;  //!< heater power while on [W], > 0
+  bool operator==(const Thermostat& o) const { return on_K == o.on_K && off_K == o.off_K && power_W == o.power_W; }
+};
+
 //! A thermal node: an isothermal set of faces (same name as its mesh group).
 struct Node {
   std::string name;
   int material = -1;                        //!< default material of its faces (index), -1 = model default
   double capacitance_J_per_K = 0.0;         //!< heat capacity C [J/K]; 0 = arithmetic (massless) node
   double power_W = 0.0;                     //!< internal dissipation Q [W]
+  //! Time-varying internal dissipation over the orbit, piecewise constant: (t [s], Q [W]) pairs,
+  //! t increasing from 0; Q applies from its t to the next pair's (the last's to the period P,
+  //! then the schedule repeats every orbit). Every t must be < P. Empty = constant power_W;
+  //! when set, it replaces power_W (which is then 0).
+  std::vector<std::pair<double, double>> power_schedule_W;
+  //! A thermostat heater on this node (transient orbit analyses only; a node with C > 0).
+  std::optional<Thermostat> heater;
   std::optional<double> fixed_temperature_K;  //!< boundary node held at this temperature [K]
   //! Mixed into the sampling seeds of the node's faces (rays, sun and Earth samples); 0 in
   //! every normal run. Changing it redraws this node's samples only, with the same geometry:
@@ -60,7 +79,8 @@ struct Conductance {
 enum class EnvironmentType { fixed_sun, orbit };
 enum class Attitude { nadir, sun, inertial };
 
-//! External heat sources. fixed_sun: deep space with a sun. orbit: circular Earth orbit.
+//! External heat sources. fixed_sun: deep space with a sun. orbit: circular orbit around a
+//! central body (the Earth by default; nodes/central_body.h).
 struct Environment {
   EnvironmentType type = EnvironmentType::orbit;
   Eigen::Vector3d sun_direction{1.0, 0.0, 0.0};  //!< fixed_sun: unit vector towards the sun, body axes
@@ -70,9 +90,32 @@ struct Environment {
   double raan_deg = 0.0;
   int day_of_year = 80;  //!< 1..366
   Attitude attitude = Attitude::nadir;
+  //! orbit: the central body (set_central_body() fills these five from a CentralBody row).
+  //! albedo and earth_ir_flux_W_per_m2 are the central body's Bond albedo and surface IR flux
+  //! (the name is kept for the Earth, the default body).
+  std::string central_body = "earth";
+  double body_radius_m = 6371.0e3;                                 //!< R [m]
+  double body_gravitational_parameter_m3_per_s2 = 3.986004418e14;  //!< GM [m^3/s^2]
+  double sun_distance_au = 0.0;  //!< sets the solar flux; 0 = the Earth's on day_of_year
   double albedo = 0.30;
   double earth_ir_flux_W_per_m2 = 237.0;
 };
+
+//! Sets the environment's central body (name, radius, GM, sun distance, albedo, IR flux).
+inline void set_central_body(Environment& env, const CentralBody& body) {
+  env.central_body = body.name;
+  env.body_radius_m = body.radius_m;
+  env.body_gravitational_parameter_m3_per_s2 = body.gravitational_parameter_m3_per_s2;
+  env.sun_distance_au = body.sun_distance_au;
+  env.albedo = body.albedo;
+  env.earth_ir_flux_W_per_m2 = body.ir_flux_W_per_m2;
+}
+
+//! The environment's central body as a CentralBody row.
+inline CentralBody central_body_of(const Environment& env) {
+  return CentralBody{env.central_body, env.body_radius_m, env.body_gravitational_parameter_m3_per_s2,
+                     env.albedo, env.earth_ir_flux_W_per_m2, env.sun_distance_au};
+}
 
 enum class AnalysisType { steady, transient_orbit };
 

@@ -36,6 +36,9 @@ struct OrbitTransient {
   double time_error_K = 0.0;         //!< estimated max |error| over nodes and positions [K]
   int solver_steps_per_orbit = 0;    //!< of the finest grid used
   Eigen::VectorXd eclipse_times_s;   //!< shadow entries and exits found in the orbit [s]
+  //! N orbit-mean thermostat heater power [W] on the finest grid (duty cycle x power); empty
+  //! without heaters. transient.heater_power_W: the power over the step ending at each position.
+  Eigen::VectorXd heater_mean_W;
 };
 
 //! Loads (N x S at t = k P / S, with in_shadow flags) evaluated at `times_s`, each as the
@@ -66,6 +69,9 @@ Loads orbit_mean_loads(const Loads& loads, const Eigen::VectorXd& switch_times_s
 //! \throw InvalidInput if S is odd or < 4.
 Loads every_other_position(const Loads& loads);
 
+//! Internal power schedules (thermal/internal_power.h) are added to the loads, their switch
+//! instants being step boundaries too; thermostat heaters are switched by the solver
+//! (thermal/transient.h).
 //! \param switch_times_s shadow entries/exits in [0, P), e.g. eclipse_switch_times_s(); empty
 //! for an orbit without eclipse. They become step boundaries.
 //! \throw InvalidInput if the loads are not S >= 2 positions k P / S or settings are bad;

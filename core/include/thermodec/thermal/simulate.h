@@ -39,7 +39,8 @@ struct SimulationResult {
   Eigen::VectorXd times_s;          //!< S
   Eigen::MatrixXd temperature_K;    //!< N x S
   Loads loads;                      //!< absorbed external loads used (N x S per component)
-  Eigen::VectorXd internal_power_W; //!< N
+  Eigen::VectorXd internal_power_W; //!< N, orbit mean (constant power + schedules)
+  Eigen::VectorXd heater_power_W;   //!< N orbit-mean thermostat heater power (transient); empty without heaters
   bool transient = false;
   int orbits = 0;                       //!< transient: orbits simulated
   double periodicity_residual_K = 0.0;  //!< transient: max |T(P) - T(0)|

@@ -7,6 +7,14 @@
 //! next orbit starts from the Newton update of T(0) - T(P) = 0, i.e.
 //! T0 += (I - M)^-1 (T(P) - T0). Converged when max_i |T_i(P) - T_i(0)| <= tolerance; the
 //! first orbit starts from the steady state of the orbit-averaged loads.
+//!
+//! Thermostat heaters (ThermalNetwork::heaters): switched at the start of each step by their
+//! node's temperature there and held over the step, so a switch comes up to one step late (the
+//! orbit transient's step-doubling error estimate includes that). Their on/off states are part
+//! of the periodic state: an orbit is periodic only if every heater ends it as it began. A
+//! switch pins its node's temperature (to the band edge) whatever the start, so the shooting
+//! sensitivity of that node is reset there. A heater that cycles out of step with the orbit
+//! has no orbit-periodic state: the run then ends with the not-periodic error.
 #include <Eigen/Core>
 #include <functional>
 
@@ -40,6 +48,9 @@ struct PeriodicTransient {
   int orbits = 0;                   //!< orbits simulated
   double periodicity_residual_K = 0.0;  //!< max |T(P) - T(0)| of the last orbit
   OrbitEnergy energy;               //!< of the last orbit
+  //! N x S heater power [W] of the last orbit, column k over the step ending at times_s[k]
+  //! (column 0: the last step); empty without heaters.
+  Eigen::MatrixXd heater_power_W;
 };
 
 //! \param external_loads_W N x S absorbed loads [W], column k at time k P / S (periodic).
