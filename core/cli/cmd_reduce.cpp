@@ -41,7 +41,7 @@ struct ReduceCliOptions {
   double record_memory_GiB = 0.0;  // 0: the default (record_budget.h)
   std::vector<std::string> case_files;
   std::vector<double> prediction_targets;  // empty: the default (ReduceSettings, budgets)
-  std::string collapse_cost = "geometric";
+  std::string collapse_cost = "radiative";  // as reduction_decimation_options()
   double max_normal_deviation_deg = DecimationOptions{}.max_normal_deviation_deg;
   double max_contour_deviation = DecimationOptions{}.max_contour_deviation;
 };
