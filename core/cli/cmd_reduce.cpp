@@ -30,7 +30,7 @@ struct ReduceCliOptions {
   std::string prediction = "per-node";
   int rays_per_face = 0;
   double cap_factor = 2.0;
-  int max_evaluations = 40;
+  int max_evaluations = InformedOptions{}.max_evaluations;
   bool no_plots = false;
   bool quiet = false;
   bool raw_mesh = false;
@@ -41,7 +41,7 @@ struct ReduceCliOptions {
   double record_memory_GiB = 0.0;  // 0: the default (record_budget.h)
   std::vector<std::string> case_files;
   std::vector<double> prediction_targets;  // empty: the default (ReduceSettings, budgets)
-  std::string collapse_cost = "geometric";
+  std::string collapse_cost = "radiative";  // as reduction_decimation_options()
   double max_normal_deviation_deg = DecimationOptions{}.max_normal_deviation_deg;
   double max_contour_deviation = DecimationOptions{}.max_contour_deviation;
 };
@@ -192,7 +192,7 @@ void add_reduce(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   sub->add_option_function<int>(
          "--max-evaluations", [o](int n) { o->max_evaluations = n; o->max_evaluations_set = true; },
-         "bound on trials after the prediction (default 40; 20 for bare meshes over 2000 faces)")
+         "bound on trials after the prediction (default 80; 40 for model files and 20 for bare meshes over 2000 faces)")
       ->check(CLI::PositiveNumber);
   sub->add_option("--noise-target", o->noise_target_fraction,
                   "noise-targeted sampling: nodes whose estimated Monte Carlo temperature noise exceeds this "

@@ -28,6 +28,83 @@ double combine(double x1, double v1, double x2, double v2, double& x, double& as
   return v1 * v2 / vs;
 }
 
+// Delta-method variance of one linear combination of row i's Gebhart couplings per node i,
+// sum_j M(i, j) GR_ij (columns: nodes, unassigned, space): a ray of side s landing on side t
+// scores Y(t, :) M(i, :)^T (an escaping ray M(i, space)); side s's per-ray variance of that
+// score, weighted by W(s, i) = A_s^2 Y(s, i)^2 (the adjoint, as for VG) and divided by its ray
+// count, summed over the sides [m^4].
+Eigen::VectorXd row_combination_variance(const FaceViewFactors& vf, const RowMatrixXd& Y, const RowMatrixXd& B,
+                                         const Eigen::MatrixXd& W, const Eigen::MatrixXd& M) {
+  const int S = vf.sides.size(), N = static_cast<int>(M.rows()), SP = N + 1;
+  auto rays_of = [&](int s) -> double { return vf.side_rays.size() ? vf.side_rays[s] : vf.rays_per_side; };
+  const RowMatrixXd Z = Y * M.transpose();  // S x N: the score of a ray landing on t, per node's combination
+  const RowMatrixXd mean = B * M.transpose();
+  RowMatrixXd V(S, N);
+  tbb::parallel_for(tbb::blocked_range<int>(0, S, 64), [&](const tbb::blocked_range<int>& r) {
+    for (int s = r.begin(); s != r.end(); ++s) {
+      auto v = V.row(s);
+      v.setZero();
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(vf.F, s); it; ++it)
+        v.noalias() += it.value() * Z.row(it.col()).cwiseAbs2();
+      v.noalias() += vf.to_space[s] * M.col(SP).transpose().cwiseAbs2();
+      v = (v - mean.row(s).cwiseAbs2()).cwiseMax(0.0) / rays_of(s);
+    }
+  });
+  Eigen::VectorXd out(N);
+  for (int i = 0; i < N; ++i) out[i] = W.col(i).dot(V.col(i));
+  return out;
+}
+
+// Symmetrising replaced each off-diagonal GR_ij of row i by the inverse-variance mean
+// lambda_ij GR_ij + (1 - lambda_ij) GR_ji, which moved the row sum by
+// missing_i = sum_j (1 - lambda_ij) (GR_ij - GR_ji). Every ray is counted once, so the raw row
+// closes exactly (A_i eps_i = sum_j GR_ij + GR_ii + GR_i,space + GR_i,unassigned) and its
+// errors sum to zero: the two entries without a second estimate, GR_i,space and GR_ii, carry
+// minus the other entries' errors. They get the missing amount back in the share of the best
+// linear predictor of the space error from their sum's error, w = Cov(e_space, e_space + e_ii)
+// / Var(e_space + e_ii) (per-ray score covariances, delta method): the symmetrised
+// off-diagonal estimates then also sharpen the coupling to space (a flat node, GR_ii = 0, takes
+// it wholly from closure). GR_i,space + w missing_i is a linear combination of the raw
+// estimates, so its variance follows from the same delta method: row i's part
+// (row_combination_variance) plus w^2 sum_j (1 - lambda_ij)^2 Var(GR_ji) from the partners.
+// `lambda`: lambda_ij, the weight of row i's own estimate; `v_partner`(j, i): Var(GR_ji) with
+// its floor, as combined.
+void restore_closure(const FaceViewFactors& vf, const RowMatrixXd& Y, const RowMatrixXd& B, const Eigen::MatrixXd& W,
+                     const Eigen::MatrixXd& VG, const Eigen::MatrixXd& GR, const Eigen::VectorXd& emit,
+                     const Eigen::MatrixXd& lambda, const Eigen::MatrixXd& v_partner, NodeCouplings& nc) {
+  const int N = static_cast<int>(emit.size()), U = N, SP = N + 1, C = N + 2;
+  CouplingDiagnostics& dg = nc.diagnostics;
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(N, C);
+  for (int i = 0; i < N; ++i) M(i, i) = M(i, SP) = 1.0;
+  const Eigen::VectorXd v_sum = row_combination_variance(vf, Y, B, W, M);
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(N);
+  for (int i = 0; i < N; ++i) {
+    const double cov = 0.5 * (v_sum[i] + VG(i, SP) - VG(i, i));
+    // A node none of whose rays reached space (enclosed) keeps no coupling to it.
+    if (emit[i] > 0.0 && v_sum[i] > 0.0 && GR(i, SP) > 0.0) w[i] = std::clamp(cov / v_sum[i], 0.0, 1.0);
+  }
+  // The corrected coupling to space: GR_i,space + w_i sum_j (1 - lambda_ij) (GR_ij - GR_ji).
+  M.setZero();
+  for (int i = 0; i < N; ++i) {
+    M(i, SP) = 1.0;
+    for (int j = 0; j < N; ++j)
+      if (j != i) M(i, j) = w[i] * (1.0 - lambda(i, j));
+  }
+  const Eigen::VectorXd v_row = row_combination_variance(vf, Y, B, W, M);
+  for (int i = 0; i < N; ++i) {
+    if (!(emit[i] > 0.0)) continue;
+    const double missing = emit[i] - (nc.radiative_couplings_m2.row(i).sum() + GR(i, SP) + GR(i, U));
+    dg.coupling_closure_error = std::max(dg.coupling_closure_error, std::abs(missing) / emit[i]);
+    double v_other = 0.0;
+    for (int j = 0; j < N; ++j)
+      if (j != i) v_other += std::pow(M(i, j), 2) * v_partner(j, i);
+    const double sp = std::max(0.0, GR(i, SP) + w[i] * missing);
+    nc.radiative_couplings_m2(i, i) = std::max(0.0, nc.radiative_couplings_m2(i, i) + missing - (sp - GR(i, SP)));
+    nc.to_space_couplings_m2[i] = sp;
+    nc.to_space_couplings_standard_error[i] = std::sqrt(v_row[i] + v_other);
+  }
+}
+
 }  // namespace
 
 NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::VectorXd& emissivity,
@@ -145,6 +222,7 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
   nc.to_space_couplings_m2.setZero(N);
   nc.to_space_couplings_standard_error.setZero(N);
   const double gr_max = N ? GR.leftCols(N).maxCoeff() : 0.0;
+  Eigen::MatrixXd lambda = Eigen::MatrixXd::Ones(N, N), v_dir = Eigen::MatrixXd::Zero(N, N);
   for (int i = 0; i < N; ++i) {
     for (int j = i; j < N; ++j) {
       double x, v, sig = 0.0;
@@ -152,8 +230,12 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
         x = GR(i, i);
         v = VG(i, i);
       } else {
-        v = combine(GR(i, j), VG(i, j) + floor_gr[i] * ymax[j] * ymax[j], GR(j, i),
-                    VG(j, i) + floor_gr[j] * ymax[i] * ymax[i], x, sig);
+        v_dir(i, j) = VG(i, j) + floor_gr[i] * ymax[j] * ymax[j];
+        v_dir(j, i) = VG(j, i) + floor_gr[j] * ymax[i] * ymax[i];
+        v = combine(GR(i, j), v_dir(i, j), GR(j, i), v_dir(j, i), x, sig);
+        const double vs = v_dir(i, j) + v_dir(j, i);
+        lambda(i, j) = vs > 0.0 ? v_dir(j, i) / vs : 0.5;
+        lambda(j, i) = 1.0 - lambda(i, j);
         dg.coupling_asymmetry_sigma = std::max(dg.coupling_asymmetry_sigma, sig);
         const double big = std::max(GR(i, j), GR(j, i));
         if (big > 1e-3 * gr_max && big > 0.0)
@@ -165,16 +247,7 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
     nc.to_space_couplings_m2[i] = GR(i, SP);
     nc.to_space_couplings_standard_error[i] = std::sqrt(VG(i, SP));
   }
-  // Symmetrising moved each row sum by its noise. The self-coupling GR_ii carries no heat
-  // (T_i^4 - T_i^4 = 0), so it absorbs the difference and every node again absorbs exactly
-  // what it emits: A_i eps_i = sum_j GR_ij + GR_i,space (+ unassigned faces). The size of
-  // that correction is what `coupling_closure_error` reports.
-  for (int i = 0; i < N; ++i)
-    if (emit[i] > 0.0) {
-      const double missing = emit[i] - (nc.radiative_couplings_m2.row(i).sum() + GR(i, SP) + GR(i, U));
-      dg.coupling_closure_error = std::max(dg.coupling_closure_error, std::abs(missing) / emit[i]);
-      nc.radiative_couplings_m2(i, i) = std::max(0.0, nc.radiative_couplings_m2(i, i) + missing);
-    }
+  restore_closure(vf, Y, B, W, VG, GR, emit, lambda, v_dir, nc);
   return nc;
 }
 

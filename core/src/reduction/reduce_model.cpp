@@ -56,6 +56,8 @@ void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& setti
 
 void apply_large_model_sweep(const ThermalModel& model, ReduceSettings& settings) {
   if (model.mesh_cleanup || model.mesh.num_faces() <= kBareMeshCoarseSweepFaces) return;
+  // Trials of a large model cost seconds each: the small models' 80 would add minutes.
+  settings.informed.max_evaluations = std::min(settings.informed.max_evaluations, 40);
   settings.sensitivity.ratios.clear();
   for (int k = 1; k <= 7; ++k) settings.sensitivity.ratios.push_back(1.0 - std::exp2(-k));
   settings.prediction_targets = {1.0};

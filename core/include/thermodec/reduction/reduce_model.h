@@ -182,7 +182,8 @@ constexpr int kBareMeshCoarseSweepFaces = 2000;
 //! faces): at most 7 trials per node instead of 11, spaced where a finely meshed node's curve
 //! changes (its |dT| grows with the faces removed relative to those kept), and reaching 99.2 %
 //! where the fixed grid stops at 98 %. A node the decimator cannot take further ends early.
-//! No extra predicted-vs-real trials either (ReduceSettings::prediction_targets).
+//! No extra predicted-vs-real trials either (ReduceSettings::prediction_targets), and at most
+//! 40 trials after the prediction (InformedOptions::max_evaluations).
 void apply_large_model_sweep(const ThermalModel& model, ReduceSettings& settings);
 
 //! Runs the whole reduction: reference simulation, noise floor, (informed) sensitivity and

@@ -14,8 +14,16 @@
 
 namespace thermodec {
 
+//! The decimator's options in a reduction: the radiative collapse cost, which keeps fewer
+//! faces than the geometric one within the same verified tolerance (docs/reduction.md).
+inline DecimationOptions reduction_decimation_options() {
+  DecimationOptions o;
+  o.collapse_cost = CollapseCostKind::radiative;
+  return o;
+}
+
 struct ReductionReferenceSettings {
-  DecimationOptions decimation;
+  DecimationOptions decimation = reduction_decimation_options();
   ModelSimulationSettings simulation;  //!< same for reference, trials and verification
   //! Memory for the reference's reusable ray records [bytes] (record_budget.h); 0 = the
   //! default (default_record_budget_bytes). Results do not depend on it, only trial speed.

@@ -50,7 +50,7 @@ ReductionOutcome uniform_reduction(
 
 struct InformedOptions {
   double tolerance_K = 0.5;
-  int max_evaluations = 40;   //!< bound on trials after the prediction (back-off + push); once
+  int max_evaluations = 80;   //!< bound on trials after the prediction (back-off + push); once
                               //!< spent while backing off, every node's share of the tolerance
                               //!< on its own curve is scaled back (bisection, 6 trials per pass)
   //! Leave-one-out trials per back-off step: when more nodes are reduced, only this many are

@@ -92,7 +92,7 @@ struct NoiseTargeting {
   //! At most this many extra IR rays, and extra sun/Earth samples, as a multiple of the
   //! model's totals (the target is raised until the boosts fit)...
   double budget = 32.0;
-  //! ...and at most this many in all: the sample satellite needs 1.4e8 / 6.9e7 for its target
+  //! ...and at most this many in all: the sample satellite needs 1.1e8 / 6.9e7 for its target
   //! (~10 s on 2 cores); a large CAD mesh, whose totals are many times the sample's, gets the
   //! multiple this leaves (its simulation stays within ~15 s of extra tracing instead of 32x
   //! its own run time).
