@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <tbb/parallel_for.h>
 
@@ -138,7 +139,8 @@ MergeSearch search_node_merges(const ThermalModel& model, const std::vector<Load
   tbb::parallel_for(std::size_t(0), pairs.size(), [&](std::size_t k) {
     std::vector<int> l = labels;
     l[pairs[k].second] = pairs[k].first;
-    pair_dT[k] = merge_trial_K(refs, map_of_labels(l), solver);
+    const double d = merge_trial_K(refs, map_of_labels(l), solver);
+    pair_dT[k] = std::isnan(d) ? std::numeric_limits<double>::infinity() : d;  // (a strict weak order below)
   });
   sum.trials = static_cast<int>(pairs.size());
   // Greedy: cheapest pair first, merged into the network of the merges accepted so far when

@@ -14,13 +14,14 @@ Eigen::MatrixXd membership(const NodeMergeMap& map) {
   return p;
 }
 
+// (A matrix never filled, 0 x 0, stays empty.)
 Eigen::MatrixXd rows_summed(const Eigen::MatrixXd& p, const Eigen::MatrixXd& x) {
-  return x.size() == 0 ? x : Eigen::MatrixXd(p * x);
+  return x.rows() != p.cols() ? x : Eigen::MatrixXd(p * x);
 }
 
 // Standard errors of sums of independent terms: sqrt of the summed variances.
 Eigen::MatrixXd rows_in_quadrature(const Eigen::MatrixXd& p, const Eigen::MatrixXd& se) {
-  return se.size() == 0 ? se : Eigen::MatrixXd((p * se.cwiseAbs2()).cwiseSqrt());
+  return se.rows() != p.cols() ? se : Eigen::MatrixXd((p * se.cwiseAbs2()).cwiseSqrt());
 }
 
 }  // namespace
@@ -41,14 +42,15 @@ NodeCouplings merge_couplings(const NodeCouplings& c, const NodeMergeMap& map) {
   m.view_factors = inv_area.asDiagonal() * (p * af * p.transpose());
   m.to_space = inv_area.asDiagonal() * (p * c.area_m2.cwiseProduct(c.to_space));
   auto both_sides = [&](const Eigen::MatrixXd& se) {
-    return se.size() == 0 ? se : Eigen::MatrixXd((p * se.cwiseAbs2() * p.transpose()).cwiseSqrt());
+    return se.rows() != p.cols() || se.cols() != p.cols() ? se
+                                                          : Eigen::MatrixXd((p * se.cwiseAbs2() * p.transpose()).cwiseSqrt());
   };
   m.radiative_couplings_standard_error = both_sides(c.radiative_couplings_standard_error);
   m.to_space_couplings_standard_error = rows_in_quadrature(p, c.to_space_couplings_standard_error);
-  if (c.view_factors_standard_error.size() > 0)
+  if (c.view_factors_standard_error.rows() == n)
     m.view_factors_standard_error =
         inv_area.asDiagonal() * both_sides(Eigen::MatrixXd(c.area_m2.asDiagonal() * c.view_factors_standard_error));
-  if (c.to_space_standard_error.size() > 0)
+  if (c.to_space_standard_error.size() == n)
     m.to_space_standard_error = inv_area.asDiagonal() *
                                 rows_in_quadrature(p, Eigen::MatrixXd(c.area_m2.cwiseProduct(c.to_space_standard_error)));
   m.diagnostics = c.diagnostics;
@@ -71,7 +73,7 @@ Loads merge_loads(const Loads& l, const NodeMergeMap& map) {
   m.knot_earth_ir_W = rows_summed(p, l.knot_earth_ir_W);
   m.knot_reflected_solar_W = rows_summed(p, l.knot_reflected_solar_W);
   m.sampling_standard_error_W = rows_in_quadrature(p, l.sampling_standard_error_W);
-  if (l.orbit_mean_standard_error_W.size() > 0)
+  if (l.orbit_mean_standard_error_W.size() == n)
     m.orbit_mean_standard_error_W = rows_in_quadrature(p, Eigen::MatrixXd(l.orbit_mean_standard_error_W)).col(0);
   return m;
 }
