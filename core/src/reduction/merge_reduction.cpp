@@ -93,6 +93,16 @@ std::vector<std::pair<int, int>> merge_candidates(const ThermalModel& model, con
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return g(i, a) > g(i, b); });
     for (int k = 0; k < std::min<int>(strongest, static_cast<int>(order.size())); ++k) add(i, order[k]);
   }
+  // Near-isothermal nodes, wherever they are: a merge costs about the temperature difference it
+  // averages away, so the nodes closest in temperature (max over times) are the cheapest merges.
+  const Eigen::MatrixXd& t = reference.temperature_K;
+  for (int i = 0; i < n; ++i) {
+    std::vector<std::pair<double, int>> near;
+    for (int j = 0; j < n; ++j)
+      if (j != i) near.emplace_back((t.row(i) - t.row(j)).cwiseAbs().maxCoeff(), j);
+    std::stable_sort(near.begin(), near.end());
+    for (int k = 0; k < std::min<int>(strongest, static_cast<int>(near.size())); ++k) add(i, near[k].second);
+  }
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   return pairs;
@@ -143,6 +153,9 @@ MergeSearch search_node_merges(const ThermalModel& model, const std::vector<Load
     pair_dT[k] = std::isnan(d) ? std::numeric_limits<double>::infinity() : d;  // (a strict weak order below)
   });
   sum.trials = static_cast<int>(pairs.size());
+  const auto within = [&](double x) { return std::count_if(pair_dT.begin(), pair_dT.end(), [x](double d) { return d <= x; }); };
+  say(fmt("node merging: %.0f pairs within the budget alone, %.0f within the whole tolerance", within(budget_K),
+          within(budget_K / std::max(merge.tolerance_share, 1e-9))));
   // Greedy: cheapest pair first, merged into the network of the merges accepted so far when
   // the whole network stays within the budget (the pairs' effects need not add up).
   std::vector<std::size_t> order(pairs.size());

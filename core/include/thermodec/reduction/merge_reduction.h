@@ -3,9 +3,9 @@
 //! model, under one verified temperature tolerance (docs/reduction.md, "Merging nodes").
 //!
 //! 1. The original is simulated once per load case; its node couplings and loads are kept.
-//! 2. Candidates: pairs of nodes that share a mesh edge, and each node's strongest exchanges
-//!    (GL + 4 sigma T^3 GR); never a kept node (NodeMergeSettings::keep) or a fixed-temperature
-//!    node.
+//! 2. Candidates: pairs of nodes that share a mesh edge, each node's strongest exchanges
+//!    (GL + 4 sigma T^3 GR) and the nodes closest to it in temperature; never a kept node
+//!    (NodeMergeSettings::keep) or a fixed-temperature node.
 //! 3. Every candidate is tried alone; then, cheapest first, each is merged into the network of
 //!    the merges accepted so far when that network still stays within the merge budget. A trial
 //!    is a network solve with the reference's own couplings and loads summed over the merged
@@ -30,13 +30,15 @@ struct NodeMergeSettings {
   //! Share of the tolerance the merges may spend (their measured max |dT|); the decimation
   //! gets the tolerance less what they spent.
   double tolerance_share = 0.4;
-  //! Per node, its this many strongest exchanges are candidates besides its edge neighbours.
+  //! Per node, its this many strongest exchanges and this many nodes closest in temperature are
+  //! candidates besides its edge neighbours.
   int strongest_exchanges = 3;
 };
 
-//! Candidate pairs (i < j), ascending: nodes sharing a mesh edge and each node's
-//! `strongest` largest couplings GL_ij + 4 sigma T^3 GR_ij (T: the mean of the two nodes' mean
-//! reference temperatures [K]), without the nodes in `excluded`.
+//! Candidate pairs (i < j), ascending: nodes sharing a mesh edge, each node's `strongest`
+//! largest couplings GL_ij + 4 sigma T^3 GR_ij (T: the mean of the two nodes' mean reference
+//! temperatures [K]) and its `strongest` nodes of least max_t |T_i - T_j| in the reference,
+//! without the nodes in `excluded`.
 std::vector<std::pair<int, int>> merge_candidates(const ThermalModel& model, const NodeCouplings& couplings,
                                                   const SimulationResult& reference, int strongest,
                                                   const std::vector<int>& excluded);
