@@ -104,9 +104,10 @@ TEST(MergeSearch, kept_and_fixed_nodes_are_never_merged_and_merges_stay_within_t
   m.nodes[0].fixed_temperature_K = 290.0;  // a boundary node
   NodeMergeSettings s;
   s.keep = {"dish", "instrument"};
-  const MergeSearch ms = search_node_merges(m, {}, {}, s, 1.0);
+  // A loose budget: the sample's nodes differ by tens of K, so only then do most nodes merge.
+  const MergeSearch ms = search_node_merges(m, {}, {}, s, 30.0);
   EXPECT_LT(ms.map.num_merged(), static_cast<int>(m.nodes.size()));
-  EXPECT_LE(ms.summary.dT_K, 1.0);
+  EXPECT_LE(ms.summary.dT_K, 30.0);
   EXPECT_EQ(ms.summary.nodes_after, ms.map.num_merged());
   EXPECT_EQ(static_cast<int>(ms.summary.steps.size()), ms.summary.nodes_before - ms.summary.nodes_after);
   for (const std::string& kept : {std::string("dish"), std::string("instrument"), m.nodes[0].name}) {
@@ -115,6 +116,15 @@ TEST(MergeSearch, kept_and_fixed_nodes_are_never_merged_and_merges_stay_within_t
     EXPECT_EQ(ms.map.members[ms.map.merged_of_node[i]].size(), 1u) << kept;
     EXPECT_NE(std::find(ms.summary.kept.begin(), ms.summary.kept.end(), kept), ms.summary.kept.end());
   }
+  // Without --keep-node the same search merges them (so the test above means something).
+  const MergeSearch free_search = search_node_merges(m, {}, {}, NodeMergeSettings{}, 30.0);
+  int merged_kept = 0;
+  for (const std::string& kept : {std::string("dish"), std::string("instrument")}) {
+    int i = 0;
+    while (m.nodes[i].name != kept) ++i;
+    merged_kept += free_search.map.members[free_search.map.merged_of_node[i]].size() > 1;
+  }
+  EXPECT_GT(merged_kept, 0);
   NodeMergeSettings bad;
   bad.keep = {"no_such_node"};
   EXPECT_THROW(search_node_merges(m, {}, {}, bad, 1.0), InvalidInput);
