@@ -178,6 +178,10 @@ MergeSearch search_node_merges(const ThermalModel& model, const std::vector<Load
     step.pair_dT_K = pair_dT[k];
     step.dT_K = d;
     step.nodes_after = --nodes;
+    for (int f = 0; f < model.mesh.num_faces(); ++f) {
+      const int nd = model.mesh.face_node[f];
+      step.faces += nd >= 0 && nd < n && l[nd] == a;
+    }
     say(fmt("  merged (%.4f K alone, %.4f K with the merges so far): ", pair_dT[k], d) + model.nodes[pairs[k].first].name +
         " + " + model.nodes[pairs[k].second].name + fmt(", %.0f nodes", nodes));
     sum.steps.push_back(step);

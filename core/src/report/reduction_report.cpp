@@ -44,7 +44,7 @@ json node_merging_json(const NodeMerging& m) {
   json steps = json::array();
   for (const NodeMergeStep& st : m.steps)
     steps.push_back({{"merged", st.first}, {"with", st.second}, {"pair_dT_K", st.pair_dT_K}, {"dT_K", st.dT_K},
-                     {"nodes_after", st.nodes_after}});
+                     {"nodes_after", st.nodes_after}, {"faces", st.faces}});
   json map = json::object();
   for (const auto& [original, merged] : m.node_map) map[original] = merged;
   json j = {{"nodes_before", m.nodes_before}, {"nodes_after", m.nodes_after}, {"kept", m.kept},
