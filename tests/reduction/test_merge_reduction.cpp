@@ -109,6 +109,9 @@ TEST(MergeSearch, kept_and_fixed_nodes_are_never_merged_and_merges_stay_within_t
   EXPECT_LT(ms.map.num_merged(), static_cast<int>(m.nodes.size()));
   EXPECT_LE(ms.summary.dT_K, 30.0);
   EXPECT_EQ(ms.summary.nodes_after, ms.map.num_merged());
+  // The merges kept were re-traced within the whole tolerance (budget / share).
+  EXPECT_GE(ms.summary.traced_simulations, 1);
+  EXPECT_LE(ms.summary.traced_dT_K, 30.0 / s.tolerance_share);
   EXPECT_EQ(static_cast<int>(ms.summary.steps.size()), ms.summary.nodes_before - ms.summary.nodes_after);
   for (const std::string& kept : {std::string("dish"), std::string("instrument"), m.nodes[0].name}) {
     int i = 0;

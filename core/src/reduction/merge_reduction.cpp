@@ -52,6 +52,58 @@ std::vector<std::string> members_named(const ThermalModel& model, const std::vec
   return out;
 }
 
+// Labels of the first k accepted merges (in order), from the identity.
+std::vector<int> first_merges(const ThermalModel& model, const std::vector<NodeMergeStep>& steps, std::size_t k) {
+  const int n = static_cast<int>(model.nodes.size());
+  std::vector<int> labels(n);
+  for (int i = 0; i < n; ++i) labels[i] = i;
+  auto index = [&](const std::string& name) {
+    for (int i = 0; i < n; ++i)
+      if (model.nodes[i].name == name) return i;
+    return -1;
+  };
+  for (std::size_t s = 0; s < k && s < steps.size(); ++s) {
+    const int a = labels[index(steps[s].first.front())], b = labels[index(steps[s].second.front())];
+    for (int& x : labels)
+      if (x == b) x = a;
+  }
+  return labels;
+}
+
+// The merged model traced (reference seed) against the reference, through the map [K].
+double traced_merge_K(const std::vector<CaseReference>& refs, const NodeMergeMap& map,
+                      const ModelSimulationSettings& simulation) {
+  double worst = 0.0;
+  for (const CaseReference& r : refs) {
+    const ThermalModel merged = merge_nodes(r.model, map);
+    const SimulationResult m = simulate_model(merged, simulation);
+    const double d = compare_results(r.result, result_through_node_map(m, merged.node_map)).max_abs_K;
+    if (!(d <= worst)) worst = d;
+  }
+  return worst;
+}
+
+// Keeps the longest prefix of the accepted merges whose traced model stays within `limit_K`
+// (all of them when they do; k bisected otherwise, at most ~log2(merges) simulations).
+std::vector<int> confirmed_by_tracing(const ThermalModel& model, const std::vector<CaseReference>& refs,
+                                      const ModelSimulationSettings& simulation, double limit_K, NodeMerging& sum,
+                                      const std::function<void(const std::string&)>& say) {
+  std::size_t good = 0, bad = sum.steps.size() + 1, k = sum.steps.size();
+  double good_dT = 0.0;
+  while (k > good && k < bad) {
+    const double d = traced_merge_K(refs, map_of_labels(first_merges(model, sum.steps, k)), simulation);
+    ++sum.traced_simulations;
+    say(fmt("node merging: the first %.0f merges traced: max |dT| %.4f K (limit %.4g K)", k, d, limit_K));
+    if (d <= limit_K) good = k, good_dT = d;
+    else bad = k;
+    k = (good + bad) / 2;
+  }
+  sum.steps.resize(good);
+  sum.traced_dT_K = good_dT;
+  sum.dT_K = good > 0 ? sum.steps.back().dT_K : 0.0;
+  return first_merges(model, sum.steps, good);
+}
+
 }  // namespace
 
 std::vector<std::pair<int, int>> merge_candidates(const ThermalModel& model, const NodeCouplings& couplings,
@@ -188,6 +240,8 @@ MergeSearch search_node_merges(const ThermalModel& model, const std::vector<Load
     sum.dT_K = d;
     labels = l;
   }
+  if (merge.confirm_by_tracing && !sum.steps.empty())
+    labels = confirmed_by_tracing(model, refs, simulation, budget_K / std::max(merge.tolerance_share, 1e-9), sum, say);
   out.map = map_of_labels(labels);
   sum.nodes_after = out.map.num_merged();
   sum.seconds = since(t0);

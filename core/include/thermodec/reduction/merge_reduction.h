@@ -33,6 +33,11 @@ struct NodeMergeSettings {
   //! Per node, its this many strongest exchanges and this many nodes closest in temperature are
   //! candidates besides its edge neighbours.
   int strongest_exchanges = 3;
+  //! The accepted merges are re-traced (the merged model simulated with the reference's seed);
+  //! while that exceeds the whole tolerance (budget / tolerance_share), only the first k merges
+  //! are kept, k bisected (the network trials take the original's combined couplings as exact,
+  //! which a rarely hit node's reciprocity weighting can break: docs/reduction.md).
+  bool confirm_by_tracing = true;
 };
 
 //! Candidate pairs (i < j), ascending: nodes sharing a mesh edge, each node's `strongest`

@@ -25,6 +25,10 @@ struct NodeMerging {
   double budget_K = 0.0;                //!< the share of the tolerance the merges may spend [K]
   double dT_K = 0.0;                    //!< measured max |dT| of all merges together (every case) [K]
   double decimation_tolerance_K = 0.0;  //!< what the decimation of the merged model searched within [K]
+  //! The merges kept re-traced (the merged model simulated with the reference's seed): its max
+  //! |dT| against the reference through the map [K] (0: not traced), and the simulations that took.
+  double traced_dT_K = 0.0;
+  int traced_simulations = 0;
   std::vector<NodeMergeStep> steps;     //!< accepted merges, in order
   std::vector<std::pair<std::string, std::string>> node_map;  //!< original -> merged node
   double seconds = 0.0;                 //!< reference simulations and merge trials [s]

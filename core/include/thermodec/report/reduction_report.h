@@ -18,7 +18,7 @@ namespace thermodec {
 nlohmann::json reduction_report_json(const ReductionRun& run);
 
 //! report.json's "node_merging" (reduce --merge-nodes): nodes_before, nodes_after, kept,
-//! candidates, trials, budget_K, dT_K, decimation_tolerance_K, merges [{merged, with (original
+//! candidates, trials, budget_K, dT_K, decimation_tolerance_K, traced_dT_K, traced_simulations, merges [{merged, with (original
 //! nodes of the two), pair_dT_K, dT_K, nodes_after, faces (of the merged node)}], node_map {original: merged}, seconds,
 //! fallback (only when the merged model was given up).
 nlohmann::json node_merging_json(const NodeMerging& merging);
