@@ -15,6 +15,7 @@
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/common/atomic_write.h"
 #ifdef THERMODEC_FILTER_REDUCE
+#include "thermodec/reduction/merge_reduction.h"
 #include "thermodec/reduction/reduce_model.h"
 #include "thermodec/reduction/reduction_reference.h"
 #include "thermodec/reduction/sensitivity.h"
@@ -232,7 +233,7 @@ NodeTemperatures simulate_document(const DocumentModelRequest& request, const st
 #ifdef THERMODEC_FILTER_REDUCE
 DocumentReduction reduce_document(const DocumentModelRequest& request, double tolerance_K,
                                   bool informed, const std::string& out_dir, bool plots,
-                                  const std::vector<std::string>& case_files) {
+                                  const std::vector<std::string>& case_files, bool merge_nodes) {
   std::vector<int> model_node;
   std::string description;
   thermodec::ThermalModel model =
@@ -248,7 +249,8 @@ DocumentReduction reduce_document(const DocumentModelRequest& request, double to
   settings.reference.simulation.progress = nullptr;
   thermodec::apply_large_model_sweep(model, settings);  // as `thermodec reduce` does for this model
   for (const auto& f : case_files) settings.extra_cases.push_back(thermodec::load_case(f, model));
-  const thermodec::ReductionRun run = thermodec::reduce_model(model, settings);
+  const thermodec::ReductionRun run = merge_nodes ? thermodec::reduce_with_node_merging(model, settings, {})
+                                                  : thermodec::reduce_model(model, settings);
 
   std::vector<fs::path> inputs;
   if (!request.model_file.empty()) inputs.push_back(request.model_file);
@@ -259,7 +261,20 @@ DocumentReduction reduce_document(const DocumentModelRequest& request, double to
   out.noise_floor_K = run.noise_floor_K;
   out.mesh = run.reduced.model.mesh;
   out.mesh.node_names = request.mesh->node_names;
-  for (int f = 0; f < out.mesh.num_faces(); ++f) out.mesh.face_node[f] = doc_node[out.mesh.face_node[f]];
+  // A merged node shows under its first member's document node.
+  std::vector<int> doc_of_reduced;
+  for (const thermodec::Node& nd : run.reduced.model.nodes) {
+    int original = -1;
+    for (const auto& [name, into] : run.reduced.model.node_map)
+      if (into == nd.name && original < 0)
+        for (std::size_t i = 0; i < model.nodes.size(); ++i)
+          if (model.nodes[i].name == name) original = static_cast<int>(i);
+    if (original < 0)
+      for (std::size_t i = 0; i < model.nodes.size(); ++i)
+        if (model.nodes[i].name == nd.name) original = static_cast<int>(i);
+    doc_of_reduced.push_back(original >= 0 ? doc_node[original] : 0);
+  }
+  for (int f = 0; f < out.mesh.num_faces(); ++f) out.mesh.face_node[f] = doc_of_reduced[out.mesh.face_node[f]];
   return out;
 }
 

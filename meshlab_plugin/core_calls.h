@@ -76,9 +76,12 @@ struct DocumentReduction {
 //! cases (thermodec::load_case) the reduced model must also meet.
 //! \throw thermodec::InvalidInput (tolerance not positive or below twice the noise floor, two
 //! document nodes mapped to one model node, a bad case file, ...), IOError, SolverError.
+//! merge_nodes: `thermodec reduce --merge-nodes` (reduction/merge_reduction.h); the reduced
+//! mesh's faces of a merged node are then labelled with its first member's document node (the
+//! merged network and its node map are in out_dir/model.json).
 DocumentReduction reduce_document(const DocumentModelRequest& request, double tolerance_K,
                                   bool informed, const std::string& out_dir, bool plots,
-                                  const std::vector<std::string>& case_files = {});
+                                  const std::vector<std::string>& case_files = {}, bool merge_nodes = false);
 
 //! Result of sensitivity_document, per document node.
 struct DocumentSensitivity {

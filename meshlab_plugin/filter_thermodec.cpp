@@ -339,6 +339,11 @@ void ThermodecFilterPlugin::initParameterSet(QAction* action, MeshModel& m,
             "separated by ';'. Each is a JSON file {\"name\", \"environment\", \"analysis\"} read "
             "over the model's own (thermodec reduce --case; docs/model-format.md)."));
       if (reduce)
+        params.addParam(RichBool("merge_nodes", false, "Merge nodes",
+                                 "Also merge thermal nodes into isothermal nodes before decimating (thermodec "
+                                 "reduce --merge-nodes): fewer nodes and interfaces, verified against the original "
+                                 "through the node map in model.json; merged faces show under their first node."));
+      if (reduce)
         params.addParam(RichBool("plots", true, "Write plots",
                                  "Also write the PNG plots (sensitivity, predicted vs real, "
                                  "temperatures, mesh) with matplotlib."));
@@ -703,7 +708,7 @@ bool ThermodecFilterPlugin::reduce(MeshDocument& md, const RichParameterList& pa
       cb, stages,
       [&](const std::function<void(const std::string&)>& report) {
         request.progress = report;
-        r = reduce_document(request, tolerance, informed, out_dir, plots, case_files);
+        r = reduce_document(request, tolerance, informed, out_dir, plots, case_files, params.getBool("merge_nodes"));
       },
       [this](const std::string& m) { Log("  %s", m.c_str()); });
   const auto layers = add_layers(md, dm, r.mesh, "reduced");

@@ -4,12 +4,14 @@
 // the two results' sampling noise (summary.<node>.noise_K, added in quadrature) is marked as such.
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <map>
 
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "thermodec/common/errors.h"
+#include "thermodec/reduction/merged_network.h"
 #include "thermodec/thermal/result_json.h"
 
 namespace thermodec::cli {
@@ -17,13 +19,29 @@ namespace thermodec::cli {
 //! Exit code of `compare --tolerance` when the largest |dT| exceeds it (1 stays "bad input").
 constexpr int kToleranceExceededExitCode = 3;
 
+namespace {
+// The "node_map" (original -> merged) a result of a merged model carries (simulate --json), if any.
+std::vector<std::pair<std::string, std::string>> result_node_map(const std::string& path) {
+  std::ifstream in(path);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  std::vector<std::pair<std::string, std::string>> map;
+  if (!j.is_object() || !j.contains("node_map") || !j.at("node_map").is_object()) return map;
+  for (const auto& item : j.at("node_map").items()) {
+    if (!item.value().is_string()) throw InvalidInput(path + ": 'node_map." + item.key() + "' must be a node name");
+    map.emplace_back(item.key(), item.value().get<std::string>());
+  }
+  return map;
+}
+}  // namespace
+
 void add_compare(CLI::App& app) {
   auto a = std::make_shared<std::string>(), b = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
   auto tolerance = std::make_shared<double>(-1.0);
   auto* sub = app.add_subcommand(
       "compare", "compare two simulation results (thermodec simulate --json): max |dT| per node and overall, "
-                 "with the time where it occurs; --tolerance K exits 3 when exceeded");
+                 "with the time where it occurs; --tolerance K exits 3 when exceeded. A merged model's result "
+                 "(its node_map) is compared with its original's node by node through the map");
   sub->add_option("A", *a, "first result JSON")->required();
   sub->add_option("B", *b, "second result JSON")->required();
   sub->add_flag("--json", *json, "print the comparison as JSON");
@@ -32,7 +50,12 @@ void add_compare(CLI::App& app) {
   sub->callback([a, b, json, tolerance] {
     bool exceeded = false;
     run_guarded([&] {
-      const SimulationResult ra = read_result(*a), rb = read_result(*b);
+      SimulationResult ra = read_result(*a), rb = read_result(*b);
+      // A merged model's result against its original's: each original node against the node it
+      // was merged into (when only one side is merged).
+      const auto map_a = result_node_map(*a), map_b = result_node_map(*b);
+      if (!map_a.empty() && map_b.empty()) ra = result_through_node_map(ra, map_a);
+      if (!map_b.empty() && map_a.empty()) rb = result_through_node_map(rb, map_b);
       const TemperatureDifference d = compare_results(ra, rb);
       // One standard deviation of the difference per node: the two results' noise in quadrature
       // (independent draws); nodes neither result states a noise for get none.

@@ -11,6 +11,7 @@
 #include "thermodec/common/output_paths.h"
 #include "thermodec/common/staged_folder.h"
 #include "thermodec/nodes/load_model.h"
+#include "thermodec/reduction/merge_reduction.h"
 #include "thermodec/reduction/record_budget.h"
 #include "thermodec/reduction/reduce_model.h"
 #include "thermodec/report/reduction_report.h"
@@ -44,6 +45,8 @@ struct ReduceCliOptions {
   std::string collapse_cost = "radiative";  // as reduction_decimation_options()
   double max_normal_deviation_deg = DecimationOptions{}.max_normal_deviation_deg;
   double max_contour_deviation = DecimationOptions{}.max_contour_deviation;
+  bool merge_nodes = false;      // reduction/merge_reduction.h
+  NodeMergeSettings merge;
 };
 
 // What `reduce` writes into its folder (report/reduction_report.h); only these may be there.
@@ -74,6 +77,7 @@ void run_reduce(const ReduceCliOptions& o) {
   std::vector<std::filesystem::path> inputs{o.model, model.mesh_path};
   for (const auto& f : o.case_files) inputs.push_back(f);
   check_output_folder(o.out_dir, kReduceOutputs, inputs);
+  nodes_matching(model, o.merge.keep);  // a --keep-node that matches nothing: refused before any work
   // The result is written into a staging folder beside --out and swapped into place once
   // complete; the lock refuses a second run into the same folder (common/staged_folder.h).
   std::optional<StagedFolder> staged;
@@ -121,9 +125,10 @@ void run_reduce(const ReduceCliOptions& o) {
             << s.reference.simulation.loads.sun_rays_per_face << " sun samples per face side, tolerance " << o.tolerance_K << " K, strategy " << o.strategy
             << (s.extra_cases.empty() ? std::string() : ", " + std::to_string(1 + s.extra_cases.size()) + " load cases")
             << (ranks.size > 1 ? ", sensitivity sweep over " + std::to_string(ranks.size) + " MPI ranks" : std::string())
+            << (o.merge_nodes ? ", merging nodes" : "")
             << "\n";
   guard_simulation_cost("reduce", model, s.reference.simulation, o.quiet || !root, s.extra_cases);
-  ReductionRun run = reduce_model(model, s);
+  ReductionRun run = o.merge_nodes ? reduce_with_node_merging(model, s, o.merge) : reduce_model(model, s);
   if (run.sweep_only) return;  // an MPI rank other than 0: its curves went to rank 0
   run.ranks = ranks.size;
   run.peak_memory_bytes = peak_resident_memory_bytes();
@@ -232,6 +237,19 @@ void add_reduce(CLI::App& app) {
                   "{\"name\": .., \"environment\": {..}, \"analysis\": {..}} read over the model's own "
                   "(e.g. a cold case on another day of the year); every trial takes the worst case")
       ->check(CLI::ExistingFile);
+  auto* merge = sub->add_flag("--merge-nodes", o->merge_nodes,
+                              "also merge thermal nodes (neighbours sharing an edge or exchanging strongly) into "
+                              "isothermal nodes, then decimate the merged model; verified against the original "
+                              "through the node map (docs/reduction.md, \"Merging nodes\")");
+  sub->add_option("--keep-node", o->merge.keep,
+                  "with --merge-nodes: a node never merged (repeatable; a shell pattern such as 'panel_*' is "
+                  "fine; fixed-temperature nodes are never merged)")
+      ->needs(merge);
+  sub->add_option("--merge-share", o->merge.tolerance_share,
+                  "with --merge-nodes: the share of the tolerance the merges may spend; the decimation gets the rest")
+      ->needs(merge)
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 0.99));
   sub->add_flag("--raw-mesh", o->raw_mesh,
                 "bare mesh: skip the cleanup (duplicates, open sheets two-sided, touching faces) and the "
                 "size-aware ray budgets");

@@ -140,6 +140,7 @@ void run_simulate(const SimulateOptions& o) {
                    {"load_positions_per_orbit", model.analysis.steps_per_orbit},
                    {"time_tolerance_K", model.analysis.time_tolerance_K}};
   for (auto& [k, v] : extra.items()) j[k] = v;
+  for (const auto& [original, merged] : model.node_map) j["node_map"][original] = merged;  // (compare reads it)
   if (!o.json_out.empty()) write_text_atomically(o.json_out, j.dump(1) + "\n", inputs);
   if (!o.plot_out.empty()) plot_png("temperatures", j, o.plot_out);
   if (!o.quiet) {

@@ -24,6 +24,7 @@ void add_repair(CLI::App& app);
 void add_decimate(CLI::App& app);
 void add_reduce(CLI::App& app);
 void add_export(CLI::App& app);
+void add_merge(CLI::App& app);
 
 //! Runs `body`, mapping thermodec errors to a one-line message on stderr and exit code 1.
 //! Sets the process exit code through `exit_code`.

@@ -109,6 +109,7 @@ int main(int argc, char** argv) {
   add_decimate(app);
   add_reduce(app);
   add_export(app);
+  add_merge(app);
   // Usage errors follow the same contract as bad input: one line on stderr, exit code 1.
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     return "thermodec: usage error: " + std::string(e.what()) + " (see --help)\n";

@@ -665,6 +665,10 @@ class CoreRuns(_DocTest):
         self.assertEqual([argv[1] for _, argv in runner.reduce_job(self.analysis).steps], ["reduce", "simulate"],
                          [(r.Label, r.StaleReason, r.ResultFile, self.analysis.ResultFile) for r in
                           objects.members(self.analysis, thermal_result.ThermalResult)])  # the dense result is current
+        self.analysis.MergeNodes = True  # passed through as --merge-nodes; not an input of the results
+        reduce_argv = [argv for _, argv in runner.reduce_job(self.analysis).steps if argv[1] == "reduce"]
+        self.assertIn("--merge-nodes", reduce_argv[0])
+        self.analysis.MergeNodes = False
         node = objects.members(self.analysis, objects.ThermalNode)[0]
         node.Power = node.Power + 1.0  # an input changes: every result is stale, the dense model exported
         shown = objects.members(self.analysis, thermal_result.ThermalResult)

@@ -213,7 +213,7 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
   for (const auto& item : j.items()) {
     static const std::vector<std::string> known = {"mesh", "unit_scale", "materials", "default_material", "nodes",
                                                    "conductances", "environment", "analysis", "radiation", "description",
-                                                   "certificate"};
+                                                   "certificate", "node_map"};
     if (std::find(known.begin(), known.end(), item.key()) == known.end() && item.key().rfind("_", 0) != 0)
       k.unknown("", item.key(), known, " at the top level");
   }
@@ -311,6 +311,15 @@ ThermalModel model_from_json(const fs::path& path, const ModelLoadOptions& optio
       model.certificate = certificate_from_json(j.at("certificate"));
     } catch (const InvalidInput& e) {
       k.fail("certificate", e.what());
+    }
+  }
+  if (j.contains("node_map")) {  // original node -> the node of this model it was merged into
+    const json& m = j.at("node_map");
+    k.require_object(m, "node_map");
+    for (const auto& item : m.items()) {
+      const std::string merged = k.string(m, "node_map", item.key().c_str());
+      if (index_of(model.nodes, merged) < 0) k.fail("node_map." + item.key(), "'" + merged + "' is not a node of the model");
+      model.node_map.emplace_back(item.key(), merged);
     }
   }
   return model;

@@ -83,6 +83,11 @@ void save_model(const ThermalModel& model, const fs::path& json_path, const fs::
                     {"min_rays_per_node", model.radiation.min_rays_per_node},
                     {"seed", model.radiation.seed}};
   if (model.certificate) j["certificate"] = certificate_json(*model.certificate);
+  if (!model.node_map.empty()) {
+    json m = json::object();
+    for (const auto& [original, merged] : model.node_map) m[original] = merged;
+    j["node_map"] = m;
+  }
 
   MeshWriteOptions mesh_options;
   mesh_options.protected_inputs = {json_path};

@@ -152,6 +152,11 @@ VerificationStatistics verify_ratios(const std::vector<std::unique_ptr<Reduction
                                      std::uint64_t search_seed, VerificationOriginals& originals) {
   std::vector<Candidate> cands;  // (the search's trial of these ratios: decimated again, not simulated)
   for (const auto& r : refs) cands.push_back(r->candidate(ratios, false));
+  if (settings.verify_candidate) {
+    std::vector<const ThermalModel*> models;
+    for (const Candidate& c : cands) models.push_back(&c.model);
+    return settings.verify_candidate(models);
+  }
   std::vector<VerificationCase> cases;
   for (std::size_t c = 0; c < refs.size(); ++c) cases.push_back({&refs[c]->model(), &cands[c].model});
   return verify_statistically(cases, settings.reference.simulation, settings.verification_replicates, search_seed,
@@ -168,6 +173,7 @@ void verified_search(ReductionRun& run, const Searcher& search,
                      const std::vector<std::unique_ptr<ReductionReference>>& refs, const ReduceSettings& settings,
                      std::uint64_t search_seed, const std::function<void(const std::string&)>& say) {
   const double tol = settings.tolerance_K;
+  const double vtol = settings.verification_tolerance_K > 0.0 ? settings.verification_tolerance_K : tol;
   const int R = settings.verification_replicates;
   double margin = student_t_975(R - 1) * run.noise_floor_K / 3.0 / std::sqrt(double(R));
   bool accepted = false;
@@ -186,8 +192,8 @@ void verified_search(ReductionRun& run, const Searcher& search,
     run.seconds_verification += since(tv);
     say(fmt("verification: max |dT| = %.4f +- %.4f K (upper bound %.4f K at 97.5 %%)", run.verification.max_abs_dT_K,
             run.verification.standard_error_K, run.verification.upper_bound_K));
-    accepted = run.verification.accepts(tol);
-    if (!accepted) margin += std::max(run.verification.upper_bound_K - tol, 0.0) + run.verification.standard_error_K;
+    accepted = run.verification.accepts(vtol);
+    if (!accepted) margin += std::max(run.verification.upper_bound_K - vtol, 0.0) + run.verification.standard_error_K;
   }
   if (accepted) return;
   say("verification: no reduced candidate is bounded within the tolerance; keeping the unreduced model");
@@ -200,10 +206,10 @@ void verified_search(ReductionRun& run, const Searcher& search,
   const auto tv = Clock::now();
   run.verification = verify_ratios(refs, keep.ratio_per_node, settings, search_seed, originals);
   run.seconds_verification += since(tv);
-  if (!run.verification.accepts(tol))
+  if (!run.verification.accepts(vtol))
     throw SolverError(fmt("even the unreduced model's upper bound (%.4g K at 97.5 %%) exceeds the tolerance %.4g K: "
                           "the simulation noise exceeds the tolerance",
-                          run.verification.upper_bound_K, tol));
+                          run.verification.upper_bound_K, vtol));
 }
 
 // A kind of samples thinned on some nodes but not on all (load cases that disagree) is not

@@ -40,6 +40,22 @@ json mesh_panel(const Mesh& m, const std::string& title, const Eigen::VectorXd* 
 
 }  // namespace
 
+json node_merging_json(const NodeMerging& m) {
+  json steps = json::array();
+  for (const NodeMergeStep& st : m.steps)
+    steps.push_back({{"merged", st.first}, {"with", st.second}, {"pair_dT_K", st.pair_dT_K}, {"dT_K", st.dT_K},
+                     {"nodes_after", st.nodes_after}, {"faces", st.faces}});
+  json map = json::object();
+  for (const auto& [original, merged] : m.node_map) map[original] = merged;
+  json j = {{"nodes_before", m.nodes_before}, {"nodes_after", m.nodes_after}, {"kept", m.kept},
+            {"candidates", m.candidates}, {"trials", m.trials}, {"budget_K", m.budget_K}, {"dT_K", m.dT_K},
+            {"decimation_tolerance_K", m.decimation_tolerance_K}, {"traced_dT_K", m.traced_dT_K},
+            {"traced_simulations", m.traced_simulations}, {"merges", steps}, {"node_map", map},
+            {"seconds", m.seconds}};
+  if (!m.fallback.empty()) j["fallback"] = m.fallback;
+  return j;
+}
+
 json reduction_report_json(const ReductionRun& run) {
   json j;
   j["schema_version"] = kReportSchemaVersion;
@@ -123,6 +139,7 @@ json reduction_report_json(const ReductionRun& run) {
   j["timings_s"] = {{"total", run.seconds_total}, {"noise_floor", run.seconds_noise},
                     {"sensitivity", run.seconds_sensitivity}, {"search", run.seconds_search},
                     {"verification", run.seconds_verification}};
+  if (run.merging) j["node_merging"] = node_merging_json(*run.merging);
   j["peak_memory_bytes"] = run.peak_memory_bytes;  // this process's peak resident set (0: not measured)
   if (run.ranks > 1) j["mpi"] = {{"ranks", run.ranks}, {"peak_memory_bytes_other_ranks", run.peak_memory_bytes_other_ranks}};
   return j;
@@ -249,6 +266,14 @@ std::string reduction_summary(const ReductionRun& run) {
                 run.verification.max_abs_dT_K, run.verification.standard_error_K, run.verification.upper_bound_K,
                 100.0 * run.verification.confidence, run.verification.replicates);
   o << buf;
+  if (run.merging) {
+    const NodeMerging& m = *run.merging;
+    std::snprintf(buf, sizeof buf,
+                  "node merging: %d -> %d nodes (%zu merges, max |dT| %.4f K within %.4g K); decimation within %.4g K%s\n",
+                  m.nodes_before, m.nodes_after, m.steps.size(), m.dT_K, m.budget_K, m.decimation_tolerance_K,
+                  m.fallback.empty() ? "" : "; merged model given up");
+    o << buf;
+  }
   if (run.cases.size() > 1)
     for (const auto& c : run.cases) {
       std::snprintf(buf, sizeof buf, "  case %-12s verified max |dT| %.4f K (node %s, t = %.0f s); noise floor %.4f K\n",

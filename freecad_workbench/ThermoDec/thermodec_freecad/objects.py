@@ -36,7 +36,7 @@ class _Proxy:
     #: Properties whose change leaves the analysis' results current (outputs, bookkeeping).
     NOT_INPUTS = {"Proxy", "Label2", "ExpressionEngine", "Visibility", "Group", "ThermalMesh", "ModelFile",
                   "ResultFile", "ReducedModelFile", "OutputDirectory", "ReferenceSignatures", "Note",
-                  "ToleranceK", "ReductionStrategy", "GlobalRatio", "LoadCases"}
+                  "ToleranceK", "ReductionStrategy", "GlobalRatio", "LoadCases", "MergeNodes"}
 
     def onDocumentRestored(self, obj):
         self.setup(obj)  # adds properties introduced by newer versions
@@ -102,6 +102,9 @@ class ThermalAnalysis(_Proxy):
         _add(obj, "App::PropertyEnumeration", "ReductionStrategy", g, "informed (the paper's) or uniform")
         if not obj.getEnumerationsOfProperty("ReductionStrategy"):
             obj.ReductionStrategy = ["informed", "uniform"]
+        _add(obj, "App::PropertyBool", "MergeNodes", g,
+             "Reduce: also merge thermal nodes into isothermal nodes (thermodec reduce --merge-nodes); "
+             "the reduced model.json carries the node map", False)
         _add(obj, "App::PropertyFloat", "GlobalRatio", g,
              "Decimate: fraction of the dense mesh's faces to remove (0.9 keeps 10 %)", 0.8)
         g = "Output"

@@ -73,6 +73,8 @@ def reduce_job(analysis, tolerance_K=None, strategy=None, cases=None, plots=True
     argv = [cli, "reduce", json_path, "--tolerance", repr(tolerance_K), "--strategy", strategy, "--out", reduced]
     for c in cases:
         argv += ["--case", c]
+    if getattr(analysis, "MergeNodes", False):
+        argv.append("--merge-nodes")
     if not plots:
         argv.append("--no-plots")
     job.add("reduce (tolerance %.3g K, %s)" % (tolerance_K, strategy), argv)

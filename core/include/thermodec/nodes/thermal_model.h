@@ -155,6 +155,10 @@ struct ThermalModel {
   std::optional<BareMeshCleanupReport> mesh_cleanup;
   //! Set on a reduced model (`reduce`): its verification against the original model.
   std::optional<ModelCertificate> certificate;
+  //! Set on a model whose nodes were merged (`reduce --merge-nodes`, nodes/merge_nodes.h): per
+  //! node of the original model, (its name, the name of the node it was merged into); empty
+  //! otherwise. Stored in model files as "node_map": {"original": "merged", ...}.
+  std::vector<std::pair<std::string, std::string>> node_map;
 };
 
 }  // namespace thermodec

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "thermodec/nodes/load_case.h"
+#include "thermodec/reduction/node_merging.h"
 #include "thermodec/reduction/reduction_reference.h"
 #include "thermodec/reduction/sensitivity.h"
 #include "thermodec/reduction/statistical_verification.h"
@@ -87,6 +88,14 @@ struct ReduceSettings {
   //! The sensitivity sweep; empty: sensitivity_analysis in this process. mpi_sweep() spreads
   //! it over MPI ranks (reduction/mpi_sweep.h, when built with MPI).
   SensitivitySweep sweep;
+  //! The statistical verification of a candidate (one model per load case, in case order);
+  //! empty: verify_statistically against the references' models. A reduction of merged nodes
+  //! verifies against the unmerged original through the node map instead
+  //! (reduction/merge_reduction.h).
+  std::function<VerificationStatistics(const std::vector<const ThermalModel*>&)> verify_candidate;
+  //! The bound the verification must meet [K]; <= 0: tolerance_K. (A merged model's decimation
+  //! searches within what the merges left of the tolerance and is verified against the whole.)
+  double verification_tolerance_K = 0.0;
 };
 
 struct NodeReduction {
@@ -166,6 +175,8 @@ struct ReductionRun {
   //! Only the sweep ran here, for another process (ReduceSettings::sweep said so): nothing
   //! else is filled and nothing is to be written.
   bool sweep_only = false;
+  //! Set when nodes were merged before the decimation (reduction/merge_reduction.h).
+  std::optional<NodeMerging> merging;
 };
 
 //! Bounded run time for bare meshes (ThermalModel::mesh_cleanup set; no-op otherwise): the

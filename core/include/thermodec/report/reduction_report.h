@@ -17,6 +17,12 @@ namespace thermodec {
 //! sensitivity curves, predicted-vs-real points, search history, timings.
 nlohmann::json reduction_report_json(const ReductionRun& run);
 
+//! report.json's "node_merging" (reduce --merge-nodes): nodes_before, nodes_after, kept,
+//! candidates, trials, budget_K, dT_K, decimation_tolerance_K, traced_dT_K, traced_simulations, merges [{merged, with (original
+//! nodes of the two), pair_dT_K, dT_K, nodes_after, faces (of the merged node)}], node_map {original: merged}, seconds,
+//! fallback (only when the merged model was given up).
+nlohmann::json node_merging_json(const NodeMerging& merging);
+
 //! Files written into `out_dir` (atomically; `protected_inputs` are never overwritten; the
 //! first of them is the input model, recorded as report.json's `input_model`):
 //! model.json + reduced.obj, report.json, sensitivity.png (informed), predicted_vs_real.png

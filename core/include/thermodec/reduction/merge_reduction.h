@@ -1,0 +1,79 @@
+#pragma once
+//! Reducing the network as well as the mesh: merge thermal nodes, then decimate the merged
+//! model, under one verified temperature tolerance (docs/reduction.md, "Merging nodes").
+//!
+//! 1. The original is simulated once per load case; its node couplings and loads are kept.
+//! 2. Candidates: pairs of nodes that share a mesh edge, each node's strongest exchanges
+//!    (GL + 4 sigma T^3 GR) and the nodes closest to it in temperature; never a kept node
+//!    (NodeMergeSettings::keep) or a fixed-temperature node.
+//! 3. Every candidate is tried alone; then, cheapest first, each is merged into the network of
+//!    the merges accepted so far when that network still stays within the merge budget. A trial
+//!    is a network solve with the reference's own couplings and loads summed over the merged
+//!    nodes (reduction/merged_network.h: correlated sampling, no tracing), compared node by
+//!    node with the reference through the merge map, the largest |dT| over all nodes, times and
+//!    load cases.
+//! 4. The merged model is reduced by reduce_model() within the tolerance less the merges'
+//!    measured |dT|, and its candidates are verified against the original through the node map
+//!    (fresh seeds, the same statistics as reduce_model's verification) within the whole tolerance.
+#include <string>
+#include <vector>
+
+#include "thermodec/nodes/merge_nodes.h"
+#include "thermodec/reduction/merged_network.h"
+#include "thermodec/reduction/reduce_model.h"
+
+namespace thermodec {
+
+struct NodeMergeSettings {
+  //! Node name patterns (fnmatch) never merged; each must match a node.
+  std::vector<std::string> keep;
+  //! Share of the tolerance the merges may spend (their measured max |dT|); the decimation
+  //! gets the tolerance less what they spent.
+  double tolerance_share = 0.4;
+  //! Per node, its this many strongest exchanges and this many nodes closest in temperature are
+  //! candidates besides its edge neighbours.
+  int strongest_exchanges = 3;
+  //! The accepted merges are re-traced (the merged model simulated with the reference's seed);
+  //! while that exceeds the whole tolerance (budget / tolerance_share), only the first k merges
+  //! are kept, k bisected (the network trials take the original's combined couplings as exact,
+  //! which a rarely hit node's reciprocity weighting can break: docs/reduction.md).
+  bool confirm_by_tracing = true;
+};
+
+//! Candidate pairs (i < j), ascending: nodes sharing a mesh edge, each node's `strongest`
+//! largest couplings GL_ij + 4 sigma T^3 GR_ij (T: the mean of the two nodes' mean reference
+//! temperatures [K]) and its `strongest` nodes of least max_t |T_i - T_j| in the reference,
+//! without the nodes in `excluded`.
+std::vector<std::pair<int, int>> merge_candidates(const ThermalModel& model, const NodeCouplings& couplings,
+                                                  const SimulationResult& reference, int strongest,
+                                                  const std::vector<int>& excluded);
+
+//! Result of the greedy merge search (step 3).
+struct MergeSearch {
+  NodeMergeMap map;
+  NodeMerging summary;  //!< steps, candidates, trials, dT_K, budget_K, kept
+};
+
+//! Steps 1-3: the merges of `model` within budget_K [K] over its own case and `extra_cases`.
+//! \throw InvalidInput if a keep pattern matches no node.
+MergeSearch search_node_merges(const ThermalModel& model, const std::vector<LoadCase>& extra_cases,
+                               const ModelSimulationSettings& simulation, const NodeMergeSettings& merge,
+                               double budget_K, const std::function<void(const std::string&)>& say = {});
+
+//! Steps 1-4. The returned run is reduce_model()'s on the merged model, with `merging` set,
+//! tolerance_K the whole tolerance and verification against the original; run.reduced.model
+//! carries the node map. Without any accepted merge, or when the merged model cannot be
+//! verified, the original is reduced as reduce_model(model, settings) does (merging.fallback
+//! says why). \throw InvalidInput / SolverError as reduce_model.
+ReductionRun reduce_with_node_merging(const ThermalModel& model, const ReduceSettings& settings,
+                                      const NodeMergeSettings& merge);
+
+//! Statistical verification (reduction/statistical_verification.h) of merged candidates
+//! (one per case) against the unmerged originals through each candidate's node_map; the
+//! originals' runs are kept in `originals` for later candidates.
+VerificationStatistics verify_through_node_map(const std::vector<const ThermalModel*>& originals_per_case,
+                                               const std::vector<const ThermalModel*>& candidates_per_case,
+                                               const ModelSimulationSettings& settings, int replicates,
+                                               std::uint64_t search_seed, VerificationOriginals& originals);
+
+}  // namespace thermodec
