@@ -254,43 +254,12 @@ VerificationStatistics verify_through_node_map(const std::vector<const ThermalMo
                                                const std::vector<const ThermalModel*>& candidates_per_case,
                                                const ModelSimulationSettings& settings, int replicates,
                                                std::uint64_t search_seed, VerificationOriginals& originals) {
-  if (replicates < 2) throw InvalidInput("verification needs at least 2 replicate pairs");
   if (originals_per_case.size() != candidates_per_case.size())
     throw InvalidInput("verification: one candidate per load case is needed");
-  const std::vector<std::uint64_t> seeds = verification_seeds(search_seed, replicates);
-  if (originals.per_case.size() < originals_per_case.size()) originals.per_case.resize(originals_per_case.size());
-  VerificationStatistics s;
-  double estimate = 0.0;
-  for (std::size_t c = 0; c < candidates_per_case.size(); ++c) {
-    const ThermalModel& cand = *candidates_per_case[c];
-    std::vector<SimulationResult>& ra = originals.per_case[c];
-    std::vector<Eigen::MatrixXd> d;
-    for (int j = 0; j < replicates; ++j) {
-      if (static_cast<int>(ra.size()) <= j) {
-        // The original sampled as densely as its merged node (the reduction's boosts or thinning).
-        ThermalModel a = *originals_per_case[c];
-        std::vector<std::string> names;
-        for (const Node& nd : cand.nodes) names.push_back(nd.name);
-        const std::vector<int> idx = merged_index_of_original(cand.node_map, names);
-        for (std::size_t k = 0; k < cand.node_map.size() && k < a.nodes.size(); ++k)
-          if (a.nodes[k].name == cand.node_map[k].first) a.nodes[k].sampling_boost = cand.nodes[idx[k]].sampling_boost;
-        a.radiation.seed = seeds[j];
-        ra.push_back(simulate_model(a, settings));
-      }
-      ThermalModel b = cand;
-      b.radiation.seed = seeds[j];
-      const SimulationResult rb = result_through_node_map(simulate_model(b, settings), cand.node_map);
-      compare_results(ra[j], rb);  // throws if nodes or times do not line up
-      if (ra[j].nodes != rb.nodes) throw InvalidInput("verification: the node map lists the nodes in another order");
-      d.push_back(rb.temperature_K - ra[j].temperature_K);
-    }
-    const VerificationStatistics sc = difference_upper_bound(d);
-    if (!(sc.upper_bound_K <= s.upper_bound_K)) s = sc;  // NaN wins
-    estimate = std::max(estimate, sc.max_abs_dT_K);
-  }
-  s.max_abs_dT_K = std::isnan(s.upper_bound_K) ? s.max_abs_dT_K : estimate;
-  s.seeds = seeds;
-  return s;
+  std::vector<VerificationCase> cases;
+  for (std::size_t c = 0; c < candidates_per_case.size(); ++c)
+    cases.push_back({originals_per_case[c], candidates_per_case[c], true});
+  return verify_statistically(cases, settings, replicates, search_seed, &originals);
 }
 
 ReductionRun reduce_with_node_merging(const ThermalModel& model, const ReduceSettings& settings,

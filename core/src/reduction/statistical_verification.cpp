@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/nodes/merge_nodes.h"
+#include "thermodec/reduction/merged_network.h"
 
 namespace thermodec {
 
@@ -62,6 +64,20 @@ std::vector<std::uint64_t> verification_seeds(std::uint64_t search_seed, int rep
 
 namespace thermodec {
 
+namespace {
+
+// The original sampled as densely as the merged node each of its nodes is in (the reduction's
+// boosts or thinning of the merged candidate), so that both sides of a pair share their budgets.
+void sample_as_merged(ThermalModel& original, const ThermalModel& merged) {
+  std::vector<std::string> names;
+  for (const Node& nd : merged.nodes) names.push_back(nd.name);
+  const std::vector<int> idx = merged_index_of_original(merged.node_map, names);
+  for (std::size_t k = 0; k < merged.node_map.size() && k < original.nodes.size(); ++k)
+    if (original.nodes[k].name == merged.node_map[k].first) original.nodes[k].sampling_boost = merged.nodes[idx[k]].sampling_boost;
+}
+
+}  // namespace
+
 VerificationStatistics verify_statistically(const std::vector<VerificationCase>& cases,
                                             const ModelSimulationSettings& settings, int replicates,
                                             std::uint64_t search_seed, VerificationOriginals* originals) {
@@ -78,16 +94,21 @@ VerificationStatistics verify_statistically(const std::vector<VerificationCase>&
     std::vector<SimulationResult>& ra = kept.per_case[c];
     std::vector<Eigen::MatrixXd> d;
     for (int j = 0; j < replicates; ++j) {
+      const bool mapped = cases[c].through_node_map;
       if (static_cast<int>(ra.size()) <= j) {
         ThermalModel a = *cases[c].original;
+        if (mapped) sample_as_merged(a, *cases[c].candidate);
         a.radiation.seed = seeds[j];
         ra.push_back(simulate_model(a, settings));
       }
       ThermalModel b = *cases[c].candidate;
       b.radiation.seed = seeds[j];
-      const SimulationResult rb = simulate_model(b, settings);
+      SimulationResult rb = simulate_model(b, settings);
+      if (mapped) rb = result_through_node_map(rb, b.node_map);
       compare_results(ra[j], rb);  // throws if nodes or times do not line up
-      if (ra[j].nodes != rb.nodes) throw InvalidInput("verification: the candidate's nodes are in another order");
+      if (ra[j].nodes != rb.nodes)
+        throw InvalidInput(mapped ? "verification: the node map lists the nodes in another order"
+                                  : "verification: the candidate's nodes are in another order");
       d.push_back(rb.temperature_K - ra[j].temperature_K);
     }
     const VerificationStatistics sc = difference_upper_bound(d);

@@ -61,6 +61,9 @@ namespace thermodec {
 struct VerificationCase {
   const ThermalModel* original = nullptr;
   const ThermalModel* candidate = nullptr;
+  //! A merged candidate: its results are compared through its node_map (one row per original
+  //! node), and the original is sampled as densely as the merged node each of its nodes is in.
+  bool through_node_map = false;
 };
 
 //! The original's verification runs, kept between verifications of several candidates of one
