@@ -5,16 +5,6 @@
 #include "thermodec/nodes/model_sections.h"
 
 namespace thermodec::cli {
-namespace {
-const char* attitude_name(Attitude a) {
-  switch (a) {
-    case Attitude::nadir: return "nadir";
-    case Attitude::sun: return "sun";
-    case Attitude::inertial: return "inertial";
-  }
-  return "?";
-}
-}  // namespace
 
 nlohmann::ordered_json environment_analysis_json(const ThermalModel& model) {
   return {{"environment", environment_json(model.environment)}, {"analysis", analysis_json(model.analysis)}};

@@ -5,7 +5,6 @@
 #include "thermodec/nodes/central_body.h"
 
 namespace thermodec {
-namespace {
 
 const char* attitude_name(Attitude a) {
   switch (a) {
@@ -15,8 +14,6 @@ const char* attitude_name(Attitude a) {
   }
   return "nadir";
 }
-
-}  // namespace
 
 nlohmann::ordered_json environment_json(const Environment& e) {
   if (e.type == EnvironmentType::fixed_sun)

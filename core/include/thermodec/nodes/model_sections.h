@@ -9,8 +9,12 @@
 namespace thermodec {
 
 //! `{"type": "fixed_sun", "sun_direction": [...], "solar_flux": W/m^2}` or the orbit's keys
-//! (altitude_km, inclination_deg, raan_deg, day_of_year, attitude, albedo, earth_ir_flux [W/m^2]).
+//! (altitude_km, inclination_deg, raan_deg, day_of_year, attitude, albedo, earth_ir_flux [W/m^2],
+//! and central_body when it is not the Earth).
 nlohmann::ordered_json environment_json(const Environment& environment);
+
+//! The model file's word for an attitude: "nadir", "sun" or "inertial".
+const char* attitude_name(Attitude attitude);
 
 //! `{"type": "steady"}` or `{"type": "transient_orbit", "steps_per_orbit", "orbits"}`, with
 //! time_tolerance_K [K] when it is not the default.
