@@ -6,6 +6,7 @@
 
 #include "thermodec/environment/orbit.h"
 #include "thermodec/thermal/orbit_transient.h"
+#include "common/small_networks.h"
 
 using namespace thermodec;
 
@@ -14,27 +15,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // One capacitive node conducting to a fixed 280 K node: C dT/dt = Q0 + Q1 sin(w t) - G (T - Tb).
-ThermalNetwork single_node(double C, double G) {
-  ThermalNetwork net;
-  net.node_names = {"node", "boundary"};
-  net.capacitance_J_per_K = Eigen::Vector2d(C, 0.0);
-  net.power_W = Eigen::Vector2d::Zero();
-  net.fixed_temperature_K = Eigen::Vector2d(NAN, 280.0);
-  net.conductance_W_per_K = Eigen::Matrix2d::Zero();
-  net.conductance_W_per_K(0, 1) = net.conductance_W_per_K(1, 0) = G;
-  net.radiative_couplings_m2 = Eigen::Matrix2d::Zero();
-  net.to_space_couplings_m2 = Eigen::Vector2d::Zero();
-  return net;
-}
-
-Loads orbit_loads(int nodes, int S, double P) {
-  Loads l;
-  l.period_s = P;
-  l.times_s = Eigen::VectorXd::LinSpaced(S, 0.0, P / S * (S - 1));
-  l.solar_W = l.albedo_W = l.earth_ir_W = l.reflected_solar_W = Eigen::MatrixXd::Zero(nodes, S);
-  l.in_shadow.assign(S, 0);
-  return l;
-}
+ThermalNetwork single_node(double C, double G) { return test::single_node_to_boundary(C, G, 280.0); }
 
 // Three radiating nodes (heavy, light, arithmetic) with an eclipse from 0.62 P to 0.98 P:
 // the sun switches inside load intervals, T^4 makes every step a Newton solve.
@@ -57,7 +38,7 @@ Eclipsed eclipsed(int S) {
   n.conductance_W_per_K(1, 2) = n.conductance_W_per_K(2, 1) = 0.2;
   n.radiative_couplings_m2(0, 1) = n.radiative_couplings_m2(1, 0) = 0.3;
   n.to_space_couplings_m2 = Eigen::Vector3d(0.5, 0.2, 0.3);
-  e.loads = orbit_loads(3, S, P);
+  e.loads = test::zero_external_loads(3, S, P);
   e.switches = Eigen::Vector2d(0.62 * P, 0.98 * P);
   for (int k = 0; k < S; ++k) {
     const double t = k * P / S;
@@ -75,7 +56,7 @@ Eclipsed eclipsed(int S) {
 TEST(OrbitTransient, sinusoidal_load_matches_the_closed_form_periodic_solution_within_0_01_K) {
   const double C = 2000.0, G = 1.0, Q0 = 30.0, Q1 = 20.0, P = 5400.0, w = 2 * kPi / P;
   const int S = Analysis{}.steps_per_orbit;  // the default load positions
-  Loads loads = orbit_loads(2, S, P);
+  Loads loads = test::zero_external_loads(2, S, P);
   for (int k = 0; k < S; ++k) loads.earth_ir_W(0, k) = Q0 + Q1 * std::sin(w * loads.times_s[k]);
   const OrbitTransient ot = orbit_transient(single_node(C, G), loads, Eigen::VectorXd(), OrbitTimeSettings{});
   // Periodic solution: T = Tb + Q0/G + Q1/sqrt(G^2 + (C w)^2) sin(w t - atan(C w / G)).

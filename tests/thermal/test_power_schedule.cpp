@@ -7,45 +7,21 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/thermal/internal_power.h"
 #include "thermodec/thermal/orbit_transient.h"
+#include "common/small_networks.h"
 
 using namespace thermodec;
-
-namespace {
-
-// One capacitive node conducting to a fixed node: C dT/dt = Q(t) - G (T - Tb), tau = C / G.
-ThermalNetwork single_node(double C, double G, double Tb) {
-  ThermalNetwork net;
-  net.node_names = {"node", "boundary"};
-  net.capacitance_J_per_K = Eigen::Vector2d(C, 0.0);
-  net.power_W = Eigen::Vector2d::Zero();
-  net.fixed_temperature_K = Eigen::Vector2d(NAN, Tb);
-  net.conductance_W_per_K = Eigen::Matrix2d::Zero();
-  net.conductance_W_per_K(0, 1) = net.conductance_W_per_K(1, 0) = G;
-  net.radiative_couplings_m2 = Eigen::Matrix2d::Zero();
-  net.to_space_couplings_m2 = Eigen::Vector2d::Zero();
-  return net;
-}
-
-Loads no_external_loads(int nodes, int S, double P) {
-  Loads l;
-  l.period_s = P;
-  l.times_s = Eigen::VectorXd::LinSpaced(S, 0.0, P / S * (S - 1));
-  l.solar_W = l.albedo_W = l.earth_ir_W = l.reflected_solar_W = Eigen::MatrixXd::Zero(nodes, S);
-  l.in_shadow.assign(S, 0);
-  return l;
-}
-
-}  // namespace
+using test::single_node_to_boundary;
+using test::zero_external_loads;
 
 TEST(PowerSchedule, square_wave_matches_the_closed_form_periodic_solution) {
   // Q = Q1 on [0, L1), 0 on [L1, P); the switch at 2000 s falls inside a load interval (250 s).
   const double C = 3000.0, G = 1.0, Tb = 280.0, P = 6000.0, Q1 = 20.0, L1 = 2000.0, tau = C / G;
-  ThermalNetwork net = single_node(C, G, Tb);
+  ThermalNetwork net = single_node_to_boundary(C, G, Tb);
   net.power_schedule_W = {{{0.0, Q1}, {L1, 0.0}}, {}};
   const int S = 24;
   OrbitTimeSettings time;
   time.time_tolerance_K = 0.005;
-  const OrbitTransient ot = orbit_transient(net, no_external_loads(2, S, P), Eigen::VectorXd(), time);
+  const OrbitTransient ot = orbit_transient(net, zero_external_loads(2, S, P), Eigen::VectorXd(), time);
   // Periodic solution: T_min at 0, T_max at L1, exponential approach to T1 / T0 in between.
   const double T1 = Tb + Q1 / G, T0 = Tb, a1 = std::exp(-L1 / tau), a0 = std::exp(-(P - L1) / tau);
   const double T_min = (T0 * (1 - a0) + T1 * (1 - a1) * a0) / (1 - a0 * a1);
@@ -62,9 +38,9 @@ TEST(PowerSchedule, square_wave_matches_the_closed_form_periodic_solution) {
 }
 
 TEST(PowerSchedule, times_outside_the_orbit_are_refused) {
-  ThermalNetwork net = single_node(3000.0, 1.0, 280.0);
+  ThermalNetwork net = single_node_to_boundary(3000.0, 1.0, 280.0);
   net.power_schedule_W = {{{0.0, 5.0}, {7000.0, 0.0}}, {}};
-  EXPECT_THROW(orbit_transient(net, no_external_loads(2, 8, 6000.0), Eigen::VectorXd(), {}), InvalidInput);
+  EXPECT_THROW(orbit_transient(net, zero_external_loads(2, 8, 6000.0), Eigen::VectorXd(), {}), InvalidInput);
 }
 
 TEST(Thermostat, heater_holds_its_node_within_its_band_through_the_cold_half) {
@@ -73,17 +49,17 @@ TEST(Thermostat, heater_holds_its_node_within_its_band_through_the_cold_half) {
   // above 275 K (90 W alone would reach 290 K) comes on ~1360 s into the cold half and cycles
   // the node within the band to the end of the orbit; the sun switches it off again.
   const double C = 3000.0, G = 1.0, Tb = 200.0, P = 6000.0;
-  ThermalNetwork net = single_node(C, G, Tb);
+  ThermalNetwork net = single_node_to_boundary(C, G, Tb);
   net.power_schedule_W = {{{0.0, 150.0}, {P / 2, 0.0}}, {}};
   const int S = 24;
   OrbitTimeSettings time;
   time.time_tolerance_K = 0.01;
   TransientSettings settings;
   settings.max_orbits = 30;
-  const OrbitTransient free_run = orbit_transient(net, no_external_loads(2, S, P), Eigen::VectorXd(), time, settings);
+  const OrbitTransient free_run = orbit_transient(net, zero_external_loads(2, S, P), Eigen::VectorXd(), time, settings);
   EXPECT_LT(free_run.transient.temperature_K.row(0).minCoeff(), 250.0);
   net.heaters.push_back({0, Thermostat{270.0, 275.0, 90.0}});
-  const OrbitTransient ot = orbit_transient(net, no_external_loads(2, S, P), Eigen::VectorXd(), time, settings);
+  const OrbitTransient ot = orbit_transient(net, zero_external_loads(2, S, P), Eigen::VectorXd(), time, settings);
   // A switch is located within its step by linear interpolation; allow the whole step, at the
   // fastest rate in the band (cooling towards 200 K from 275 K: 75 K / tau), for the coarser
   // grid of the extrapolated pair (twice the finest step); plus the estimated time error.
@@ -102,7 +78,7 @@ TEST(Thermostat, heater_holds_its_node_within_its_band_through_the_cold_half) {
 }
 
 TEST(Thermostat, needs_a_free_node_with_capacitance) {
-  ThermalNetwork net = single_node(3000.0, 1.0, 200.0);
+  ThermalNetwork net = single_node_to_boundary(3000.0, 1.0, 200.0);
   net.heaters.push_back({1, Thermostat{270.0, 275.0, 90.0}});  // the fixed node
   EXPECT_THROW(validate_network(net), InvalidInput);
   net.heaters = {{0, Thermostat{275.0, 270.0, 90.0}}};  // band upside down
