@@ -10,7 +10,7 @@ import numpy as np
 
 import FreeCAD
 
-from . import core, export, objects, temperature_field, tessellate, thermal_result, units
+from . import core, export, merged_nodes, objects, temperature_field, tessellate, thermal_result, units
 from .errors import ThermoDecError
 from .files import atomic_write_text
 
@@ -121,6 +121,7 @@ def _remove_mesh(analysis, name):
     for res in objects.members(analysis, thermal_result.ThermalResult):
         if res.ResultMesh == old:
             analysis.Document.removeObject(res.Name)
+    merged_nodes.clear(old)
     analysis.Document.removeObject(old.Name)
 
 
@@ -150,6 +151,7 @@ def simulate_model_file(analysis, model_path, name="SimulatedMesh"):
     _write_json(result_path, result.to_json())
     _remove_mesh(analysis, name)
     feature, _ = _mesh_feature(analysis, model.mesh, model_path, None, name)
+    merged_nodes.show_from_model_file(analysis, feature, model_path)
     res = _result_of(analysis, feature, result, model, result_path, name + "Result")
     _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (result_path, res.Shown, res.ColourMinK, res.ColourMaxK))
     return feature, res
@@ -332,6 +334,7 @@ def reduce(analysis, tolerance_K=None, json_path=None, plots=True, cases=()):
         FreeCAD.Console.PrintWarning("ThermoDec: %s\n" % warning)
     _remove_mesh(analysis, "ReducedMesh")
     feature, summary = import_results(analysis, os.path.join(folder, "reduced.obj"), None, name="ReducedMesh")
+    merged_nodes.show_from_model_file(analysis, feature, os.path.join(folder, "model.json"))
     # The verified reduced model's own simulation, with the seed and rays it ran with.
     _result_of(analysis, feature, run.reduced_result, run.reduced_model, "", name="ReducedMeshResult").TracksAnalysis = True
     summary.update(faces_before=run.faces_before, tolerance_K=run.tolerance_K,
@@ -373,11 +376,13 @@ def import_reduction(analysis, outputs, summary=""):
     _remove_mesh(analysis, "ReducedMesh")
     feature, info = _mesh_feature(analysis, td.read_mesh(mesh_path), mesh_path, None, "ReducedMesh")
     _result_file(analysis, feature, outputs["reduced_result"], outputs["reduced_model"], "ReducedMeshResult")
+    merged = merged_nodes.show_from_model_file(analysis, feature, outputs["reduced_model"])
     analysis.ReducedModelFile = outputs["reduced_model"]
     report = _read_json(os.path.join(folder, "report.json"))
     info.update({k: report[k] for k in ("faces_before", "faces_after", "tolerance_K", "noise_floor_K",
                                         "max_temperature_difference_K", "trials") if k in report})
     info["report"] = os.path.join(folder, "report.json")
+    info["merged_nodes"] = {m.MergedName: list(m.Members) for m in merged}
     if summary:
         FreeCAD.Console.PrintMessage(summary.rstrip() + "\n")
     _progress("reduced %d -> %d faces, max |dT| %.3g K (tolerance %.3g K)" % (
