@@ -142,7 +142,7 @@ def _label(obj, name):
 def _materials(analysis, model, section):
     out = {}
     for m in model.materials:
-        mat = objects.makeMaterial(analysis, name="material", absorptivity=m.absorptivity, emissivity=m.emissivity)
+        mat = objects.makeMaterial(analysis, name=m.name, absorptivity=m.absorptivity, emissivity=m.emissivity)
         _label(mat, m.name)
         keep(mat, {k: v for k, v in section.get(m.name, {}).items() if k not in MATERIAL_KEYS})
         out[m.name] = mat
@@ -153,7 +153,7 @@ def _nodes(analysis, model, section, materials):
     out = {}
     for name in model.mesh.node_names:
         entry = section.get(name, {})
-        node = objects.makeNode(analysis, (), name="node", material=materials.get(entry.get("material")),
+        node = objects.makeNode(analysis, (), name=name, material=materials.get(entry.get("material")),
                                 capacitance=entry.get("capacitance", 0.0), power=entry.get("power", 0.0),
                                 fixed_temperature=entry.get("fixed_temperature"))
         _label(node, name)
