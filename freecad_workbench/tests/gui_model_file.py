@@ -41,7 +41,10 @@ def events(n=5):
 
 
 def screenshot(name):
-    events(10)
+    import time
+    for _ in range(25):  # the property view follows the selection on a timer
+        events(2)
+        time.sleep(0.02)
     subprocess.run(["import", "-window", "root", os.path.join(OUT, name + ".png")], check=True)
 
 
@@ -73,8 +76,12 @@ def show_in_tree(path, obj, scroll_to=None):
         found[0].setExpanded(True)
         events(5)
     Gui.Selection.clearSelection()
-    Gui.Selection.addSelection(obj.Document.Name, obj.Name)
+    tree.setCurrentItem(found[0])  # a click: selects a claimed child (a merged node under its mesh)
     events(10)
+    if not Gui.Selection.getSelection():  # a group member (a node) is selected by name
+        Gui.Selection.addSelection(obj.Document.Name, obj.Name)
+        events(10)
+    assert [o.Name for o in Gui.Selection.getSelection()] == [obj.Name], Gui.Selection.getSelection()
     tree.scrollToItem(tree.findItems(scroll_to or path[-1], QtCore_flags(), 0)[0])
     events(10)
 
