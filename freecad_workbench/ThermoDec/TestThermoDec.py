@@ -791,6 +791,16 @@ class ModelFiles(_DocTest):
         env.Albedo = 0.2  # an edited value is written, a kept one stays
         self.assertEqual(export.model_data(analysis)[0]["environment"]["albedo"], 0.2)
 
+    def test_an_edit_drops_a_reduced_models_certificate(self):
+        _cli_or_skip(self)
+        path, _ = self._extras_model(_output_dir("model_file_certificate"))
+        analysis = model_file.open_model(self.doc, path)
+        model_file.keep(analysis, dict(model_file.kept(analysis), certificate={"tolerance_K": 0.5}))
+        self.assertIn("certificate", export.model_data(analysis)[0])  # unedited: kept
+        objects.members(analysis, objects.ThermalNode)[0].Capacitance *= 2
+        self.assertNotIn("certificate", export.model_data(analysis)[0])  # no longer verified
+        self.assertEqual(model_file.kept(analysis), {"description": "kept by the workbench"})
+
     def _merged_sample(self, folder):
         cli = _cli_or_skip(self)
         out = os.path.join(folder, "merged.json")

@@ -61,6 +61,18 @@ def kept(obj):
     return _read_lines(obj, KEPT)
 
 
+def drop_certificate(analysis, reason):
+    """An opened reduced model's `certificate` (its verification against its original) holds
+    for the file as it was: the first edit of an input drops it, saying why."""
+    entries = kept(analysis)
+    if "certificate" in entries:
+        del entries["certificate"]
+        setattr(analysis, KEPT, ["%s = %s" % (k, json.dumps(v)) for k, v in entries.items()])
+        import FreeCAD
+        FreeCAD.Console.PrintWarning("ThermoDec: the model's certificate (its verification against the original) "
+                                     "is dropped: %s\n" % reason)
+
+
 def _defaulted(obj, entries):
     _write_lines(obj, DEFAULTED, entries, "Keys the model file left to the core's default: not written while "
                                           "the property keeps this value (read-only)")
