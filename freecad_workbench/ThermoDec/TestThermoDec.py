@@ -589,6 +589,25 @@ class CoreRuns(_DocTest):
         with open(path) as f:
             self.assertEqual(json.load(f)["temperatures_K"], first)  # same seed, same numbers
 
+    def test_the_background_simulate_job_gives_the_in_process_numbers(self):
+        if not os.environ.get("THERMODEC_CLI") and not shutil.which("thermodec"):
+            self.skipTest("no thermodec command")
+        path, summary = results.simulate(self.analysis)  # thermodec.simulate_model, in-process
+        with open(path) as f:
+            first = json.load(f)["temperatures_K"]
+        job = runner.simulate_job(self.analysis)  # what the Simulate command runs with QProcess
+        self.assertEqual([argv[1] for _, argv in job.steps], ["simulate"])
+        runner.run_blocking(job)
+        path, summary_cli = results.import_simulation(self.analysis, job.outputs)
+        with open(path) as f:
+            self.assertEqual(json.load(f)["temperatures_K"], first)  # bit for bit
+        self.assertEqual(summary_cli, summary)
+        shown = [r for r in objects.members(self.analysis, thermal_result.ThermalResult)
+                 if r.ResultMesh == self.analysis.ThermalMesh]
+        self.assertEqual(len(shown), 1)
+        self.assertEqual((shown[0].ResultFile, shown[0].Seed, self.analysis.ResultFile), (path, self.analysis.Seed, path))
+        self.assertEqual(results.dense_result_current(self.analysis), path)  # Reduce reuses it
+
     def test_a_model_file_simulates_as_it_is_with_its_seed(self):
         results.simulate(self.analysis)
         self.analysis.Seed = 5  # the analysis changed since: the file's seed is the one used

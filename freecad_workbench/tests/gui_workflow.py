@@ -6,7 +6,7 @@
 
 Import STEP (command, file dialog answered) -> automatic nodes per face (command: default panel
 heat capacity and edge links) -> material (task panel) -> environment (task panel) ->
-tessellate (task panel) -> simulate (command) -> reduce with node merging (task panel, run in
+tessellate (task panel) -> simulate (command, in the background) -> reduce with node merging (task panel, run in
 the background while the GUI keeps processing events; progress panel; the merged nodes in the
 tree under the reduced mesh) -> plots (dock) -> export the reduced
 model for NASTRAN (command, in the background) -> an edit marks the results stale -> save
@@ -165,8 +165,10 @@ def main():
     Gui.SendMsgToActiveView("ViewFit")
     screenshot("tessellated")
 
-    # 6. Simulate (command).
+    # 6. Simulate (command): `thermodec simulate` in the background, a progress panel.
     Gui.runCommand("ThermoDec_Simulate")
+    wait_for(_active_panel(taskpanels.RunPanel), 240)
+    Gui.Control.closeDialog()
     dense = plots._result_on(analysis, "ThermalMesh")
     assert dense is not None and not dense.Stale, "simulate"
     _, _, T = thermal_result.matrix(dense)

@@ -194,13 +194,11 @@ class _CoreCommand(_Command):
 
 class Simulate(_CoreCommand):
     icon, menu, tip, function = "Simulate.svg", "Simulate", \
-        "Export and run the reference thermal simulation through the thermodec core", "simulate_model"
+        "Export and run the reference thermal simulation (thermodec simulate) in the background", "simulate_model"
 
     def Activated(self):
-        status("ThermoDec: simulating ...")
-        if run("Simulate", [analysis_line(), "import thermodec_freecad.results as tdresults",
-                            "tdresults.simulate(analysis)"]):
-            status("ThermoDec: simulation done")
+        from . import taskpanels
+        taskpanels.start_simulate(active_analysis())  # progress and Cancel in a panel; imported when done
 
 
 class ShowResult(_Command):

@@ -192,6 +192,15 @@ def simulate(analysis, json_path=None):
     result_path = os.path.join(os.path.dirname(json_path), "result.json")
     _write_json(result_path, data)
     analysis.ResultFile = result_path
+    summary = _noise_message(data, result_path)
+    res = _result_of(analysis, analysis.ThermalMesh, result, model, result_path)
+    res.TracksAnalysis = True
+    _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (result_path, res.Shown, res.ColourMinK, res.ColourMaxK))
+    return result_path, summary
+
+
+def _noise_message(data, result_path):
+    """Says the result's largest sampling noise in the report view. Returns node_summary(data)."""
     summary = node_summary(data)
     noisiest = max(summary.items(), key=lambda kv: kv[1].get("noise_K", 0.0), default=None)
     if noisiest is not None and "noise_K" in noisiest[1]:
@@ -200,10 +209,18 @@ def simulate(analysis, json_path=None):
             "orbit sampling error %.3g K; per node in %s (summary.<node>.noise_K)\n"
             % (noisiest[1]["noise_K"], noisiest[0], data["summary"].get("orbit_sampling_error_K", 0.0),
                result_path))
-    res = _result_of(analysis, analysis.ThermalMesh, result, model, result_path)
-    res.TracksAnalysis = True
-    _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (result_path, res.Shown, res.ColourMinK, res.ColourMaxK))
-    return result_path, summary
+    return summary
+
+
+def import_simulation(analysis, outputs):
+    """After a Simulate job (runner.simulate_job, run by the CLI): the result on the analysis'
+    ThermalMesh as simulate() makes it. Returns (result path, {node: {"min_K", "mean_K", "max_K"}})."""
+    path = outputs["result"]
+    analysis.ResultFile = path
+    summary = _noise_message(_read_json(path), path)
+    res = _result_file(analysis, analysis.ThermalMesh, path, outputs["model"], "ThermalResult")
+    _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (path, res.Shown, res.ColourMinK, res.ColourMaxK))
+    return path, summary
 
 
 def exchange_formats():

@@ -503,6 +503,20 @@ def start_reduce(analysis, plots=True):
     return _start(job, finish, "Import reduced model")
 
 
+def start_simulate(analysis):
+    """Exports the analysis and runs `thermodec simulate` in the background with a RunPanel;
+    the result is imported when it ends. Returns the panel (or None: the error is shown)."""
+    from . import runner
+    try:
+        job = runner.simulate_job(analysis)
+    except Exception as e:
+        gui_actions.error(e)
+        return None
+    finish = ["analysis = App.ActiveDocument.%s" % analysis.Name, "import thermodec_freecad.results as tdresults",
+              "tdresults.import_simulation(analysis, %r)" % job.outputs]
+    return _start(job, finish, "Import simulation")
+
+
 def start_export(analysis, fmt, out):
     from . import runner
     try:
