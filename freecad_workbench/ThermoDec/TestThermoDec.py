@@ -770,6 +770,7 @@ class ModelFiles(_DocTest):
         data["nodes"]["body_px"]["power_schedule_W"] = [[0, 5.0], [1500.0, 45.0]]
         data["nodes"]["instrument"]["heater"] = {"on_K": 250.0, "off_K": 260.0, "power_W": 12.0}
         data["description"] = "kept by the workbench"
+        data["nodes"]["boom"]["capacitance"] = 0.0  # an arithmetic node the file allows
         path = os.path.join(folder, "extras.json")
         with open(path, "w") as f:
             json.dump(data, f, indent=1)

@@ -130,6 +130,8 @@ def open_model(doc, path):
     if "environment" in data:
         _environment(analysis, data["environment"])
     _settings(analysis, data)
+    if any(n.Capacitance == 0 and not n.IsBoundary for n in nodes.values()):
+        analysis.AllowArithmeticNodes = True  # the file has them (the workbench refuses them only in its own set-ups)
     mesh = _mesh(analysis, model, data.get("nodes", {}), path)
     node_map = data.get("node_map", {})
     merged_nodes.show(analysis, mesh, node_map, nodes_of=nodes)
