@@ -695,6 +695,25 @@ class CoreRuns(_DocTest):
         self.assertIn("Power of '%s' changed" % node.Label, shown[0].StaleReason)
         self.assertEqual(results.model_for_tools(self.analysis), self.analysis.ModelFile)
 
+    def test_the_in_process_reduction_merges_nodes_when_asked(self):
+        objects.members(self.analysis, objects.Environment)[0].EnvironmentType = "fixed_sun"
+        self.analysis.RaysPerFace = 100
+        self.analysis.MaxEdgeLength = "500 mm"
+        self.analysis.MergeNodes = True  # thermodec.reduce_with_node_merging, as reduce --merge-nodes
+        feature, summary = results.reduce(self.analysis, tolerance_K=5.0, plots=False)
+        self.assertLessEqual(summary["max_temperature_difference_K"], 5.0)
+        merged = list(feature.MergedNodes)  # under ReducedMesh in the tree, with the dense nodes merged
+        self.assertTrue(merged)
+        for m in merged:
+            self.assertEqual([objects.model_name(n) for n in m.MemberNodes], list(m.Members))
+            self.assertIn(m.MergedName, feature.NodeNames)
+        reduced = thermodec.load_model(self.analysis.ReducedModelFile)
+        self.assertEqual(sorted(o for o, _ in reduced.node_map), sorted(self.analysis.ThermalMesh.NodeNames))
+        results.simulate(self.analysis)  # the plot dock: every dense node against its merged node
+        series = plots.orbit_series(self.analysis)
+        self.assertIsNotNone(series["reduced"])
+        self.assertEqual(sorted(series["merged_into"]), sorted(n for m in merged for n in m.Members))
+
     def test_reduce_progress_follows_the_clis_stage_lines(self):
         lines = ["reduce: model.json: 600 faces", "reduce: [   0.0 s] sampling: estimating",
                  "reduce: [   2.8 s] noise floor 0.06 K", "reduce: [   3.0 s] sensitivity: 6/12 nodes",

@@ -326,7 +326,9 @@ def reduce(analysis, tolerance_K=None, json_path=None, plots=True, cases=()):
     reduced.obj, report.json, plots) into reduced/ beside the export and imports the reduced
     mesh coloured by its own simulated node temperatures. Returns (feature, summary).
     `cases`: load case files (`thermodec reduce --case`, docs/model-format.md) the reduced model
-    must also meet, e.g. a cold case; they are read (and checked) before any simulation."""
+    must also meet, e.g. a cold case; they are read (and checked) before any simulation.
+    With the analysis' MergeNodes, nodes are merged as well (thermodec.reduce_with_node_merging,
+    `reduce --merge-nodes`) and the merged nodes listed under ReducedMesh."""
     td = core.module()
     core.require("reduce_model")
     json_path, mesh_path = export.write_model(analysis, json_path or export.default_paths(analysis)[0])
@@ -345,7 +347,10 @@ def reduce(analysis, tolerance_K=None, json_path=None, plots=True, cases=()):
     model = td.load_model(json_path)
     td.apply_large_model_sweep(model, settings)  # as `thermodec reduce` does for this model
     settings.extra_cases = [td.load_case(path, model) for path in cases]
-    run = td.reduce_model(model, settings)
+    if getattr(analysis, "MergeNodes", False):  # as `thermodec reduce --merge-nodes`
+        run = core.require("reduce_with_node_merging")(model, settings)
+    else:
+        run = td.reduce_model(model, settings)
     folder = os.path.join(os.path.dirname(json_path), "reduced")
     for warning in td.write_reduction_outputs(run, folder, [json_path, mesh_path], plots):
         FreeCAD.Console.PrintWarning("ThermoDec: %s\n" % warning)
