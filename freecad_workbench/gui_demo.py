@@ -34,6 +34,18 @@ def process_events():
         QtGui.QApplication.processEvents()
 
 
+def wait_for_job(panel, timeout_s):
+    """Runs the event loop until the background job of a RunPanel ends. Raises on failure."""
+    import time
+    from PySide import QtGui
+    start = time.monotonic()
+    while panel is not None and not panel.done and time.monotonic() - start < timeout_s:
+        QtGui.QApplication.processEvents()
+        time.sleep(0.02)
+    if panel is None or not panel.ok:
+        raise RuntimeError("background job: %s" % (panel.message if panel is not None else "not started"))
+
+
 def screenshot(name):
     """Saves the 3D view, and the whole screen with `import -window root` (ImageMagick; a Qt
     grab of the main window leaves the OpenGL view blank)."""
@@ -118,7 +130,9 @@ def main():
     # Export, simulate (command: status-bar progress, temperature colours), decimate.
     analysis.OutputDirectory = os.path.join(OUT, "model")
     json_path, mesh_path = export.write_model(analysis, os.path.join(OUT, "model", "model.json"))
-    Gui.runCommand("ThermoDec_Simulate")
+    Gui.runCommand("ThermoDec_Simulate")  # in the background (thermodec simulate), a progress panel
+    wait_for_job(taskpanels.ACTIVE.get("RunPanel"), 300)
+    Gui.Control.closeDialog()
     process_events()
     if not analysis.ResultFile:
         raise RuntimeError("simulation did not run (is the thermodec module on THERMODEC_PYTHON_DIR?)")

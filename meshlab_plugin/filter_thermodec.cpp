@@ -116,14 +116,14 @@ QString ThermodecFilterPlugin::filterInfo(FilterIDType filter) const {
              "a summary per node goes to the log. Simulation settings as in <i>Thermal: "
              "simulate</i>." + QString(kNodesHelp);
     case FP_REDUCE:
+      // Kept short: MeshLab 2020.09 sizes the dialog before the wrapped text, and a longer
+      // text pushes the last field under the buttons (strategies: the Strategy field's help).
       return "Simulation-driven reduction (thermodec reduce, paper IV-V): decimates every node as "
-             "far as the temperature tolerance allows and verifies the result by a full "
-             "re-simulation (max |dT| over all nodes and the orbit <= tolerance). <i>informed</i>: "
-             "a sensitivity sweep per node predicts each node's ratio, then excesses are backed "
-             "off and spare tolerance used; <i>uniform</i>: one ratio for all nodes. The reduced "
-             "mesh is added as new layer(s) '... reduced'; model.json + reduced.obj, report.json "
-             "and plots go to the output folder (default: beside the current layer's file); the "
-             "summary goes to the log. Simulation settings as in <i>Thermal: simulate</i>." + QString(kNodesHelp);
+             "far as the temperature tolerance allows, verified by a full re-simulation (max |dT| "
+             "over all nodes and the orbit <= tolerance). New layer(s) '... reduced'; model.json + "
+             "reduced.obj, report.json and plots in the output folder (default: beside the current "
+             "layer's file); the summary in the log. Simulation settings as in <i>Thermal: "
+             "simulate</i>." + QString(kNodesHelp);
     case FP_EXPORT: return export_info();
     case FP_SIMULATE:
       return "Radiative thermal simulation of the nodes, the same as <code>thermodec simulate</code> "

@@ -41,6 +41,25 @@ class MeshCrossesAsNumpy(unittest.TestCase):
         self.assertEqual(node.power_schedule_W[1], (100.0, 45.0))
         self.assertEqual(node.heater.off_K, 275.0)
 
+    def test_node_merging_is_offered_and_checks_its_keep_patterns_first(self):
+        sample = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "sample_models",
+                              "satellite", "model.json")
+        model = thermodec.load_model(sample)
+        self.assertEqual(model.node_map, [])
+        model.node_map = [("a", "a+1"), ("b", "a+1")]
+        self.assertEqual(model.node_map[1], ("b", "a+1"))
+        model.node_map = []
+        settings = thermodec.ReduceSettings()
+        settings.tolerance_K = 1.0
+        merge = thermodec.NodeMergeSettings()
+        self.assertEqual((merge.tolerance_share, merge.keep), (0.4, []))
+        merge.keep = ["no_such_node*"]
+        with self.assertRaisesRegex(thermodec.InvalidInput, "no_such_node"):  # before any simulation
+            thermodec.reduce_with_node_merging(model, settings, merge)
+        merge.keep, merge.tolerance_share = [], 1.5
+        with self.assertRaisesRegex(thermodec.InvalidInput, "share"):
+            thermodec.reduce_with_node_merging(model, settings, merge)
+
     def test_radiation_settings_expose_the_per_node_ray_budget(self):
         model = thermodec.ThermalModel()
         self.assertEqual(model.radiation.min_rays_per_node, 250000)

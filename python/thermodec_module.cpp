@@ -26,6 +26,7 @@
 #include "thermodec/nodes/load_case.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/nodes/thermal_model.h"
+#include "thermodec/reduction/merge_reduction.h"
 #include "thermodec/reduction/reduce_model.h"
 #include "thermodec/report/reduction_report.h"
 #include "thermodec/thermal/result_json.h"
@@ -246,7 +247,9 @@ void bind_model(py::module_& m) {
       .def_readwrite("analysis", &ThermalModel::analysis)
       .def_readwrite("radiation", &ThermalModel::radiation)
       .def_readwrite("unit_scale", &ThermalModel::unit_scale)
-      .def_readwrite("mesh_path", &ThermalModel::mesh_path);
+      .def_readwrite("mesh_path", &ThermalModel::mesh_path)
+      .def_readwrite("node_map", &ThermalModel::node_map,
+                     "[(original, merged)] of a model whose nodes were merged; empty otherwise");
 }
 
 void bind_results(py::module_& m) {
@@ -369,7 +372,16 @@ void bind_reduction(py::module_& m) {
       .def_readonly("seconds_total", &ReductionRun::seconds_total)
       .def_property_readonly("reduced_model", [](const ReductionRun& r) { return r.reduced.model; })
       .def_property_readonly("reduced_result", [](const ReductionRun& r) { return r.reduced.result; })
-      .def_readonly("reference", &ReductionRun::reference);
+      .def_readonly("reference", &ReductionRun::reference)
+      .def_property_readonly("node_map", [](const ReductionRun& r) { return r.reduced.model.node_map; },
+                             "[(original, merged)] when nodes were merged (reduce_with_node_merging); else empty");
+  py::class_<NodeMergeSettings>(m, "NodeMergeSettings", "Node merging of reduce_with_node_merging (--merge-nodes).")
+      .def(py::init<>())
+      .def_readwrite("keep", &NodeMergeSettings::keep, "node name patterns never merged (--keep-node)")
+      .def_readwrite("tolerance_share", &NodeMergeSettings::tolerance_share,
+                     "share of the tolerance the merges may spend (--merge-share)")
+      .def_readwrite("strongest_exchanges", &NodeMergeSettings::strongest_exchanges)
+      .def_readwrite("confirm_by_tracing", &NodeMergeSettings::confirm_by_tracing);
 }
 
 void bind_functions(py::module_& m) {
@@ -502,6 +514,10 @@ void bind_functions(py::module_& m) {
   // reduction/reduce_model.h, report/reduction_report.h
   m.def("reduce_model", &reduce_model, py::arg("model"), py::arg("settings") = ReduceSettings{}, release{},
         "Simulation-driven reduction (`thermodec reduce`): as few faces as the temperature tolerance allows.");
+  m.def("reduce_with_node_merging", &reduce_with_node_merging, py::arg("model"), py::arg("settings") = ReduceSettings{},
+        py::arg("merge") = NodeMergeSettings{}, release{},
+        "`thermodec reduce --merge-nodes`: nodes merged as well as decimated under the one tolerance; the "
+        "reduced model carries the node map. Raises InvalidInput (e.g. a keep pattern matching no node).");
   m.def("apply_large_model_sweep", &apply_large_model_sweep, py::arg("model"), py::arg("settings"),
         "Model files over 2000 faces: the sweep on halving face counts `thermodec reduce` uses (in place).");
   m.def("reduction_report", [](const ReductionRun& run) {

@@ -16,8 +16,8 @@ import numpy as np
 import FreeCAD
 from FreeCAD import Vector
 
-from thermodec_freecad import (coatings, export, files, objects, plots, references, results, runner, sample,
-                               temperature_field, tessellate, thermal_result)
+from thermodec_freecad import (coatings, export, files, merged_nodes, model_file, objects, plots, references,
+                               results, runner, sample, temperature_field, tessellate, thermal_result)
 from thermodec_freecad.errors import ThermoDecError
 
 try:
@@ -589,6 +589,25 @@ class CoreRuns(_DocTest):
         with open(path) as f:
             self.assertEqual(json.load(f)["temperatures_K"], first)  # same seed, same numbers
 
+    def test_the_background_simulate_job_gives_the_in_process_numbers(self):
+        if not os.environ.get("THERMODEC_CLI") and not shutil.which("thermodec"):
+            self.skipTest("no thermodec command")
+        path, summary = results.simulate(self.analysis)  # thermodec.simulate_model, in-process
+        with open(path) as f:
+            first = json.load(f)["temperatures_K"]
+        job = runner.simulate_job(self.analysis)  # what the Simulate command runs with QProcess
+        self.assertEqual([argv[1] for _, argv in job.steps], ["simulate"])
+        runner.run_blocking(job)
+        path, summary_cli = results.import_simulation(self.analysis, job.outputs)
+        with open(path) as f:
+            self.assertEqual(json.load(f)["temperatures_K"], first)  # bit for bit
+        self.assertEqual(summary_cli, summary)
+        shown = [r for r in objects.members(self.analysis, thermal_result.ThermalResult)
+                 if r.ResultMesh == self.analysis.ThermalMesh]
+        self.assertEqual(len(shown), 1)
+        self.assertEqual((shown[0].ResultFile, shown[0].Seed, self.analysis.ResultFile), (path, self.analysis.Seed, path))
+        self.assertEqual(results.dense_result_current(self.analysis), path)  # Reduce reuses it
+
     def test_a_model_file_simulates_as_it_is_with_its_seed(self):
         results.simulate(self.analysis)
         self.analysis.Seed = 5  # the analysis changed since: the file's seed is the one used
@@ -676,6 +695,25 @@ class CoreRuns(_DocTest):
         self.assertIn("Power of '%s' changed" % node.Label, shown[0].StaleReason)
         self.assertEqual(results.model_for_tools(self.analysis), self.analysis.ModelFile)
 
+    def test_the_in_process_reduction_merges_nodes_when_asked(self):
+        objects.members(self.analysis, objects.Environment)[0].EnvironmentType = "fixed_sun"
+        self.analysis.RaysPerFace = 100
+        self.analysis.MaxEdgeLength = "500 mm"
+        self.analysis.MergeNodes = True  # thermodec.reduce_with_node_merging, as reduce --merge-nodes
+        feature, summary = results.reduce(self.analysis, tolerance_K=5.0, plots=False)
+        self.assertLessEqual(summary["max_temperature_difference_K"], 5.0)
+        merged = list(feature.MergedNodes)  # under ReducedMesh in the tree, with the dense nodes merged
+        self.assertTrue(merged)
+        for m in merged:
+            self.assertEqual([objects.model_name(n) for n in m.MemberNodes], list(m.Members))
+            self.assertIn(m.MergedName, feature.NodeNames)
+        reduced = thermodec.load_model(self.analysis.ReducedModelFile)
+        self.assertEqual(sorted(o for o, _ in reduced.node_map), sorted(self.analysis.ThermalMesh.NodeNames))
+        results.simulate(self.analysis)  # the plot dock: every dense node against its merged node
+        series = plots.orbit_series(self.analysis)
+        self.assertIsNotNone(series["reduced"])
+        self.assertEqual(sorted(series["merged_into"]), sorted(n for m in merged for n in m.Members))
+
     def test_reduce_progress_follows_the_clis_stage_lines(self):
         lines = ["reduce: model.json: 600 faces", "reduce: [   0.0 s] sampling: estimating",
                  "reduce: [   2.8 s] noise floor 0.06 K", "reduce: [   3.0 s] sensitivity: 6/12 nodes",
@@ -714,3 +752,129 @@ class CoreRuns(_DocTest):
         FreeCAD.Console.PrintMessage("ThermoDec test: reduce %d -> %d faces, max |dT| %.3f K, noise %.3f K\n"
                                      % (summary["faces_before"], summary["faces"],
                                         summary["max_temperature_difference_K"], summary["noise_floor_K"]))
+
+
+SAMPLE_MODEL = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, os.pardir, "sample_models",
+                            "satellite", "model.json")
+
+
+def _cli_or_skip(test):
+    cli = os.environ.get("THERMODEC_CLI")
+    if thermodec is None or not cli:
+        test.skipTest("needs the thermodec module and THERMODEC_CLI")
+    return cli
+
+
+def _info_json(cli, model, out):
+    subprocess.run([cli, "info", model, "--json", out], check=True, stdout=subprocess.DEVNULL)
+    with open(out) as f:
+        info = json.load(f)
+    for key in ("model", "mesh"):
+        del info[key]
+    return info
+
+
+class ModelFiles(_DocTest):
+    """A model file opened in the workbench (Open model file) and written back by its export."""
+
+    def _extras_model(self, folder):
+        """The sample satellite around the Moon, with a power schedule, a heater and a description."""
+        with open(SAMPLE_MODEL) as f:
+            data = json.load(f)
+        data["mesh"] = os.path.join(os.path.dirname(os.path.abspath(SAMPLE_MODEL)), data["mesh"])
+        env = data["environment"]
+        env["central_body"] = "moon"
+        del env["albedo"], env["earth_ir_flux"]  # the Moon's own values, not the Earth's
+        del data["nodes"]["body_px"]["power"]
+        data["nodes"]["body_px"]["power_schedule_W"] = [[0, 5.0], [1500.0, 45.0]]
+        data["nodes"]["instrument"]["heater"] = {"on_K": 250.0, "off_K": 260.0, "power_W": 12.0}
+        data["description"] = "kept by the workbench"
+        data["nodes"]["boom"]["capacitance"] = 0.0  # an arithmetic node the file allows
+        path = os.path.join(folder, "extras.json")
+        with open(path, "w") as f:
+            json.dump(data, f, indent=1)
+        return path, data
+
+    def test_keys_the_workbench_does_not_edit_are_written_back(self):
+        cli = _cli_or_skip(self)
+        folder = _output_dir("model_file_extras")
+        path, original = self._extras_model(folder)
+        analysis = model_file.open_model(self.doc, path)
+        env = objects.members(analysis, objects.Environment)[0]
+        self.assertEqual(list(env.KeptModelKeys), ['central_body = "moon"'])  # shown read-only
+        self.assertEqual(env.getEditorMode("KeptModelKeys"), ["ReadOnly"])
+        nodes = {objects.model_name(n): n for n in objects.members(analysis, objects.ThermalNode)}
+        self.assertEqual(model_file.kept(nodes["instrument"]), {"heater": original["nodes"]["instrument"]["heater"]})
+        out, _ = export.write_model(analysis, os.path.join(folder, "saved", "model.json"))
+        with open(out) as f:
+            saved = json.load(f)
+        self.assertEqual(saved["environment"], original["environment"])
+        self.assertEqual(saved["description"], original["description"])
+        for name, entry in original["nodes"].items():
+            for key in ("power_schedule_W", "heater", "power", "capacitance", "material", "back_material"):
+                self.assertEqual(saved["nodes"][name].get(key), entry.get(key), (name, key))
+        a, b = _info_json(cli, path, os.path.join(folder, "a.json")), _info_json(cli, out, os.path.join(folder, "b.json"))
+        self.assertEqual(a["environment"], b["environment"])  # the Moon's radius, albedo and IR
+        self.assertEqual(a["environment"]["central_body"]["name"] if isinstance(a["environment"].get("central_body"), dict)
+                         else a["environment"].get("central_body"), "moon")
+        self.assertAlmostEqual(a.pop("area_m2"), b.pop("area_m2"), delta=1e-6 * a["faces"])  # FreeCAD meshes in float
+        for node_a, node_b in zip(a.pop("nodes"), b.pop("nodes")):
+            self.assertAlmostEqual(node_a.pop("area_m2"), node_b.pop("area_m2"), delta=1e-6)
+            self.assertEqual(node_a, node_b)
+        self.assertEqual(a, b)
+        loaded = {n.name: n for n in thermodec.load_model(out).nodes}  # the core reads what it read before
+        first = {n.name: n for n in thermodec.load_model(path).nodes}
+        for name in ("body_px", "instrument"):
+            self.assertEqual(str(loaded[name].power_schedule_W), str(first[name].power_schedule_W))
+            self.assertEqual(str(loaded[name].heater), str(first[name].heater))
+        env.Albedo = 0.2  # an edited value is written, a kept one stays
+        self.assertEqual(export.model_data(analysis)[0]["environment"]["albedo"], 0.2)
+
+    def test_an_edit_drops_a_reduced_models_certificate(self):
+        _cli_or_skip(self)
+        path, _ = self._extras_model(_output_dir("model_file_certificate"))
+        analysis = model_file.open_model(self.doc, path)
+        model_file.keep(analysis, dict(model_file.kept(analysis), certificate={"tolerance_K": 0.5}))
+        self.assertIn("certificate", export.model_data(analysis)[0])  # unedited: kept
+        objects.members(analysis, objects.ThermalNode)[0].Capacitance *= 2
+        self.assertNotIn("certificate", export.model_data(analysis)[0])  # no longer verified
+        self.assertEqual(model_file.kept(analysis), {"description": "kept by the workbench"})
+
+    def _merged_sample(self, folder):
+        cli = _cli_or_skip(self)
+        out = os.path.join(folder, "merged.json")
+        subprocess.run([cli, "merge", SAMPLE_MODEL, "--group", "body_px,body_py,body_pz", "--group",
+                        "wing_py,wing_my", "-o", out], check=True, stdout=subprocess.DEVNULL)
+        return out
+
+    def test_a_merged_model_lists_each_merged_node_with_its_members(self):
+        folder = _output_dir("model_file_merged")
+        path = self._merged_sample(folder)
+        analysis = model_file.open_model(self.doc, path)
+        mesh = analysis.ThermalMesh
+        shown = [(m.Label, list(m.Members), m.Node.Label) for m in mesh.MergedNodes]  # the tree: under the mesh
+        self.assertEqual(shown, [("body_px+2 (merged: body_px, body_py, body_pz)", ["body_px", "body_py", "body_pz"],
+                                  "body_px+2"),
+                                 ("wing_py+1 (merged: wing_py, wing_my)", ["wing_py", "wing_my"], "wing_py+1")])
+        self.assertEqual(list(self.doc.getObjectsByLabel("body_px+2")[0].MergedFrom), ["body_px", "body_py", "body_pz"])
+        self.assertNotIn(mesh.MergedNodes[0], analysis.Group)  # outputs, not inputs of the analysis
+        out, _ = export.write_model(analysis, os.path.join(folder, "saved", "model.json"))
+        with open(path) as f, open(out) as g:
+            self.assertEqual(json.load(g)["node_map"], json.load(f)["node_map"])
+        saved = os.path.join(folder, "merged.FCStd")  # the document keeps them
+        self.doc.saveAs(saved)
+        FreeCAD.closeDocument(self.doc.Name)
+        doc = FreeCAD.openDocument(saved)
+        mesh = [o for o in doc.Objects if "MergedNodes" in o.PropertiesList][0]
+        self.assertEqual([m.MergedName for m in mesh.MergedNodes], ["body_px+2", "wing_py+1"])
+
+    def test_a_reduced_mesh_with_a_node_map_links_the_dense_nodes_merged(self):
+        folder = _output_dir("model_file_reduced_merged")
+        path = self._merged_sample(folder)
+        dense = model_file.open_model(self.doc, SAMPLE_MODEL)  # the original's nodes, as after Reduce
+        feature, _ = results.import_results(dense, os.path.join(folder, "merged.obj"), None, name="ReducedMesh")
+        made = merged_nodes.show_from_model_file(dense, feature, path)  # as import_reduction does
+        self.assertEqual([[n.Label for n in m.MemberNodes] for m in made],
+                         [["body_px", "body_py", "body_pz"], ["wing_py", "wing_my"]])
+        results._remove_mesh(dense, "ReducedMesh")  # a new Reduce replaces them with the mesh
+        self.assertFalse([o for o in self.doc.Objects if objects.is_type(o, merged_nodes.MergedNode)])

@@ -6,8 +6,9 @@
 
 Import STEP (command, file dialog answered) -> automatic nodes per face (command: default panel
 heat capacity and edge links) -> material (task panel) -> environment (task panel) ->
-tessellate (task panel) -> simulate (command) -> reduce (task panel, run in the background
-while the GUI keeps processing events; progress panel) -> plots (dock) -> export the reduced
+tessellate (task panel) -> simulate (command, in the background) -> reduce with node merging (task panel, run in
+the background while the GUI keeps processing events; progress panel; the merged nodes in the
+tree under the reduced mesh) -> plots (dock) -> export the reduced
 model for NASTRAN (command, in the background) -> an edit marks the results stale -> save
 elsewhere and reopen. Screenshots (`import -window root`) of each stage go to
 THERMODEC_GUI_OUTPUT. `freecad script.py` exits 0 whatever happens, so the script writes DONE
@@ -164,8 +165,10 @@ def main():
     Gui.SendMsgToActiveView("ViewFit")
     screenshot("tessellated")
 
-    # 6. Simulate (command).
+    # 6. Simulate (command): `thermodec simulate` in the background, a progress panel.
     Gui.runCommand("ThermoDec_Simulate")
+    wait_for(_active_panel(taskpanels.RunPanel), 240)
+    Gui.Control.closeDialog()
     dense = plots._result_on(analysis, "ThermalMesh")
     assert dense is not None and not dense.Stale, "simulate"
     _, _, T = thermal_result.matrix(dense)
@@ -192,6 +195,7 @@ def main():
     Gui.runCommand("ThermoDec_Reduce")
     panel = _active_panel(taskpanels.ReducePanel)
     panel.tolerance.setProperty("value", App.Units.Quantity("3 K"))
+    panel.merge.setChecked(True)  # nodes may be merged as well (--merge-nodes)
     screenshot("reduce_panel")
     assert panel.accept(), "reduce settings"
     wide_combo_view(window)  # the progress log readable
@@ -208,6 +212,16 @@ def main():
     reduced.ViewObject.DisplayMode = "Flat Lines"
     Gui.SendMsgToActiveView("ViewFit")
     note("reduced: %d -> %d triangles" % (analysis.ThermalMesh.Mesh.CountFacets, reduced.Mesh.CountFacets))
+    # Merged nodes in the tree: under ReducedMesh, each with its members (the dense nodes).
+    merged = list(reduced.MergedNodes) if "MergedNodes" in reduced.PropertiesList else []
+    assert merged, "no merged node under ReducedMesh (node_map: %s)" % plots._node_map(analysis.ReducedModelFile)
+    for m in merged:
+        assert [n.Label for n in m.MemberNodes] == list(m.Members) and m.Label.startswith(m.MergedName + " (merged: ")
+    Gui.Selection.clearSelection()
+    Gui.Selection.addSelection(doc.Name, merged[0].Name)  # expands ReducedMesh in the tree
+    events(10)
+    screenshot("reduce_merged_tree")
+    note("merged nodes: %s" % "; ".join(m.Label for m in merged))
 
     # 8. Plots (command): a dock with temperatures over the orbit and the sensitivity curves.
     Gui.runCommand("ThermoDec_Plots")
@@ -219,6 +233,7 @@ def main():
     assert dock.isVisible(), "plot dock"
     combo = dock.findChild(QtGui.QComboBox)
     series = plots.orbit_series(analysis)  # the node the reduction moved most: original vs reduced
+    assert series["reduced"] is not None and series["merged_into"], "merged nodes not plotted"
     worst = int(abs(series["reduced"] - series["dense"]).max(axis=1).argmax())
     combo.setCurrentIndex(1 + worst)
     screenshot("plots_temperatures")

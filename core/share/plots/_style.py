@@ -24,3 +24,27 @@ def shade_eclipse(ax, times_min, in_shadow, period_min):
             ax.axvspan(t - dt / 2, t + dt / 2, color="0.88", lw=0, zorder=0)
             shaded = True
     return shaded
+
+
+def merged_members(node_map, nodes=None):
+    """{merged node: [original, ...]} of a node_map {original: merged} (thermodec merge,
+    reduce --merge-nodes) for merged nodes of two or more members, in `nodes` order if given."""
+    groups = {}
+    for original, merged in (node_map or {}).items():
+        groups.setdefault(merged, []).append(original)
+    order = list(nodes) if nodes else sorted(groups)
+    # The member a merged node is named after ("a+2": a and 2 others) first.
+    return {m: sorted(groups[m], key=lambda o: not m.startswith(o + "+")) for m in order if len(groups.get(m, [])) > 1}
+
+
+def note_merged(fig, node_map, nodes=None, max_rows=12):
+    """A footnote listing each merged node's members ("a+2 = a + b + c"); returns its rows."""
+    groups = merged_members(node_map, nodes)
+    if not groups:
+        return 0
+    rows = ["%s = %s" % (m, " + ".join(members)) for m, members in groups.items()]
+    if len(rows) > max_rows:
+        rows = rows[:max_rows - 1] + ["... and %d more merged nodes (node_map)" % (len(rows) - max_rows + 1)]
+    fig.text(0.01, 0.0, "merged nodes (isothermal): " + ";  ".join(rows), fontsize=7, ha="left", va="top",
+             wrap=True, transform=fig.transFigure)
+    return len(rows)

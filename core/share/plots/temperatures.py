@@ -1,8 +1,10 @@
 """Temperature of every node over the orbit (thermodec simulate --plot).
 
-Input: the result JSON of `thermodec simulate` (nodes, times_s, temperatures_K, in_shadow).
+Input: the result JSON of `thermodec simulate` (nodes, times_s, temperatures_K, in_shadow, and
+node_map for a merged model: its merged nodes' members are listed under the plot).
 """
 from _common import load_args, plt, save
+from _style import note_merged
 
 data, out = load_args()
 times = [t / 60.0 for t in data["times_s"]]
@@ -31,4 +33,5 @@ ax.set_ylabel("temperature [K]") if len(times) > 1 else ax.set_xlabel("temperatu
 ax.grid(alpha=0.3)
 if len(times) > 1:
     ax.legend(loc="center left", bbox_to_anchor=(1.01, 0.5), fontsize=8)
+note_merged(fig, data.get("node_map"), data["nodes"])
 save(fig, out)

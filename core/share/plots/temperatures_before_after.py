@@ -2,9 +2,10 @@
 orbit (wide pale line) with the reduced model on top (thin dashed line, same colour), labelled
 at the right. Bottom: dT = reduced - reference per node with the +/- tolerance band. Grey
 bands: eclipse. Input: {"times_s", "nodes", "reference_K": {node: [...]}, "reduced_K":
-{node: [...]}, "tolerance_K", "period_s", "in_shadow": [...]}"""
+{node: [...]}, "tolerance_K", "period_s", "in_shadow": [...], "node_map" (a merged reduction: its
+merged nodes' members are listed under the plot)}"""
 from _common import load_args, plt, save
-from _style import node_style, shade_eclipse
+from _style import node_style, note_merged, shade_eclipse
 
 data, out = load_args()
 t = [x / 60.0 for x in data["times_s"]]
@@ -56,4 +57,5 @@ if len(t) > 1:
 lim = max([abs(v) for n in nodes for v in dT[n]] + [tol or 0]) * 1.3 or 1.0
 ax2.set_ylim(-lim, lim)
 fig.tight_layout()
+note_merged(fig, data.get("node_map"), nodes)
 save(fig, out)

@@ -229,11 +229,12 @@ std::vector<std::string> write_reduction_outputs(const ReductionRun& run, const 
       red[a.nodes[k]] = tb;
     }
     std::vector<double> times(a.times_s.data(), a.times_s.data() + a.times_s.size());
-    plot("temperatures_before_after",
-         {{"times_s", times}, {"nodes", a.nodes}, {"reference_K", ref}, {"reduced_K", red},
-          {"tolerance_K", run.tolerance_K}, {"period_s", a.transient ? a.loads.period_s : 0.0},
-          {"in_shadow", std::vector<bool>(a.loads.in_shadow.begin(), a.loads.in_shadow.end())}},
-         "temperatures.png");
+    json data = {{"times_s", times}, {"nodes", a.nodes}, {"reference_K", ref}, {"reduced_K", red},
+                 {"tolerance_K", run.tolerance_K}, {"period_s", a.transient ? a.loads.period_s : 0.0},
+                 {"in_shadow", std::vector<bool>(a.loads.in_shadow.begin(), a.loads.in_shadow.end())}};
+    // A merged reduction: the plot lists each merged node's members.
+    for (const auto& [original, merged] : run.reduced.model.node_map) data["node_map"][original] = merged;
+    plot("temperatures_before_after", std::move(data), "temperatures.png");
   }
   {
     Eigen::VectorXd dT(run.nodes.size());

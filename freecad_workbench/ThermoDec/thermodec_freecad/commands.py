@@ -11,7 +11,7 @@ import FreeCADGui
 from . import objects, viewproviders
 from .gui_actions import active_analysis, analysis_line, error, refs_code, run, selected_faces, status
 
-SETUP = ["ThermoDec_ImportStep", "ThermoDec_Analysis", "ThermoDec_NodeFromSelection", "ThermoDec_MaterialToSelection",
+SETUP = ["ThermoDec_ImportStep", "ThermoDec_OpenModel", "ThermoDec_Analysis", "ThermoDec_NodeFromSelection", "ThermoDec_MaterialToSelection",
          "ThermoDec_AutoNodesPerFace", "ThermoDec_AutoNodesPerSolid", "ThermoDec_Conductance",
          "ThermoDec_Environment"]
 RUN = ["ThermoDec_Tessellate", "ThermoDec_Export", "ThermoDec_ExportTool", "ThermoDec_Simulate", "ThermoDec_ShowResult",
@@ -45,6 +45,29 @@ class ImportStep(_Command):
         if FreeCAD.ActiveDocument is None:
             FreeCAD.newDocument()
         if run("Import STEP", ["tdo.import_step(App.ActiveDocument, %r)" % path]):
+            FreeCADGui.SendMsgToActiveView("ViewFit")
+
+
+class OpenModel(_Command):
+    icon, menu, tip = "ImportResults.svg", "Open model file", \
+        "Open a thermodec model.json as an analysis over its mesh: nodes, materials, links, environment; " \
+        "merged nodes listed with their members; keys the workbench does not edit are kept"
+
+    def IsActive(self):
+        return True
+
+    def Activated(self):
+        from PySide import QtGui
+        path, _ = QtGui.QFileDialog.getOpenFileName(FreeCADGui.getMainWindow(), "thermodec model file", "",
+                                                    "thermodec model (*.json)")
+        if not path:
+            return
+        import os
+        import re
+        # A document of its own: node and material labels are the model's names.
+        FreeCAD.newDocument(re.sub(r"\W", "_", os.path.basename(os.path.dirname(path)) or "Model"))
+        if run("Open thermodec model", ["import thermodec_freecad.model_file as tdmodel",
+                                        "tdmodel.open_model(App.ActiveDocument, %r)" % path]):
             FreeCADGui.SendMsgToActiveView("ViewFit")
 
 
@@ -171,13 +194,11 @@ class _CoreCommand(_Command):
 
 class Simulate(_CoreCommand):
     icon, menu, tip, function = "Simulate.svg", "Simulate", \
-        "Export and run the reference thermal simulation through the thermodec core", "simulate_model"
+        "Export and run the reference thermal simulation (thermodec simulate) in the background", "simulate_model"
 
     def Activated(self):
-        status("ThermoDec: simulating ...")
-        if run("Simulate", [analysis_line(), "import thermodec_freecad.results as tdresults",
-                            "tdresults.simulate(analysis)"]):
-            status("ThermoDec: simulation done")
+        from . import taskpanels
+        taskpanels.start_simulate(active_analysis())  # progress and Cancel in a panel; imported when done
 
 
 class ShowResult(_Command):
@@ -289,7 +310,7 @@ class ImportResults(_Command):
 
 
 def register():
-    for name, cls in (("ThermoDec_ImportStep", ImportStep), ("ThermoDec_Analysis", Analysis), ("ThermoDec_NodeFromSelection", NodeFromSelection),
+    for name, cls in (("ThermoDec_ImportStep", ImportStep), ("ThermoDec_OpenModel", OpenModel), ("ThermoDec_Analysis", Analysis), ("ThermoDec_NodeFromSelection", NodeFromSelection),
                       ("ThermoDec_MaterialToSelection", MaterialToSelection),
                       ("ThermoDec_AutoNodesPerFace", AutoNodesPerFace),
                       ("ThermoDec_AutoNodesPerSolid", AutoNodesPerSolid),

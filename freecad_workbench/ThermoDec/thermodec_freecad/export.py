@@ -13,7 +13,7 @@ import numpy as np
 
 import FreeCAD
 
-from . import core, objects, tessellate, units
+from . import core, model_file, objects, tessellate, units
 from .errors import ThermoDecError
 from .files import atomic_write_text
 
@@ -94,7 +94,7 @@ def model_data(analysis, mesh_file="model.obj"):
             entry["two_sided"] = True
         if n.Capacitance < 0:
             raise ThermoDecError("node '%s': negative capacitance %g J/K" % (n.Label, n.Capacitance))
-        nodes[name] = entry
+        nodes[name] = model_file.merge_into(n, entry)
 
     _refuse_arithmetic_nodes(analysis, nodes_by_name, nodes)
     conductances = []
@@ -105,8 +105,11 @@ def model_data(analysis, mesh_file="model.obj"):
         for end in (a, b):
             if end not in nodes:
                 raise ThermoDecError("conductance '%s': node '%s' has no face in the mesh" % (c.Label, end))
-        conductances.append({"from": a, "to": b, "value": c.Value})
+        conductances.append(model_file.merge_into(c, {"from": a, "to": b, "value": c.Value}))
 
+    for name, entry in materials.items():  # keys of an opened model file the workbench does not edit
+        if name in mats_by_name:
+            model_file.merge_into(mats_by_name[name], entry)
     data = {"mesh": mesh_file, "unit_scale": 1.0, "materials": materials, "default_material": dname,
             "nodes": nodes, "conductances": conductances}
     if sources:  # provenance of the coating values; top-level '_' keys are comments to the core
@@ -115,11 +118,14 @@ def model_data(analysis, mesh_file="model.obj"):
     if len(envs) > 1:
         raise ThermoDecError("analysis '%s' has %d environments; keep one" % (analysis.Label, len(envs)))
     if envs:
-        data["environment"] = _environment(envs[0])
+        data["environment"] = model_file.merge_into(envs[0], _environment(envs[0]))
     data["analysis"] = {"type": analysis.AnalysisType}
     if analysis.AnalysisType == "transient_orbit":
         data["analysis"].update(steps_per_orbit=analysis.StepsPerOrbit, orbits=analysis.Orbits)
-    data["radiation"] = {"rays_per_face": analysis.RaysPerFace, "seed": analysis.Seed}
+    model_file.merge_into(analysis, data["analysis"], "analysis.")
+    data["radiation"] = model_file.merge_into(analysis, {"rays_per_face": analysis.RaysPerFace, "seed": analysis.Seed},
+                                              "radiation.")
+    model_file.merge_into(analysis, data)  # top-level keys: node_map, description, certificate, ...
 
     # Reindex materials to the order of the JSON (node default materials may have been added).
     order = list(materials)

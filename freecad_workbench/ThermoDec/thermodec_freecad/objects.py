@@ -36,7 +36,8 @@ class _Proxy:
     #: Properties whose change leaves the analysis' results current (outputs, bookkeeping).
     NOT_INPUTS = {"Proxy", "Label2", "ExpressionEngine", "Visibility", "Group", "ThermalMesh", "ModelFile",
                   "ResultFile", "ReducedModelFile", "OutputDirectory", "ReferenceSignatures", "Note",
-                  "ToleranceK", "ReductionStrategy", "GlobalRatio", "LoadCases", "MergeNodes"}
+                  "ToleranceK", "ReductionStrategy", "GlobalRatio", "LoadCases", "MergeNodes",
+                  "KeptModelKeys", "DefaultedModelKeys", "MergedFrom"}
 
     def onDocumentRestored(self, obj):
         self.setup(obj)  # adds properties introduced by newer versions
@@ -241,7 +242,8 @@ def stale(analysis, reason):
     """Marks the analysis' simulated results stale (thermal_result.mark_stale)."""
     if analysis is None or "Group" not in analysis.PropertiesList:
         return
-    from . import thermal_result
+    from . import model_file, thermal_result
+    model_file.drop_certificate(analysis, reason)
     changed = False
     for obj in analysis.Group:
         if is_type(obj, thermal_result.ThermalResult) and "Stale" in obj.PropertiesList:

@@ -24,21 +24,35 @@ def _result_on(analysis, mesh_name):
     return found[-1] if found else None
 
 
+def _node_map(model_path):
+    """The node_map {original: merged} of a (reduced) model file; {} when it has none."""
+    try:
+        with open(model_path, encoding="utf-8") as f:
+            return dict(json.load(f).get("node_map", {}))
+    except (OSError, ValueError, TypeError, AttributeError):
+        return {}
+
+
 def orbit_series(analysis):
-    """{"times_s", "nodes", "dense" #N x #S [K], "reduced" #N x #S or None, "stale"} of the
-    analysis' dense result (on its ThermalMesh) and reduced result (ReducedMesh), nodes in the
-    dense result's order. Raises ThermoDecError when there is no dense result."""
+    """{"times_s", "nodes", "dense" #N x #S [K], "reduced" #N x #S or None, "merged_into"
+    {node: merged node}, "stale"} of the analysis' dense result (on its ThermalMesh) and reduced
+    result (ReducedMesh), nodes in the dense result's order. A reduced model with merged nodes
+    (its node_map) gives each original node its merged node's temperatures, as `thermodec
+    compare` does. Raises ThermoDecError when there is no dense result."""
     dense = _result_on(analysis, "ThermalMesh")
     if dense is None:
         raise ThermoDecError("simulate first: the analysis has no result on its ThermalMesh")
     nodes, times, T = thermal_result.matrix(dense)
-    out = {"times_s": times, "nodes": nodes, "dense": T, "reduced": None, "stale": bool(dense.Stale),
-           "dense_label": dense.Label}
+    out = {"times_s": times, "nodes": nodes, "dense": T, "reduced": None, "merged_into": {},
+           "stale": bool(dense.Stale), "dense_label": dense.Label}
     reduced = _result_on(analysis, "ReducedMesh")
     if reduced is not None:
         rnodes, rtimes, R = thermal_result.matrix(reduced)
-        if len(rtimes) == len(times) and set(rnodes) == set(nodes):
-            out["reduced"] = R[[rnodes.index(n) for n in nodes]]
+        node_map = _node_map(analysis.ReducedModelFile) if analysis.ReducedModelFile else {}
+        into = [node_map.get(n, n) for n in nodes]
+        if len(rtimes) == len(times) and set(into) == set(rnodes):
+            out["reduced"] = R[[rnodes.index(m) for m in into]]
+            out["merged_into"] = {n: m for n, m in zip(nodes, into) if m != n}
             out["stale"] = out["stale"] or bool(reduced.Stale)
             out["reduced_label"] = reduced.Label
     return out
@@ -75,8 +89,10 @@ def draw_orbit(figure, series, node=None):
         k = series["nodes"].index(name)
         line, = ax.plot(t, series["dense"][k], "-", lw=1.4, label="%s original" % name if node else name)
         if series["reduced"] is not None:
+            merged = series.get("merged_into", {}).get(name)
             ax.plot(t, series["reduced"][k], "--", lw=1.4, color=line.get_color(),
-                    label="%s reduced" % name if node else None)
+                    label=("%s reduced" % name if not merged else "%s reduced (merged into %s)" % (name, merged))
+                    if node else None)
     title = "node temperatures over the orbit" if node is None else node
     if series["reduced"] is not None:
         d = np.abs(series["reduced"] - series["dense"])

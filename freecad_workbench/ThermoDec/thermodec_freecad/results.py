@@ -10,7 +10,7 @@ import numpy as np
 
 import FreeCAD
 
-from . import core, export, objects, temperature_field, tessellate, thermal_result, units
+from . import core, export, merged_nodes, objects, temperature_field, tessellate, thermal_result, units
 from .errors import ThermoDecError
 from .files import atomic_write_text
 
@@ -121,6 +121,7 @@ def _remove_mesh(analysis, name):
     for res in objects.members(analysis, thermal_result.ThermalResult):
         if res.ResultMesh == old:
             analysis.Document.removeObject(res.Name)
+    merged_nodes.clear(old)
     analysis.Document.removeObject(old.Name)
 
 
@@ -150,6 +151,7 @@ def simulate_model_file(analysis, model_path, name="SimulatedMesh"):
     _write_json(result_path, result.to_json())
     _remove_mesh(analysis, name)
     feature, _ = _mesh_feature(analysis, model.mesh, model_path, None, name)
+    merged_nodes.show_from_model_file(analysis, feature, model_path)
     res = _result_of(analysis, feature, result, model, result_path, name + "Result")
     _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (result_path, res.Shown, res.ColourMinK, res.ColourMaxK))
     return feature, res
@@ -190,6 +192,15 @@ def simulate(analysis, json_path=None):
     result_path = os.path.join(os.path.dirname(json_path), "result.json")
     _write_json(result_path, data)
     analysis.ResultFile = result_path
+    summary = _noise_message(data, result_path)
+    res = _result_of(analysis, analysis.ThermalMesh, result, model, result_path)
+    res.TracksAnalysis = True
+    _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (result_path, res.Shown, res.ColourMinK, res.ColourMaxK))
+    return result_path, summary
+
+
+def _noise_message(data, result_path):
+    """Says the result's largest sampling noise in the report view. Returns node_summary(data)."""
     summary = node_summary(data)
     noisiest = max(summary.items(), key=lambda kv: kv[1].get("noise_K", 0.0), default=None)
     if noisiest is not None and "noise_K" in noisiest[1]:
@@ -198,10 +209,18 @@ def simulate(analysis, json_path=None):
             "orbit sampling error %.3g K; per node in %s (summary.<node>.noise_K)\n"
             % (noisiest[1]["noise_K"], noisiest[0], data["summary"].get("orbit_sampling_error_K", 0.0),
                result_path))
-    res = _result_of(analysis, analysis.ThermalMesh, result, model, result_path)
-    res.TracksAnalysis = True
-    _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (result_path, res.Shown, res.ColourMinK, res.ColourMaxK))
-    return result_path, summary
+    return summary
+
+
+def import_simulation(analysis, outputs):
+    """After a Simulate job (runner.simulate_job, run by the CLI): the result on the analysis'
+    ThermalMesh as simulate() makes it. Returns (result path, {node: {"min_K", "mean_K", "max_K"}})."""
+    path = outputs["result"]
+    analysis.ResultFile = path
+    summary = _noise_message(_read_json(path), path)
+    res = _result_file(analysis, analysis.ThermalMesh, path, outputs["model"], "ThermalResult")
+    _progress("simulation done: %s (%s %.1f K .. %.1f K)" % (path, res.Shown, res.ColourMinK, res.ColourMaxK))
+    return path, summary
 
 
 def exchange_formats():
@@ -307,7 +326,9 @@ def reduce(analysis, tolerance_K=None, json_path=None, plots=True, cases=()):
     reduced.obj, report.json, plots) into reduced/ beside the export and imports the reduced
     mesh coloured by its own simulated node temperatures. Returns (feature, summary).
     `cases`: load case files (`thermodec reduce --case`, docs/model-format.md) the reduced model
-    must also meet, e.g. a cold case; they are read (and checked) before any simulation."""
+    must also meet, e.g. a cold case; they are read (and checked) before any simulation.
+    With the analysis' MergeNodes, nodes are merged as well (thermodec.reduce_with_node_merging,
+    `reduce --merge-nodes`) and the merged nodes listed under ReducedMesh."""
     td = core.module()
     core.require("reduce_model")
     json_path, mesh_path = export.write_model(analysis, json_path or export.default_paths(analysis)[0])
@@ -326,12 +347,16 @@ def reduce(analysis, tolerance_K=None, json_path=None, plots=True, cases=()):
     model = td.load_model(json_path)
     td.apply_large_model_sweep(model, settings)  # as `thermodec reduce` does for this model
     settings.extra_cases = [td.load_case(path, model) for path in cases]
-    run = td.reduce_model(model, settings)
+    if getattr(analysis, "MergeNodes", False):  # as `thermodec reduce --merge-nodes`
+        run = core.require("reduce_with_node_merging")(model, settings)
+    else:
+        run = td.reduce_model(model, settings)
     folder = os.path.join(os.path.dirname(json_path), "reduced")
     for warning in td.write_reduction_outputs(run, folder, [json_path, mesh_path], plots):
         FreeCAD.Console.PrintWarning("ThermoDec: %s\n" % warning)
     _remove_mesh(analysis, "ReducedMesh")
     feature, summary = import_results(analysis, os.path.join(folder, "reduced.obj"), None, name="ReducedMesh")
+    merged_nodes.show_from_model_file(analysis, feature, os.path.join(folder, "model.json"))
     # The verified reduced model's own simulation, with the seed and rays it ran with.
     _result_of(analysis, feature, run.reduced_result, run.reduced_model, "", name="ReducedMeshResult").TracksAnalysis = True
     summary.update(faces_before=run.faces_before, tolerance_K=run.tolerance_K,
@@ -373,11 +398,13 @@ def import_reduction(analysis, outputs, summary=""):
     _remove_mesh(analysis, "ReducedMesh")
     feature, info = _mesh_feature(analysis, td.read_mesh(mesh_path), mesh_path, None, "ReducedMesh")
     _result_file(analysis, feature, outputs["reduced_result"], outputs["reduced_model"], "ReducedMeshResult")
+    merged = merged_nodes.show_from_model_file(analysis, feature, outputs["reduced_model"])
     analysis.ReducedModelFile = outputs["reduced_model"]
     report = _read_json(os.path.join(folder, "report.json"))
     info.update({k: report[k] for k in ("faces_before", "faces_after", "tolerance_K", "noise_floor_K",
                                         "max_temperature_difference_K", "trials") if k in report})
     info["report"] = os.path.join(folder, "report.json")
+    info["merged_nodes"] = {m.MergedName: list(m.Members) for m in merged}
     if summary:
         FreeCAD.Console.PrintMessage(summary.rstrip() + "\n")
     _progress("reduced %d -> %d faces, max |dT| %.3g K (tolerance %.3g K)" % (

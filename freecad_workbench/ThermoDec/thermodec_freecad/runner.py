@@ -1,4 +1,4 @@
-"""Long core runs (reduce, export) as `thermodec` CLI processes, so FreeCAD's GUI stays live.
+"""Long core runs (simulate, reduce, export) as `thermodec` CLI processes, so FreeCAD's GUI stays live.
 
 As FreeCAD FEM runs its solvers: the job is a list of command lines (built headless by
 `reduce_job` / `export_job`, testable without a GUI); the GUI side (`Runner`) starts them one
@@ -83,6 +83,19 @@ def reduce_job(analysis, tolerance_K=None, strategy=None, cases=None, plots=True
     job.add("simulate the reduced model", [cli, "simulate", reduced_model, "--json", reduced_result])
     job.outputs.update(model=json_path, result=dense_result, simulate_dense=current != dense_result, folder=reduced, reduced_model=reduced_model,
                        reduced_result=reduced_result, tolerance_K=tolerance_K)
+    return job
+
+
+def simulate_job(analysis):
+    """The Simulate command as a CLI step: export the analysis (now, on the caller's thread: it
+    reads the document), then `thermodec simulate --json result.json` beside the model (the
+    same simulation as thermodec.simulate_model, bit for bit)."""
+    cli = cli_path()
+    json_path, _ = export.write_model(analysis, export.default_paths(analysis)[0])
+    result = os.path.join(os.path.dirname(json_path), "result.json")
+    job = Job("Simulate")
+    job.add("simulate the model", [cli, "simulate", json_path, "--json", result])
+    job.outputs.update(model=json_path, result=result)
     return job
 
 

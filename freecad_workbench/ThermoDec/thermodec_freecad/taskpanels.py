@@ -431,7 +431,7 @@ class EnvironmentPanel(_Panel):
 
 
 class ReducePanel(_Panel):
-    """Reduce settings (tolerance, strategy, load cases, plots); OK stores them on the analysis
+    """Reduce settings (tolerance, strategy, node merging, load cases, plots); OK stores them on the analysis
     (one transaction) and starts the reduction in the background (RunPanel)."""
 
     def __init__(self, analysis):
@@ -440,6 +440,10 @@ class ReducePanel(_Panel):
         self.form, layout = _form("Reduce")
         self.tolerance = _quantity("%r K" % analysis.ToleranceK, 0.0)
         self.strategy = _combo(["informed", "uniform"], analysis.ReductionStrategy)
+        self.merge = QtGui.QCheckBox("merge nodes as well")
+        self.merge.setChecked(bool(getattr(analysis, "MergeNodes", False)))
+        self.merge.setToolTip("thermodec reduce --merge-nodes: nodes may be merged into isothermal nodes within the same tolerance; the reduced "
+                              "model carries the node map and the tree lists each merged node with its members")
         self.cases = QtGui.QListWidget()
         self.cases.addItems(list(analysis.LoadCases))
         self.cases.setMaximumHeight(90)
@@ -453,6 +457,7 @@ class ReducePanel(_Panel):
         self.plots.setChecked(True)
         layout.addRow("Temperature tolerance", self.tolerance)
         layout.addRow("Strategy", self.strategy)
+        layout.addRow("", self.merge)
         layout.addRow("Load cases", self.cases)
         layout.addRow("", buttons)
         layout.addRow("", self.plots)
@@ -472,6 +477,7 @@ class ReducePanel(_Panel):
         return ["analysis = App.ActiveDocument.%s" % self.analysis.Name,
                 "analysis.ToleranceK = %r" % quantity_value(self.tolerance, "K"),
                 "analysis.ReductionStrategy = %r" % self.strategy.currentText(),
+                "analysis.MergeNodes = %r" % self.merge.isChecked(),
                 "analysis.LoadCases = %r" % cases]
 
     def accept(self):
@@ -495,6 +501,20 @@ def start_reduce(analysis, plots=True):
     finish = ["analysis = App.ActiveDocument.%s" % analysis.Name, "import thermodec_freecad.results as tdresults",
               "tdresults.import_reduction(analysis, %r)" % job.outputs]
     return _start(job, finish, "Import reduced model")
+
+
+def start_simulate(analysis):
+    """Exports the analysis and runs `thermodec simulate` in the background with a RunPanel;
+    the result is imported when it ends. Returns the panel (or None: the error is shown)."""
+    from . import runner
+    try:
+        job = runner.simulate_job(analysis)
+    except Exception as e:
+        gui_actions.error(e)
+        return None
+    finish = ["analysis = App.ActiveDocument.%s" % analysis.Name, "import thermodec_freecad.results as tdresults",
+              "tdresults.import_simulation(analysis, %r)" % job.outputs]
+    return _start(job, finish, "Import simulation")
 
 
 def start_export(analysis, fmt, out):

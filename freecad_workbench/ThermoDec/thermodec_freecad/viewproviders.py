@@ -68,7 +68,9 @@ class ViewProviderThermalMesh(ViewProvider):
         super().__init__(vobj, "Tessellate.svg")
 
     def claimChildren(self):
-        return []
+        """The merged nodes of the mesh's model, each labelled with its members (merged_nodes.py)."""
+        obj = getattr(self, "Object", None)
+        return list(getattr(obj, "MergedNodes", [])) if obj is not None else []
 
 
 def _palette(k):
