@@ -51,8 +51,9 @@ void add_solar_reflections(Loads& loads, const ThermalModel& model, const Surfac
   }
   // note: the IR couplings enforce reciprocity per node pair themselves (radiative_couplings.h),
   // with variances; the reflections take it per side pair, before the solve.
-  const GebhartFactors solar = gebhart_factors(reciprocal_view_factors(view_factors), alpha, node_groups(sides, num_nodes),
-                                               num_nodes + 1, {}, warm_ok ? &guess : nullptr);
+  const FaceViewFactors reciprocal = reciprocal_view_factors(view_factors);
+  const GebhartFactors solar =
+      gebhart_factors(reciprocal, alpha, node_groups(sides, num_nodes), num_nodes + 1, {}, warm_ok ? &guess : nullptr);
   if (samples) samples->solar_gebhart = solar.B;
   Eigen::MatrixXd reflected = Eigen::MatrixXd::Zero(num_nodes, S + E);
   for (int s = 0; s < ns; ++s) {
