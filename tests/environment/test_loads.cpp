@@ -4,6 +4,8 @@
 #include <cmath>
 #include <set>
 #include <cstdio>
+#include <numeric>
+#include <vector>
 
 #include "environment/test_models.h"
 #include "thermodec/common/errors.h"
@@ -197,6 +199,51 @@ TEST(SolarLoads, sunlight_reflected_by_a_grey_plate_reaches_a_black_neighbour_by
   const double expected = 0.6 * 1000.0 * 0.2000438;
   EXPECT_NEAR(l.reflected_solar_W(1, 0), expected, 0.02 * expected);
   EXPECT_NEAR(l.reflected_solar_W(0, 0), 0.0, 1e-12);  // B reflects nothing back
+}
+
+TEST(SolarLoads, reciprocity_cuts_the_seed_to_seed_spread_of_reflected_sunlight_and_keeps_it_unbiased) {
+  // The plates above, B's rays 16x as dense as A's (an IR boost): the light A reflects to B,
+  // 0.6 S A F_AB, from A's rays alone (plain Monte Carlo) and with reciprocity (the loads: A's
+  // estimate of A F_AB combined with B's A F_BA by ray density, ~17x less variance for binomial
+  // counts). Over 16 seeds: the spread must fall at least 4x in variance, and both means
+  // must stay within 3 standard errors of the mean of the closed form (measured: sd 1.92 W
+  // plain, 0.25 W with reciprocity; means 120.32 and 120.01 W against 120.03 W).
+  ThermalModel model = model_with({"A", "B"}, {{"grey", 0.4, 0.8}, {"black", 1.0, 0.9}});
+  add_quad(model.mesh, V3(0, 0, 0), V3(1, 0, 0), V3(0, 1, 0), 0, 0, -1, 2);
+  add_quad(model.mesh, V3(0, 0, 0), V3(0, 1, 0), V3(0, 0, 1), 1, 1, -1, 2);
+  model.radiation.rays_per_face = 256;
+  model.radiation.min_rays_per_node = 0;
+  model.nodes[1].sampling_boost.ir = 16.0;
+  model.environment.type = EnvironmentType::fixed_sun;
+  model.environment.sun_direction = V3::UnitZ();
+  model.environment.solar_flux_W_per_m2 = 1000.0;
+  const double expected = 0.6 * 1000.0 * 0.2000438;
+  const int runs = 16;
+  std::vector<double> plain, reciprocal;
+  for (int k = 1; k <= runs; ++k) {
+    model.radiation.seed = k;
+    const RayScene scene(model.mesh);
+    const SurfaceSides sides = surface_sides(model);
+    const FaceViewFactors vf = face_view_factors(scene, sides, model.radiation);
+    double exchange_m2 = 0.0;  // A F_AB from A's rays
+    for (int s = 0; s < sides.size(); ++s)
+      if (sides.node[s] == 0)
+        for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(vf.F, s); it; ++it)
+          if (sides.node[it.col()] == 1) exchange_m2 += sides.area_m2[s] * it.value();
+    plain.push_back(0.6 * 1000.0 * exchange_m2);
+    reciprocal.push_back(external_loads(model, scene, sides, &vf, {}).reflected_solar_W(1, 0));
+  }
+  auto mean = [&](const std::vector<double>& x) { return std::accumulate(x.begin(), x.end(), 0.0) / x.size(); };
+  auto var = [&](const std::vector<double>& x) {
+    const double m = mean(x);
+    double v = 0.0;
+    for (double xi : x) v += (xi - m) * (xi - m);
+    return v / (x.size() - 1);
+  };
+  EXPECT_LT(var(reciprocal), var(plain) / 4.0) << "sd plain " << std::sqrt(var(plain)) << " W, reciprocal "
+                                               << std::sqrt(var(reciprocal)) << " W";
+  EXPECT_NEAR(mean(plain), expected, 3.0 * std::sqrt(var(plain) / runs));
+  EXPECT_NEAR(mean(reciprocal), expected, 3.0 * std::sqrt(var(reciprocal) / runs));
 }
 
 TEST(OrbitLoads, eclipse_steps_get_no_direct_sun_and_same_seed_is_bit_identical) {

@@ -4,15 +4,18 @@
 // the faces reflect: a side receiving Q_s reflects (1 - alpha_s) Q_s diffusely, and node g
 // absorbs the fraction B(s, g) of it, the solar-band Gebhart factors (radiation/
 // gebhart_factors.h with the absorptivities) over the radiative engine's side-to-side view
-// factors. B depends on geometry only: solved once per model, a trial warm-starts from the
-// reference's. Accuracy: that of the view factors (Monte Carlo, radiation/) and of the solve's
-// tolerance; Earth-IR reflections between faces are neglected (docs/thermal.md).
+// factors with reciprocity enforced (radiation/reciprocal_view_factors.h: each exchange area
+// A_s F_st estimated from the rays of both sides, weighted by ray density). B depends on
+// geometry only: solved once per model, a trial warm-starts from the reference's. Accuracy:
+// that of the view factors (Monte Carlo, radiation/) and of the solve's tolerance; Earth-IR
+// reflections between faces are neglected (docs/thermal.md).
 #include <string>
 #include <unordered_map>
 
 #include "thermodec/common/errors.h"
 #include "thermodec/environment/external_loads.h"
 #include "thermodec/radiation/gebhart_factors.h"
+#include "thermodec/radiation/reciprocal_view_factors.h"
 
 namespace thermodec {
 
@@ -46,8 +49,11 @@ void add_solar_reflections(Loads& loads, const ThermalModel& model, const Surfac
       if (it != index.end()) guess.row(s) = warm->solar_gebhart.row(it->second);
     }
   }
+  // note: the IR couplings enforce reciprocity per node pair themselves (radiative_couplings.h),
+  // with variances; the reflections take it per side pair, before the solve.
+  const FaceViewFactors reciprocal = reciprocal_view_factors(view_factors);
   const GebhartFactors solar =
-      gebhart_factors(view_factors, alpha, node_groups(sides, num_nodes), num_nodes + 1, {}, warm_ok ? &guess : nullptr);
+      gebhart_factors(reciprocal, alpha, node_groups(sides, num_nodes), num_nodes + 1, {}, warm_ok ? &guess : nullptr);
   if (samples) samples->solar_gebhart = solar.B;
   Eigen::MatrixXd reflected = Eigen::MatrixXd::Zero(num_nodes, S + E);
   for (int s = 0; s < ns; ++s) {

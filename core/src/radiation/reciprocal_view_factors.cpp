@@ -1,0 +1,110 @@
+// Reciprocity-enforced side-to-side view factors (see the header).
+//
+// A_s F_st and A_t F_ts estimate the same exchange area from the rays of s and of t. With ray
+// densities d_s = N_s / A_s, the estimates' variances are ~ A_s G / N_s = G / d_s and G / d_t
+// (binomial, small F), so the inverse-variance mean is G' = (d_s A_s F_st + d_t A_t F_ts) /
+// (d_s + d_t) = (N_s F_st + N_t F_ts) / (d_s + d_t). Scrambled Sobol rays converge faster than
+// the binomial rate, but alike at both ends, so the weights keep their ratio.
+//
+// Memory: F can be the largest object of a run (1.4 GB on a 100k-face model), so no transpose
+// is formed: F_ts is found by binary search in row t, and only the pairs seen from t alone
+// (rarely many) are collected apart. The result is built in place of the copy's F.
+#include "thermodec/radiation/reciprocal_view_factors.h"
+
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <tuple>
+#include <vector>
+
+namespace thermodec {
+namespace {
+
+using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+// F(s, t), 0 if absent (rows of a compressed row-major matrix hold sorted column indices).
+double entry(const RowSparse& F, int s, int t) {
+  const int* cols = F.innerIndexPtr();
+  const int* begin = cols + F.outerIndexPtr()[s];
+  const int* end = cols + F.outerIndexPtr()[s + 1];
+  const int* it = std::lower_bound(begin, end, t);
+  return it != end && *it == t ? F.valuePtr()[it - cols] : 0.0;
+}
+
+}  // namespace
+
+FaceViewFactors reciprocal_view_factors(const FaceViewFactors& vf) {
+  const int S = vf.sides.size();
+  FaceViewFactors out;
+  out.sides = vf.sides;
+  out.to_space = vf.to_space;
+  out.rays_per_side = vf.rays_per_side;
+  out.side_rays = vf.side_rays;
+  out.rays_traced = vf.rays_traced;
+  out.back_hits_on_one_sided = vf.back_hits_on_one_sided;
+  out.back_hits_per_side = vf.back_hits_per_side;
+  if (S == 0 || vf.F.rows() != S || vf.F.cols() != S || vf.to_space.size() != S) {
+    out.F = vf.F;
+    return out;
+  }
+  RowSparse compressed;  // (only if vf.F is not: the binary search needs sorted, packed rows)
+  if (!vf.F.isCompressed()) {
+    compressed = vf.F;
+    compressed.makeCompressed();
+  }
+  const RowSparse& F = vf.F.isCompressed() ? vf.F : compressed;
+  const Eigen::VectorXd& A = vf.sides.area_m2;
+  auto rays_of = [&](int s) -> double { return vf.side_rays.size() == S ? vf.side_rays[s] : vf.rays_per_side; };
+  auto usable = [&](int s) { return A[s] > 0.0 && rays_of(s) > 0.0; };
+  // Pairs (s, t) with F_ts > 0 but no F_st: (s, t, F_ts), sorted by row s then t.
+  std::vector<std::tuple<int, int, double>> seen_from_t;
+  for (int t = 0; t < S; ++t)
+    for (RowSparse::InnerIterator it(F, t); it; ++it) {
+      const int s = static_cast<int>(it.col());
+      if (s != t && it.value() != 0.0 && usable(s) && usable(t) && entry(F, s, t) == 0.0)
+        seen_from_t.emplace_back(s, t, it.value());
+    }
+  std::sort(seen_from_t.begin(), seen_from_t.end());
+  RowSparse G(S, S);
+  G.reserve(F.nonZeros() + static_cast<Eigen::Index>(seen_from_t.size()));
+  std::size_t next = 0;
+  for (int s = 0; s < S; ++s) {  // sequential: a fixed summation order
+    G.startVec(s);
+    double before = 0.0, after = 0.0;
+    const Eigen::Index first = G.data().size();
+    auto add = [&](int t, double f_st, double f_ts) {
+      before += f_st;
+      double f = f_st;
+      if (t != s && usable(s) && usable(t)) {
+        const double ds = rays_of(s) / A[s], dt = rays_of(t) / A[t];
+        f = (rays_of(s) * f_st + rays_of(t) * f_ts) / (ds + dt) / A[s];
+      }
+      after += f;
+      G.insertBack(s, t) = f;
+    };
+    RowSparse::InnerIterator it(F, s);
+    while (it || (next < seen_from_t.size() && std::get<0>(seen_from_t[next]) == s)) {  // merge, column order
+      const bool from_t = next < seen_from_t.size() && std::get<0>(seen_from_t[next]) == s &&
+                          (!it || std::get<1>(seen_from_t[next]) < it.col());
+      if (from_t) {
+        add(std::get<1>(seen_from_t[next]), 0.0, std::get<2>(seen_from_t[next]));
+        ++next;
+      } else {
+        const int t = static_cast<int>(it.col());
+        add(t, it.value(), t == s ? 0.0 : entry(F, t, s));
+        ++it;
+      }
+    }
+    const double total = before + vf.to_space[s];
+    if (after > total && after > 0.0) {  // scaled back to a closed row, nothing escapes
+      for (Eigen::Index k = first; k < G.data().size(); ++k) G.data().value(k) *= total / after;
+      out.to_space[s] = 0.0;
+    } else {
+      out.to_space[s] = total - after;
+    }
+  }
+  G.finalize();
+  out.F = std::move(G);
+  return out;
+}
+
+}  // namespace thermodec
