@@ -74,7 +74,7 @@ struct Context : vcg::BaseParameterClass {
   std::vector<int> node_faces, node_target;
   std::vector<int> node_free_removed;  // faces lost to exact contour collapses past the budget
   std::vector<double> node_area, node_area0;
-  std::vector<double> node_sharp;  // sum |N_after - N_before| of the steep turns run [m^2]
+  std::vector<double> node_sharp;  // projected-area budget spent: steep turns and kinks run [m^2]
   std::vector<double> comp_volume, comp_volume0;
   std::vector<char> comp_closed;
   std::vector<int> absorbed_by;  // removed face -> face that took over its area (provenance)
@@ -99,8 +99,8 @@ struct Context : vcg::BaseParameterClass {
                                      opt.max_relative_volume_change * std::abs(comp_volume0[comp]);
   }
 
-  // The steep-turn budget (DecimationOptions::projected_area_budget) of node `node` after a collapse
-  // that turns its faces past max_normal_deviation_deg by delta_m2 [m^2] more.
+  // The projected-area budget (DecimationOptions::projected_area_budget) of node `node` after a
+  // collapse whose steep turns and contour kinks cost it delta_m2 [m^2] more.
   bool sharp_within_bound(int node, double delta_m2) const {
     return node_sharp[node] + delta_m2 <=
            opt.projected_area_budget * opt.max_relative_area_change * node_area0[node];

@@ -157,7 +157,7 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   Vec3 x_ = Vec3::Zero();
   Deltas removed_per_node_, removed_per_region_, area_delta_, volume_delta_;
   double kink_m2_ = 0;     // outline area a kinked contour removal sweeps [m^2] (projected_area_budget)
-  Deltas sharp_delta_;    // node -> |N_after - N_before| of its steep turns [m^2] (projected_area_budget)
+  Deltas sharp_delta_;    // node -> cost of its steep turns and kink [m^2] (projected_area_budget)
   Deltas exact_per_node_;  // node -> 1 if this collapse leaves its geometry unchanged
 };
 

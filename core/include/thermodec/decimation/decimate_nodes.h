@@ -72,16 +72,18 @@ struct DecimationOptions {
   //! replaces it is at most this fraction of that segment's length (0.02 ~ 2.3 degrees of kink).
   double max_contour_deviation = 0.02;
   //! A collapse is refused if any surviving face's normal turns by more than this [degrees],
-  //! unless the node's steep-turn budget (projected_area_budget) takes the turn.
+  //! unless the node's projected-area budget (projected_area_budget) pays for the turn.
   double max_normal_deviation_deg = 60.0;
-  //! Area-weighted normal check (docs/decimation.md, "Steep turns"): a face may turn past
-  //! max_normal_deviation_deg (up to max_fold_deg) when its node pays for it from a budget of
-  //! sum |N_after - N_before| over such turns, N a face's area vector [m^2], of at most
-  //! projected_area_budget * max_relative_area_change * the node's input area. That sum bounds the
-  //! change of the node's projected area in every direction (what the Sun, the planet and the
-  //! other nodes see of it), so a sliver of negligible area may turn while a large face may not;
-  //! at 1 the projected area in any direction moves through steep turns by at most what the
-  //! area bound lets the node's area move. Dimensionless; 0 = the per-face check alone.
+  //! Area-weighted normal and contour check (docs/decimation.md, "Projected-area budget"): a
+  //! face may turn past max_normal_deviation_deg (up to max_fold_deg), and a contour vertex may
+  //! go beyond max_contour_deviation (up to max_kinked_contour_deviation), when each node touched
+  //! pays for it from a budget of at most projected_area_budget * max_relative_area_change * the
+  //! node's input area [m^2]: a turn costs |N_after - N_before| (N the face's area vector), a
+  //! kink the area of the triangle the outline sweeps. The sum bounds the change of the node's
+  //! projected area in every direction (what the Sun, the planet and the other nodes see of it),
+  //! so a sliver of negligible area may turn while a large face may not; at 1 the projected area
+  //! in any direction moves through these changes by at most what the area bound lets the node's
+  //! area move. Dimensionless; 0 = the per-face and per-vertex checks alone.
   double projected_area_budget = 0.0;
   //! Hard limit [degrees] on any face's turn when projected_area_budget > 0 (fold-overs are refused
   //! whatever their area); in (0, 179], max_normal_deviation_deg when that is larger.
