@@ -73,6 +73,31 @@ TEST(ProjectedAreaBudget, a_large_face_flip_is_refused_by_both_checks) {
   }
 }
 
+// A flat 1 m x 1 m panel (4 x 4 grid) whose rim has one kink: the vertex at (0.5, 0) moved out
+// to (0.5, -0.05), 0.1 of the 0.5 m segment that replaces it and 0.05 of the whole side. The
+// per-vertex check keeps it whatever the ratio; with a budget the panel pays the 0.0125-0.025 m^2
+// its outline sweeps and the kink goes.
+TEST(ProjectedAreaBudget, a_small_rim_kink_goes_when_its_node_pays_for_the_swept_outline) {
+  test::MeshBuilder b;
+  b.grid(Vector3d(0, 0, 0), Vector3d(1, 0, 0), Vector3d(0, 1, 0), 4, 0);
+  b.v[b.vertex(Vector3d(0.5, 0, 0))] = Vector3d(0.5, -0.05, 0);
+  const Mesh panel = b.build(1);
+  auto kink_kept = [](const Mesh& m) {
+    for (int v = 0; v < m.num_vertices(); ++v)
+      if (m.V(v, 1) < -0.04) return true;
+    return false;
+  };
+  DecimationOptions per_vertex;
+  per_vertex.max_relative_area_change = 0.05;  // the kink's 1-2.5 % of area is not what is tested
+  const DecimationResult before = decimate_nodes(panel, Eigen::VectorXd::Constant(1, 0.95), per_vertex);
+  EXPECT_TRUE(kink_kept(before.mesh));
+  DecimationOptions weighted = per_vertex;
+  weighted.projected_area_budget = 1.0;  // 0.05 x 1.025 m^2
+  const DecimationResult after = decimate_nodes(panel, Eigen::VectorXd::Constant(1, 0.95), weighted);
+  EXPECT_FALSE(kink_kept(after.mesh));
+  EXPECT_LT(after.mesh.num_faces(), before.mesh.num_faces());
+}
+
 TEST(ProjectedAreaBudget, bad_fold_limit_is_refused_before_any_work) {
   const Mesh fan = rim_fan({{1, 0, 0}, {0, -0.4, 0}, {-1, 0, 0}});
   DecimationOptions o;
