@@ -185,6 +185,22 @@ void add_decimate(CLI::App& app) {
                   "refuse a collapse that turns a face by more than this [degrees]")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 179.0));
+  sub->add_option("--projected-area-budget", args->options.projected_area_budget,
+                  "let faces turn past --max-normal-deviation (up to --max-fold) while the summed change of their "
+                  "area vectors stays within this multiple of --max-area-change times the node's area: it bounds "
+                  "the node's projected-area change in every direction (0 = per-face check only; `reduce` uses 1; "
+                  "docs/decimation.md)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--max-fold", args->options.max_fold_deg,
+                  "with --projected-area-budget: no face turns by more than this [degrees], whatever its area")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 179.0));
+  sub->add_option("--max-kink", args->options.max_kinked_contour_deviation,
+                  "with --projected-area-budget: a contour vertex up to this deviation (relative to the new segment) "
+                  "may go when its nodes pay the outline's swept area from the budget")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   sub->add_option("--contour-deviation", args->options.max_contour_deviation,
                   "max deviation of a removed interface vertex, relative to the new segment")
       ->capture_default_str()

@@ -43,8 +43,11 @@ struct ReduceCliOptions {
   std::vector<std::string> case_files;
   std::vector<double> prediction_targets;  // empty: the default (ReduceSettings, budgets)
   std::string collapse_cost = "radiative";  // as reduction_decimation_options()
-  double max_normal_deviation_deg = DecimationOptions{}.max_normal_deviation_deg;
-  double max_contour_deviation = DecimationOptions{}.max_contour_deviation;
+  double max_normal_deviation_deg = reduction_decimation_options().max_normal_deviation_deg;
+  double max_contour_deviation = reduction_decimation_options().max_contour_deviation;
+  double projected_area_budget = reduction_decimation_options().projected_area_budget;
+  double max_fold_deg = reduction_decimation_options().max_fold_deg;
+  double max_kinked_contour_deviation = reduction_decimation_options().max_kinked_contour_deviation;
   bool merge_nodes = false;      // reduction/merge_reduction.h
   NodeMergeSettings merge;
 };
@@ -104,6 +107,9 @@ void run_reduce(const ReduceCliOptions& o) {
       o.collapse_cost == "radiative" ? CollapseCostKind::radiative : CollapseCostKind::geometric;
   s.reference.decimation.max_normal_deviation_deg = o.max_normal_deviation_deg;
   s.reference.decimation.max_contour_deviation = o.max_contour_deviation;
+  s.reference.decimation.projected_area_budget = o.projected_area_budget;
+  s.reference.decimation.max_fold_deg = o.max_fold_deg;
+  s.reference.decimation.max_kinked_contour_deviation = o.max_kinked_contour_deviation;
   if (o.record_memory_GiB > 0.0) s.reference.record_budget_bytes = static_cast<std::size_t>(o.record_memory_GiB * 1073741824.0);
   // Load cases read (and checked) before any simulation.
   for (const auto& f : o.case_files) s.extra_cases.push_back(load_case(f, model));
@@ -222,6 +228,21 @@ void add_reduce(CLI::App& app) {
                   "long thin triangles reach further with a wider bound (docs/decimation.md, \"Reach\")")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 179.0));
+  sub->add_option("--projected-area-budget", o->projected_area_budget,
+                  "faces may turn past --max-normal-deviation (up to --max-fold) while the summed change of their "
+                  "area vectors stays within this multiple of the area bound times the node's area (a bound on its "
+                  "projected-area change in every direction; 0 = per-face check only; docs/decimation.md)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--max-fold", o->max_fold_deg,
+                  "no face turns by more than this [degrees], whatever its area (with --projected-area-budget)")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 179.0));
+  sub->add_option("--max-kink", o->max_kinked_contour_deviation,
+                  "with --projected-area-budget: a contour vertex up to this deviation (relative to the new segment) "
+                  "may go when its nodes pay the outline's swept area from the budget")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   sub->add_option("--contour-deviation", o->max_contour_deviation,
                   "max deviation of a removed interface or boundary vertex from the new segment, relative to its length")
       ->capture_default_str()

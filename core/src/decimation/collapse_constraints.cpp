@@ -42,6 +42,8 @@ bool NodeCollapse::constraints_hold(Context& c) {
     if (c.region_faces[d.key] - static_cast<int>(d.value) < 1) return refuse(CollapseBlock::last_region_face);
   for (const auto& d : area_delta_)
     if (!c.area_within_bound(d.key, d.value)) return refuse(CollapseBlock::area_bound);
+  for (const auto& d : sharp_delta_)
+    if (!c.sharp_within_bound(d.key, d.value)) return refuse(CollapseBlock::projected_area_budget);
   for (const auto& d : volume_delta_)
     if (!c.volume_within_bound(d.key, d.value)) return refuse(CollapseBlock::volume_bound);
   // A section collapse checked its topology when it was evaluated (section_collapse.cpp).

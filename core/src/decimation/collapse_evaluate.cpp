@@ -46,6 +46,8 @@ void NodeCollapse::reset(VVertex* gone, VVertex* kept) {
   removed_per_region_.clear();
   area_delta_.clear();
   volume_delta_.clear();
+  sharp_delta_.clear();
+  kink_m2_ = 0;
   exact_per_node_.clear();
 }
 
@@ -66,6 +68,8 @@ void NodeCollapse::evaluate(Context& c, VVertex* gone, VVertex* kept, bool optim
   if (!place(c, gone, kept, optimal, pg, pk, change.boundary_m6, straight)) return;  // place() says why
 
   NodePlanes planes;
+  std::array<int, 4> kink_paid{};  // nodes charged for a kinked contour removal (each once)
+  int nkink_paid = 0;
   for (VFace* f : star_) {
     const int fidx = c.fi(f);
     const int region = c.face_region[fidx], node = c.region_node[region];
@@ -80,6 +84,12 @@ void NodeCollapse::evaluate(Context& c, VVertex* gone, VVertex* kept, bool optim
         has_kept = true;
         if (optimal) fc.after[j] = x_;
       }
+    }
+    if (has_gone && kink_m2_ > 0 &&
+        std::find(kink_paid.begin(), kink_paid.begin() + nkink_paid, node) == kink_paid.begin() + nkink_paid) {
+      if (nkink_paid == 4) return set_refused(CollapseBlock::topology);
+      kink_paid[nkink_paid++] = node;
+      sharp_delta_.add(node, kink_m2_);
     }
     const auto& p = fc.before;
     const auto& q = fc.after;
@@ -110,8 +120,9 @@ void NodeCollapse::evaluate(Context& c, VVertex* gone, VVertex* kept, bool optim
     }
     const Vec3 n1 = (q[1] - q[0]).cross(q[2] - q[0]);
     const double n1sq = n1.squaredNorm();
-    if (n1sq <= c.degenerate_area2) return set_refused(CollapseBlock::normal_deviation);
-    if (n0.dot(n1) < c.cos_normal * std::sqrt(n0.squaredNorm() * n1sq)) return set_refused(CollapseBlock::normal_deviation);
+    double steep_m2 = 0;
+    if (!c.turn_allowed(n0, n1, steep_m2)) return set_refused(CollapseBlock::normal_deviation);
+    if (steep_m2 > 0) sharp_delta_.add(node, steep_m2);
     area_delta_.add(node, 0.5 * std::sqrt(n1sq) - a0);
     if (plane != nullptr) plane->area_after += 0.5 * std::sqrt(n1sq);
     volume_delta_.add(c.face_component[fidx], (q[0].dot(q[1].cross(q[2])) - p[0].dot(p[1].cross(p[2]))) / 6.0);
@@ -121,7 +132,7 @@ void NodeCollapse::evaluate(Context& c, VVertex* gone, VVertex* kept, bool optim
   }
   change.star_faces = static_cast<int>(star_.size());
   if (removed_per_node_.empty() || removed_per_node_.overflow || removed_per_region_.overflow ||
-      area_delta_.overflow || volume_delta_.overflow)
+      area_delta_.overflow || volume_delta_.overflow || sharp_delta_.overflow)
     return set_refused(CollapseBlock::topology);  // not an edge of a face, or > 4 regions around it
   if (straight)
     for (int i = 0; i < planes.n; ++i) {

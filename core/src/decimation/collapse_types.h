@@ -60,6 +60,7 @@ struct Context : vcg::BaseParameterClass {
   VMesh* m = nullptr;
   DecimationOptions opt;
   double cos_normal = 0.5;
+  double cos_fold = -0.5;       // cos(max_fold_deg): no face turns further, budget or not
   double cost_scale = 1.0;      // 1 / (bbox diagonal)^6: makes priorities scale-free floats
   double degenerate_area2 = 0;  // squared doubled-area below which a new face is degenerate
   int mark = 0;
@@ -73,6 +74,7 @@ struct Context : vcg::BaseParameterClass {
   std::vector<int> node_faces, node_target;
   std::vector<int> node_free_removed;  // faces lost to exact contour collapses past the budget
   std::vector<double> node_area, node_area0;
+  std::vector<double> node_sharp;  // projected-area budget spent: steep turns and kinks run [m^2]
   std::vector<double> comp_volume, comp_volume0;
   std::vector<char> comp_closed;
   std::vector<int> absorbed_by;  // removed face -> face that took over its area (provenance)
@@ -95,6 +97,28 @@ struct Context : vcg::BaseParameterClass {
   bool volume_within_bound(int comp, double delta_m3) const {
     return !comp_closed[comp] || std::abs(comp_volume[comp] + delta_m3 - comp_volume0[comp]) <=
                                      opt.max_relative_volume_change * std::abs(comp_volume0[comp]);
+  }
+
+  // The projected-area budget (DecimationOptions::projected_area_budget) of node `node` after a
+  // collapse whose steep turns and contour kinks cost it delta_m2 [m^2] more.
+  bool sharp_within_bound(int node, double delta_m2) const {
+    return node_sharp[node] + delta_m2 <=
+           opt.projected_area_budget * opt.max_relative_area_change * node_area0[node];
+  }
+
+  // Whether a surviving face may turn from doubled area vector n0 to n1 [m^2]: false if it
+  // degenerates or turns past max_normal_deviation_deg (past max_fold_deg when steep turns
+  // have a budget). `steep_m2` gets |N1 - N0| (N = n / 2) of a steep turn the node pays for,
+  // 0 otherwise.
+  bool turn_allowed(const Vec3& n0, const Vec3& n1, double& steep_m2) const {
+    steep_m2 = 0;
+    const double n1sq = n1.squaredNorm();
+    if (n1sq <= degenerate_area2) return false;
+    const double scale = std::sqrt(n0.squaredNorm() * n1sq);
+    if (n0.dot(n1) >= cos_normal * scale) return true;
+    if (!(opt.projected_area_budget > 0) || n0.dot(n1) < cos_fold * scale) return false;
+    steep_m2 = 0.5 * (n1 - n0).norm();
+    return true;
   }
 
   int vi(const VVertex* v) const { return static_cast<int>(v - &m->vert[0]); }

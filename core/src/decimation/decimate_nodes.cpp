@@ -59,6 +59,7 @@ int set_node_budgets(const Mesh& mesh, const NodeGroups& group_of, int groups, i
     c.node_area0[group_of(f)] += 0.5 * (p1 - p0).cross(p2 - p0).norm();
   }
   c.node_area = c.node_area0;
+  c.node_sharp.assign(groups, 0.0);
   c.node_free_removed.assign(groups, 0);
   c.node_target.resize(groups);
   int total_target = 0;
@@ -169,9 +170,12 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     throw InvalidInput("decimate: unassigned_ratio must be in [0, 1]");
   if (!(options.max_relative_area_change >= 0) || !(options.max_relative_volume_change >= 0) ||
       !(options.max_contour_deviation >= 0) || !(options.exact_contour_tolerance >= 0) ||
-      !(options.radiative_cost_weight >= 0) ||
+      !(options.radiative_cost_weight >= 0) || !(options.projected_area_budget >= 0) ||
+      !(options.max_kinked_contour_deviation >= 0) ||
       options.min_faces_per_node < 1)
     throw InvalidInput("decimate: tolerances must be >= 0 and min_faces_per_node >= 1");
+  if (!(options.max_fold_deg > 0 && options.max_fold_deg <= 179))
+    throw InvalidInput("decimate: max_fold_deg must be in (0, 179]");
 
   const int groups = num_nodes + (has_unassigned ? 1 : 0);
   const NodeGroups group_of{mesh, num_nodes};
@@ -179,6 +183,7 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
   Context c;
   c.opt = options;
   c.cos_normal = std::cos(options.max_normal_deviation_deg * M_PI / 180.0);
+  c.cos_fold = std::cos(std::max(options.max_fold_deg, options.max_normal_deviation_deg) * M_PI / 180.0);
 
   const int ncomp = classify_mesh(mesh, group_of, c);
   const int total_target = set_node_budgets(mesh, group_of, groups, num_nodes, target_ratio_per_node, options, c);

@@ -19,6 +19,7 @@ const char* collapse_block_name(CollapseBlock block) {
     case CollapseBlock::normal_deviation: return "normal_deviation";
     case CollapseBlock::topology: return "topology";
     case CollapseBlock::thin_tube: return "thin_tube";
+    case CollapseBlock::projected_area_budget: return "projected_area_budget";
     case CollapseBlock::none: return "none";
   }
   return "none";

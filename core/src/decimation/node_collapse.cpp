@@ -84,6 +84,7 @@ void NodeCollapse::Execute(VMesh& m, vcg::BaseParameterClass* pp) {
   }
   for (const auto& d : removed_per_region_) c.region_faces[d.key] -= static_cast<int>(d.value);
   for (const auto& d : area_delta_) c.node_area[d.key] += d.value;
+  for (const auto& d : sharp_delta_) c.node_sharp[d.key] += d.value;
   for (const auto& d : volume_delta_) c.comp_volume[d.key] += d.value;
   if (section_.n > 0) return execute_section(m, c);
   vcg::tri::EdgeCollapser<VMesh, VPair>::Do(m, pos, vcg::Point3d(x_[0], x_[1], x_[2]));

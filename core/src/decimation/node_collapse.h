@@ -38,7 +38,7 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
     return !v0->IsD() && !v1->IsD() && localMark >= v0->cIMark() && localMark >= v1->cIMark();
   }
 
-  // Budgets, regions, area and closed-volume bounds, link condition (collapse_constraints.cpp).
+  // Budgets, regions, area, steep-turn and closed-volume bounds, link condition (collapse_constraints.cpp).
   bool IsFeasible(vcg::BaseParameterClass* pp) override;
 
   void Execute(VMesh& m, vcg::BaseParameterClass* pp) override;
@@ -156,6 +156,8 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   int evaluated_at_ = 0;
   Vec3 x_ = Vec3::Zero();
   Deltas removed_per_node_, removed_per_region_, area_delta_, volume_delta_;
+  double kink_m2_ = 0;     // outline area a kinked contour removal sweeps [m^2] (projected_area_budget)
+  Deltas sharp_delta_;    // node -> cost of its steep turns and kink [m^2] (projected_area_budget)
   Deltas exact_per_node_;  // node -> 1 if this collapse leaves its geometry unchanged
 };
 

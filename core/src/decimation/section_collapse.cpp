@@ -283,13 +283,14 @@ bool NodeCollapse::evaluate_section(Context& c, VVertex* gone, VVertex* kept) {
       continue;
     }
     const double n1sq = n1.squaredNorm();
-    if (n1sq <= c.degenerate_area2 || n0.dot(n1) < c.cos_normal * std::sqrt(n0.squaredNorm() * n1sq))
-      return section_.n = 0, set_refused(CollapseBlock::normal_deviation), false;
+    double steep_m2 = 0;
+    if (!c.turn_allowed(n0, n1, steep_m2)) return section_.n = 0, set_refused(CollapseBlock::normal_deviation), false;
+    if (steep_m2 > 0) sharp_delta_.add(node, steep_m2);
     area_delta_.add(node, 0.5 * std::sqrt(n1sq) - 0.5 * n0.norm());
     change.faces.push_back(fc);
   }
   if (removed_per_node_.empty() || removed_per_node_.overflow || removed_per_region_.overflow ||
-      area_delta_.overflow || volume_delta_.overflow)
+      area_delta_.overflow || volume_delta_.overflow || sharp_delta_.overflow)
     return section_.n = 0, set_refused(CollapseBlock::topology), false;
   _priority = static_cast<ScalarType>(collapse_cost(c, change));
   valid_ = std::isfinite(_priority);

@@ -57,7 +57,13 @@ bool NodeCollapse::place(Context& c, VVertex* gone, VVertex* kept, bool optimal,
       if (!(len2 > 0)) return set_refused(CollapseBlock::topology), false;
       const double t = std::clamp((pg - pk).dot(seg) / len2, 0.0, 1.0);
       const double dev = (pg - (pk + t * seg)).norm();
-      if (dev > c.opt.max_contour_deviation * std::sqrt(len2)) return set_refused(CollapseBlock::contour_deviation), false;
+      if (dev > c.opt.max_contour_deviation * std::sqrt(len2)) {
+        // A kink: allowed up to max_kinked_contour_deviation when the nodes on the contour pay
+        // for the outline's move (the triangle it sweeps) from their projected-area budget.
+        if (!(c.opt.projected_area_budget > 0) || dev > c.opt.max_kinked_contour_deviation * std::sqrt(len2))
+          return set_refused(CollapseBlock::contour_deviation), false;
+        kink_m2_ = 0.5 * (pg - pk).cross(pw - pk).norm();
+      }
       straight = c.opt.free_exact_contour_collapses && dev <= c.opt.exact_contour_tolerance * std::sqrt(len2);
       // LT boundary preservation: squared swept area of the contour, times a length^2.
       const double swept = 0.5 * (pg - pk).cross(pw - pk).norm();

@@ -71,8 +71,28 @@ struct DecimationOptions {
   //! A contour vertex may be removed only if its distance to the contour segment that
   //! replaces it is at most this fraction of that segment's length (0.02 ~ 2.3 degrees of kink).
   double max_contour_deviation = 0.02;
-  //! A collapse is refused if any surviving face's normal turns by more than this [degrees].
+  //! A collapse is refused if any surviving face's normal turns by more than this [degrees],
+  //! unless the node's projected-area budget (projected_area_budget) pays for the turn.
   double max_normal_deviation_deg = 60.0;
+  //! Area-weighted normal and contour check (docs/decimation.md, "Projected-area budget"): a
+  //! face may turn past max_normal_deviation_deg (up to max_fold_deg), and a contour vertex may
+  //! go beyond max_contour_deviation (up to max_kinked_contour_deviation), when each node touched
+  //! pays for it from a budget of at most projected_area_budget * max_relative_area_change * the
+  //! node's input area [m^2]: a turn costs |N_after - N_before| (N the face's area vector), a
+  //! kink the area of the triangle the outline sweeps. The sum bounds the change of the node's
+  //! projected area in every direction (what the Sun, the planet and the other nodes see of it),
+  //! so a sliver of negligible area may turn while a large face may not; at 1 the projected area
+  //! in any direction moves through these changes by at most what the area bound lets the node's
+  //! area move. Dimensionless; 0 = the per-face and per-vertex checks alone.
+  double projected_area_budget = 0.0;
+  //! Hard limit [degrees] on any face's turn when projected_area_budget > 0 (fold-overs are refused
+  //! whatever their area); in (0, 179], max_normal_deviation_deg when that is larger.
+  double max_fold_deg = 120.0;
+  //! With projected_area_budget > 0: a contour vertex deviating from the new segment by more
+  //! than max_contour_deviation, up to this fraction of its length (0.2 ~ 23 degrees of kink),
+  //! may still go when every node on the contour pays the triangle the outline sweeps from the
+  //! same budget.
+  double max_kinked_contour_deviation = 0.2;
   //! Weight of the triangle-shape term relative to the volume terms in the collapse cost.
   double shape_weight = 1e-3;
   //! Ratio (fraction of faces removed) for faces whose node is -1 (e.g. a bare STL).
@@ -119,9 +139,10 @@ enum class CollapseBlock : int {
   volume_bound,       //!< a closed part's volume would leave max_relative_volume_change
   contour_deviation,  //!< an interface or boundary vertex is a kink beyond max_contour_deviation
   frozen_vertices,    //!< both ends frozen or on contours, not along one contour
-  normal_deviation,   //!< a face would turn past max_normal_deviation_deg or degenerate
+  normal_deviation,   //!< a face would turn past max_normal_deviation_deg (max_fold_deg) or degenerate
   topology,           //!< link condition (the collapse would change the topology)
   thin_tube,          //!< an edge along a thin tube's cross-section loop (collapse_tube_sections)
+  projected_area_budget,  //!< the node's steep-turn budget (projected_area_budget) is spent
   none,               //!< allowed: the node stopped at its target, not against a constraint
 };
 constexpr int kCollapseBlocks = static_cast<int>(CollapseBlock::none) + 1;

@@ -15,10 +15,14 @@
 namespace thermodec {
 
 //! The decimator's options in a reduction: the radiative collapse cost, which keeps fewer
-//! faces than the geometric one within the same verified tolerance (docs/reduction.md).
+//! faces than the geometric one within the same verified tolerance (docs/reduction.md), and
+//! the projected-area budget (steep turns of slivers and kinked contours paid from a budget
+//! equal to the node-area bound: docs/decimation.md, "Projected-area budget"), which widens
+//! the decimator's reach on CAD meshes of long thin triangles.
 inline DecimationOptions reduction_decimation_options() {
   DecimationOptions o;
   o.collapse_cost = CollapseCostKind::radiative;
+  o.projected_area_budget = 1.0;
   return o;
 }
 

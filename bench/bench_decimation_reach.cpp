@@ -1,0 +1,122 @@
+// Decimation reach benchmark: every node asked for ratio 0.9 under reduce's decimation options
+// (reduction_decimation_options) and reduce's area bound at 0.5 K on the NASA meshes (7.5e-4),
+// decimate_nodes directly. One line per model: faces after, the refused edges of the nodes left
+// above their target by the first check that refuses them (NodeDecimationStats::blocked_edges,
+// in brackets the nodes each reason stops most), the largest and median change of a node's
+// projected area over 200 directions relative to its area, and CPU time. Never a pass/fail.
+// Usage:
+//   bench_decimation_reach [--normal DEG] [--contour D] [--budget B] [--fold DEG] [--kink D] [--area A]
+//                          [--geometric] [MODEL ...]
+//   (default: the NASA meshes in ../shared; options override reduce's decimation options)
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <sys/resource.h>
+
+#include "thermodec/decimation/decimate_nodes.h"
+#include "thermodec/nodes/load_model.h"
+#include "thermodec/reduction/reduction_reference.h"
+
+namespace fs = std::filesystem;
+using namespace thermodec;
+
+namespace {
+
+double cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// P[node][k] = sum over the node's faces of max(0, N_f . d_k) [m^2], d_k on a Fibonacci lattice.
+std::vector<std::vector<double>> projected_areas(const Mesh& m, int nodes, int ndir) {
+  std::vector<Eigen::Vector3d> dirs;
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (int k = 0; k < ndir; ++k) {
+    const double z = 1.0 - 2.0 * (k + 0.5) / ndir, r = std::sqrt(1.0 - z * z);
+    dirs.emplace_back(r * std::cos(golden * k), r * std::sin(golden * k), z);
+  }
+  std::vector<std::vector<double>> p(nodes, std::vector<double>(ndir, 0.0));
+  for (int f = 0; f < m.num_faces(); ++f) {
+    const int node = m.face_node[f];
+    if (node < 0) continue;
+    const Eigen::Vector3d a = m.V.row(m.F(f, 0)), b = m.V.row(m.F(f, 1)), c = m.V.row(m.F(f, 2));
+    const Eigen::Vector3d n = 0.5 * (b - a).cross(c - a);
+    for (int k = 0; k < ndir; ++k) p[node][k] += std::max(0.0, n.dot(dirs[k]));
+  }
+  return p;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  DecimationOptions o = reduction_decimation_options();
+  o.max_relative_area_change = 7.5e-4;  // reduce's bound at 0.5 K on the NASA meshes
+  std::vector<fs::path> models;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&] { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
+    if (a == "--normal") o.max_normal_deviation_deg = value();
+    else if (a == "--contour") o.max_contour_deviation = value();
+    else if (a == "--budget") o.projected_area_budget = value();
+    else if (a == "--kink") o.max_kinked_contour_deviation = value();
+    else if (a == "--fold") o.max_fold_deg = value();
+    else if (a == "--area") o.max_relative_area_change = value();
+    else if (a == "--geometric") o.collapse_cost = CollapseCostKind::geometric;
+    else models.emplace_back(a);
+  }
+  if (models.empty()) {
+    const fs::path src = THERMODEC_SOURCE_DIR;
+    for (const char* m : {"NPP_16.stl", "Juno.stl"})
+      if (fs::exists(src / "../shared/models/nasa" / m)) models.push_back(src / "../shared/models/nasa" / m);
+  }
+  std::printf("# cost %s, normals %g deg, contour %g, projected-area budget %g (fold %g deg, kink %g), area %g\n",
+              o.collapse_cost == CollapseCostKind::geometric ? "geometric" : "radiative", o.max_normal_deviation_deg,
+              o.max_contour_deviation, o.projected_area_budget, o.max_fold_deg, o.max_kinked_contour_deviation,
+              o.max_relative_area_change);
+  for (const auto& path : models) {
+    const ThermalModel model = load_model(path);
+    const Mesh& mesh = model.mesh;
+    const int nodes = static_cast<int>(model.nodes.size());
+    const auto p0 = projected_areas(mesh, nodes, 200);
+    std::vector<double> area(nodes, 0.0);
+    for (int f = 0; f < mesh.num_faces(); ++f) {
+      if (mesh.face_node[f] < 0) continue;
+      const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
+      area[mesh.face_node[f]] += 0.5 * (b - a).cross(c - a).norm();
+    }
+    const double t0 = cpu_seconds();
+    const DecimationResult r = decimate_nodes(mesh, Eigen::VectorXd::Constant(nodes, 0.9), o);
+    const double t = cpu_seconds() - t0;
+    const auto p1 = projected_areas(r.mesh, nodes, 200);
+    std::vector<double> change(nodes, 0.0);
+    for (int n = 0; n < nodes; ++n)
+      for (size_t k = 0; k < p0[n].size(); ++k)
+        if (area[n] > 0) change[n] = std::max(change[n], std::abs(p1[n][k] - p0[n][k]) / area[n]);
+    std::sort(change.begin(), change.end());
+    std::array<int, kCollapseBlocks> edges{}, stopped{};
+    for (const auto& s : r.nodes) {
+      for (int k = 0; k < kCollapseBlocks; ++k) edges[k] += s.blocked_edges[k];
+      if (!s.reached) ++stopped[static_cast<int>(s.stopped_by())];
+    }
+    std::string why;
+    std::vector<int> order(kCollapseBlocks);
+    for (int k = 0; k < kCollapseBlocks; ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return edges[a] > edges[b]; });
+    for (int k : order)
+      if (edges[k] > 0)
+        why += std::string(why.empty() ? "" : ", ") + collapse_block_name(static_cast<CollapseBlock>(k)) + " " +
+               std::to_string(edges[k]) + (stopped[k] > 0 ? " (" + std::to_string(stopped[k]) + ")" : "");
+    std::printf("%-8s %6d -> %6d (%.1f %%)  max dP/A %.2e, median %.2e  %.2f s  %s\n", path.stem().string().c_str(),
+                mesh.num_faces(), r.mesh.num_faces(), 100.0 * r.mesh.num_faces() / mesh.num_faces(), change.back(),
+                change[change.size() / 2], t, why.c_str());
+  }
+  return 0;
+}
