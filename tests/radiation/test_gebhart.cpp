@@ -8,6 +8,7 @@
 
 #include "test_meshes.h"
 #include "thermodec/common/errors.h"
+#include "thermodec/nodes/merge_nodes.h"
 #include "thermodec/radiation/gebhart_factors.h"
 #include "thermodec/radiation/radiative_couplings.h"
 #include "thermodec/rays/ray_scene.h"
@@ -199,4 +200,62 @@ TEST(Gebhart, coupling_to_space_of_a_flat_node_comes_from_closure_with_the_symme
   // of the true one, so 0.6 leaves room on both sides.
   EXPECT_LT(spread(closed), 0.6 * spread(raw)) << "closure " << spread(closed) << " raw " << spread(raw);
   EXPECT_LT(spread(closed), 2.0 * se) << "spread " << spread(closed) << " reported " << se;
+}
+
+namespace {
+// A plate inside a closed box (one-sided, outward) facing down onto a plate under the box:
+// the inner plate's rays leave through the back of the box's floor and land on the lower
+// plate, whose rays stop on the floor's front. The pair is not reciprocal by geometry, whatever
+// the ray counts (the Juno bus floor inside a larger closed part). A third plate beside, off
+// both their views, is the lower plate's merge partner.
+Mesh plate_inside_a_box() {
+  Mesh mesh;
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F;
+  box({-1, -1, 0}, {1, 1, 2}, false, 2, V, F);
+  append_part(mesh, V, F, "box");
+  grid({-0.5, -0.5, 0.5}, {0, 1, 0}, {1, 0, 0}, 2, 2, V, F);  // normal -z
+  append_part(mesh, V, F, "inner");
+  grid({-1, -1, -0.25}, {2, 0, 0}, {0, 2, 0}, 3, 3, V, F);  // normal +z
+  append_part(mesh, V, F, "lower");
+  grid({4, 4, -1}, {0, 1, 0}, {1, 0, 0}, 2, 2, V, F);  // normal -z: sees neither
+  append_part(mesh, V, F, "beside");
+  return mesh;
+}
+
+NodeCouplings couplings_of(const ThermalModel& m) {
+  const RayScene scene(m.mesh);
+  const SurfaceSides sides = surface_sides(m);
+  const FaceViewFactors vf = face_view_factors(scene, sides, m.radiation);
+  const Eigen::VectorXd eps = side_emissivity(m, sides);
+  const int n = static_cast<int>(m.nodes.size());
+  return aggregate_couplings(vf, eps, gebhart_factors(vf, eps, node_groups(sides, n), n + 1), n);
+}
+}  // namespace
+
+TEST(Gebhart, a_pair_not_reciprocal_by_geometry_does_not_depend_on_the_other_sides_ray_count) {
+  // Black surfaces (B = F): the inner plate's couplings come from its own rays and from the
+  // lower plate's, which never reach it. Inverse-variance weights would take the lower plate's
+  // zero count as exact, weighted by its "one ray" floor: 16x its rays moved the inner plate's
+  // coupling to it 256x in weight. The plain mean of the two directions does not move, and a
+  // merge of the lower plate with a third node changes nothing for the inner plate either.
+  const Mesh mesh = plate_inside_a_box();
+  ThermalModel m = model_of(mesh, 1.0, 1.0, 64, 3);
+  m.radiation.min_rays_per_node = 20000;
+  const NodeCouplings base = couplings_of(m);
+  ASSERT_GT(base.diagnostics.non_reciprocal_pairs, 0);
+  ASSERT_GT(base.diagnostics.back_hits_on_one_sided, 0);
+  const double gr = base.radiative_couplings_m2(1, 2), space = base.to_space_couplings_m2[1];
+  ASSERT_GT(gr, 0.05 * base.area_m2[1]) << "the inner plate must see the lower one through the floor";
+
+  m.nodes[2].sampling_boost.ir = 16.0;
+  const NodeCouplings boosted = couplings_of(m);
+  EXPECT_NEAR(boosted.radiative_couplings_m2(1, 2), gr, 1e-12);
+  EXPECT_NEAR(boosted.to_space_couplings_m2[1], space, 1e-12);
+
+  m.nodes[2].sampling_boost.ir = 1.0;
+  const ThermalModel merged = merge_nodes(m, node_merge_map({0, 1, 2, 2}, 4));
+  const NodeCouplings mc = couplings_of(merged);
+  EXPECT_NEAR(mc.radiative_couplings_m2(1, 2), gr + base.radiative_couplings_m2(1, 3), 1e-12);
+  EXPECT_NEAR(mc.to_space_couplings_m2[1], space, 1e-12);
 }

@@ -28,6 +28,48 @@ double combine(double x1, double v1, double x2, double v2, double& x, double& as
   return v1 * v2 / vs;
 }
 
+// The plain mean of the two estimates, for a pair the two directions do not agree on
+// (non_reciprocal_pairs): returns its variance.
+double mean_of(double x1, double v1, double x2, double v2, double& x, double& asym_sigma) {
+  const double vs = v1 + v2;
+  x = 0.5 * (x1 + x2);
+  asym_sigma = vs > 0.0 ? std::abs(x1 - x2) / std::sqrt(vs) : 0.0;
+  return 0.25 * vs;
+}
+
+// Pairs whose two directions disagree beyond any noise (1 = i, j broken), in units of a
+// binomial standard error that does not rest on either direction's own count: an exchange
+// x = (X_ij + X_ji) / 2 [m^2] spread over node i's sides scores about x a_i in variance from
+// i's rays, a_i = sum_s A_s^2 / R_s / sum_s A_s its area per ray [m^2] (and likewise from j's).
+// Inverse-variance weights would take a direction that saw nothing (zero count, zero binomial
+// variance) as exact and weigh it against the other by the "one ray" floors, i.e. by the two
+// nodes' ray counts: the result then moves with any change of ray allocation (a merged
+// partner, a sampling boost, a decimated face). Geometry makes such pairs: a face inside a
+// closed part of another body sends rays out through one-sided backs that nothing outside
+// sends back. Their plain mean is the same whatever the ray counts, and sums over merged
+// nodes like the counts themselves.
+Eigen::MatrixXi non_reciprocal_pairs(const FaceViewFactors& vf, const Eigen::VectorXi& group, const Eigen::MatrixXd& X,
+                                     const Eigen::VectorXd& floor_vf, int N) {
+  const SurfaceSides& sd = vf.sides;
+  Eigen::VectorXd a2r = Eigen::VectorXd::Zero(N), area = Eigen::VectorXd::Zero(N);
+  for (int s = 0; s < sd.size(); ++s) {
+    const int i = group[s];
+    if (i < 0 || i >= N) continue;
+    const double R = vf.side_rays.size() ? vf.side_rays[s] : vf.rays_per_side;
+    a2r[i] += sd.area_m2[s] * sd.area_m2[s] / R;
+    area[i] += sd.area_m2[s];
+  }
+  Eigen::MatrixXi out = Eigen::MatrixXi::Zero(N, N);
+  for (int i = 0; i < N; ++i)
+    for (int j = i + 1; j < N; ++j) {
+      if (!(area[i] > 0.0) || !(area[j] > 0.0)) continue;
+      const double x = 0.5 * (X(i, j) + X(j, i));
+      const double var = x * (a2r[i] / area[i] + a2r[j] / area[j]) + floor_vf[i] + floor_vf[j];
+      if (var > 0.0 && std::abs(X(i, j) - X(j, i)) > kNonReciprocalSigma * std::sqrt(var)) out(i, j) = out(j, i) = 1;
+    }
+  return out;
+}
+
 // Delta-method variance of one linear combination of row i's Gebhart couplings per node i,
 // sum_j M(i, j) GR_ij (columns: nodes, unassigned, space): a ray of side s landing on side t
 // scores Y(t, :) M(i, :)^T (an escaping ray M(i, space)); side s's per-ray variance of that
@@ -155,6 +197,7 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
       }
   }
   nc.area_m2 = area;
+  const Eigen::MatrixXi broken = non_reciprocal_pairs(vf, group, X, floor_vf, N);
   nc.view_factors.setZero(N, N);
   nc.view_factors_standard_error.setZero(N, N);
   nc.to_space.setZero(N);
@@ -167,6 +210,10 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
       if (i == j) {
         x = X(i, i);
         v = VX(i, i);
+      } else if (broken(i, j)) {
+        v = mean_of(X(i, j), VX(i, j) + floor_vf[i], X(j, i), VX(j, i) + floor_vf[j], x, sig);
+        dg.view_factor_asymmetry_sigma = std::max(dg.view_factor_asymmetry_sigma, sig);
+        ++dg.non_reciprocal_pairs;
       } else {
         v = combine(X(i, j), VX(i, j) + floor_vf[i], X(j, i), VX(j, i) + floor_vf[j], x, sig);
         dg.view_factor_asymmetry_sigma = std::max(dg.view_factor_asymmetry_sigma, sig);
@@ -232,9 +279,14 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
       } else {
         v_dir(i, j) = VG(i, j) + floor_gr[i] * ymax[j] * ymax[j];
         v_dir(j, i) = VG(j, i) + floor_gr[j] * ymax[i] * ymax[i];
-        v = combine(GR(i, j), v_dir(i, j), GR(j, i), v_dir(j, i), x, sig);
         const double vs = v_dir(i, j) + v_dir(j, i);
-        lambda(i, j) = vs > 0.0 ? v_dir(j, i) / vs : 0.5;
+        if (broken(i, j)) {
+          v = mean_of(GR(i, j), v_dir(i, j), GR(j, i), v_dir(j, i), x, sig);
+          lambda(i, j) = 0.5;
+        } else {
+          v = combine(GR(i, j), v_dir(i, j), GR(j, i), v_dir(j, i), x, sig);
+          lambda(i, j) = vs > 0.0 ? v_dir(j, i) / vs : 0.5;
+        }
         lambda(j, i) = 1.0 - lambda(i, j);
         dg.coupling_asymmetry_sigma = std::max(dg.coupling_asymmetry_sigma, sig);
         const double big = std::max(GR(i, j), GR(j, i));
