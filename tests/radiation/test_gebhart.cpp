@@ -8,7 +8,6 @@
 
 #include "test_meshes.h"
 #include "thermodec/common/errors.h"
-#include "thermodec/nodes/merge_nodes.h"
 #include "thermodec/radiation/gebhart_factors.h"
 #include "thermodec/radiation/radiative_couplings.h"
 #include "thermodec/rays/ray_scene.h"
@@ -207,7 +206,7 @@ namespace {
 // the inner plate's rays leave through the back of the box's floor and land on the lower
 // plate, whose rays stop on the floor's front. The pair is not reciprocal by geometry, whatever
 // the ray counts (the Juno bus floor inside a larger closed part). A third plate beside, off
-// both their views, is the lower plate's merge partner.
+// both their views.
 Mesh plate_inside_a_box() {
   Mesh mesh;
   Eigen::MatrixXd V;
@@ -233,29 +232,23 @@ NodeCouplings couplings_of(const ThermalModel& m) {
 }
 }  // namespace
 
-TEST(Gebhart, a_pair_not_reciprocal_by_geometry_does_not_depend_on_the_other_sides_ray_count) {
-  // Black surfaces (B = F): the inner plate's couplings come from its own rays and from the
-  // lower plate's, which never reach it. Inverse-variance weights would take the lower plate's
-  // zero count as exact, weighted by its "one ray" floor: 16x its rays moved the inner plate's
-  // coupling to it 256x in weight. The plain mean of the two directions does not move, and a
-  // merge of the lower plate with a third node changes nothing for the inner plate either.
-  const Mesh mesh = plate_inside_a_box();
-  ThermalModel m = model_of(mesh, 1.0, 1.0, 64, 3);
+TEST(Gebhart, pairs_not_reciprocal_by_geometry_are_counted_and_reciprocal_ones_are_not) {
+  // The inner plate sees the lower one through the box floor (thousands of hits), the lower
+  // plate never sees the inner one: counted. Two plates facing each other in the open: not.
+  ThermalModel m = model_of(plate_inside_a_box(), 1.0, 1.0, 64, 3);
   m.radiation.min_rays_per_node = 20000;
-  const NodeCouplings base = couplings_of(m);
-  ASSERT_GT(base.diagnostics.non_reciprocal_pairs, 0);
-  ASSERT_GT(base.diagnostics.back_hits_on_one_sided, 0);
-  const double gr = base.radiative_couplings_m2(1, 2), space = base.to_space_couplings_m2[1];
-  ASSERT_GT(gr, 0.05 * base.area_m2[1]) << "the inner plate must see the lower one through the floor";
-
-  m.nodes[2].sampling_boost.ir = 16.0;
-  const NodeCouplings boosted = couplings_of(m);
-  EXPECT_NEAR(boosted.radiative_couplings_m2(1, 2), gr, 1e-12);
-  EXPECT_NEAR(boosted.to_space_couplings_m2[1], space, 1e-12);
-
-  m.nodes[2].sampling_boost.ir = 1.0;
-  const ThermalModel merged = merge_nodes(m, node_merge_map({0, 1, 2, 2}, 4));
-  const NodeCouplings mc = couplings_of(merged);
-  EXPECT_NEAR(mc.radiative_couplings_m2(1, 2), gr + base.radiative_couplings_m2(1, 3), 1e-12);
-  EXPECT_NEAR(mc.to_space_couplings_m2[1], space, 1e-12);
+  const NodeCouplings c = couplings_of(m);
+  EXPECT_GT(c.diagnostics.back_hits_on_one_sided, 0);
+  EXPECT_GE(c.diagnostics.non_reciprocal_pairs, 1);
+  Mesh open;
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F;
+  grid({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 3, 3, V, F);
+  append_part(open, V, F, "bottom");
+  grid({0, 0, 0.5}, {0, 1, 0}, {1, 0, 0}, 3, 3, V, F);
+  append_part(open, V, F, "top");
+  ThermalModel r = model_of(open, 1.0, 1.0, 64, 3);
+  r.radiation.min_rays_per_node = 20000;
+  r.nodes[1].sampling_boost.ir = 16.0;
+  EXPECT_EQ(couplings_of(r).diagnostics.non_reciprocal_pairs, 0);
 }

@@ -28,26 +28,17 @@ double combine(double x1, double v1, double x2, double v2, double& x, double& as
   return v1 * v2 / vs;
 }
 
-// The plain mean of the two estimates, for a pair the two directions do not agree on
-// (non_reciprocal_pairs): returns its variance.
-double mean_of(double x1, double v1, double x2, double v2, double& x, double& asym_sigma) {
-  const double vs = v1 + v2;
-  x = 0.5 * (x1 + x2);
-  asym_sigma = vs > 0.0 ? std::abs(x1 - x2) / std::sqrt(vs) : 0.0;
-  return 0.25 * vs;
-}
-
-// Pairs whose two directions disagree beyond any noise (1 = i, j broken), in units of a
-// binomial standard error that does not rest on either direction's own count: an exchange
+// Pairs whose two directions disagree beyond any noise (1 = i, j), in units of a binomial
+// standard error that does not rest on either direction's own count: an exchange
 // x = (X_ij + X_ji) / 2 [m^2] spread over node i's sides scores about x a_i in variance from
 // i's rays, a_i = sum_s A_s^2 / R_s / sum_s A_s its area per ray [m^2] (and likewise from j's).
-// Inverse-variance weights would take a direction that saw nothing (zero count, zero binomial
-// variance) as exact and weigh it against the other by the "one ray" floors, i.e. by the two
-// nodes' ray counts: the result then moves with any change of ray allocation (a merged
-// partner, a sampling boost, a decimated face). Geometry makes such pairs: a face inside a
-// closed part of another body sends rays out through one-sided backs that nothing outside
-// sends back. Their plain mean is the same whatever the ray counts, and sums over merged
-// nodes like the counts themselves.
+// Geometry makes such pairs: a face inside a closed part of another body sends rays out through
+// one-sided backs that nothing outside sends back. Their inverse-variance combination takes the
+// zero count as exact and weighs it against the other direction by the "one ray" floors, i.e.
+// by the two nodes' ray counts: it moves with any change of ray allocation (a merged partner, a
+// sampling boost, a decimated face). Reported (CouplingDiagnostics::non_reciprocal_pairs), not
+// corrected: no count-free rule tried kept both Juno's and NPP_16's merges consistent
+// (docs/radiation.md, Reciprocity).
 Eigen::MatrixXi non_reciprocal_pairs(const FaceViewFactors& vf, const Eigen::VectorXi& group, const Eigen::MatrixXd& X,
                                      const Eigen::VectorXd& floor_vf, int N) {
   const SurfaceSides& sd = vf.sides;
@@ -210,11 +201,8 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
       if (i == j) {
         x = X(i, i);
         v = VX(i, i);
-      } else if (broken(i, j)) {
-        v = mean_of(X(i, j), VX(i, j) + floor_vf[i], X(j, i), VX(j, i) + floor_vf[j], x, sig);
-        dg.view_factor_asymmetry_sigma = std::max(dg.view_factor_asymmetry_sigma, sig);
-        ++dg.non_reciprocal_pairs;
       } else {
+        dg.non_reciprocal_pairs += broken(i, j);
         v = combine(X(i, j), VX(i, j) + floor_vf[i], X(j, i), VX(j, i) + floor_vf[j], x, sig);
         dg.view_factor_asymmetry_sigma = std::max(dg.view_factor_asymmetry_sigma, sig);
       }
@@ -279,14 +267,9 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
       } else {
         v_dir(i, j) = VG(i, j) + floor_gr[i] * ymax[j] * ymax[j];
         v_dir(j, i) = VG(j, i) + floor_gr[j] * ymax[i] * ymax[i];
+        v = combine(GR(i, j), v_dir(i, j), GR(j, i), v_dir(j, i), x, sig);
         const double vs = v_dir(i, j) + v_dir(j, i);
-        if (broken(i, j)) {
-          v = mean_of(GR(i, j), v_dir(i, j), GR(j, i), v_dir(j, i), x, sig);
-          lambda(i, j) = 0.5;
-        } else {
-          v = combine(GR(i, j), v_dir(i, j), GR(j, i), v_dir(j, i), x, sig);
-          lambda(i, j) = vs > 0.0 ? v_dir(j, i) / vs : 0.5;
-        }
+        lambda(i, j) = vs > 0.0 ? v_dir(j, i) / vs : 0.5;
         lambda(j, i) = 1.0 - lambda(i, j);
         dg.coupling_asymmetry_sigma = std::max(dg.coupling_asymmetry_sigma, sig);
         const double big = std::max(GR(i, j), GR(j, i));

@@ -14,7 +14,7 @@ namespace thermodec {
 //! How well the Monte Carlo estimate obeys the exact identities (before enforcing them).
 //! A pair of nodes whose two ray directions disagree by more than this many standard errors
 //! (pooled: from their mean exchange, not from either direction's own count) is not
-//! reciprocal by geometry; its two estimates are averaged, not weighted by their variances.
+//! reciprocal by geometry (radiative_couplings.cpp, non_reciprocal_pairs).
 constexpr double kNonReciprocalSigma = 6.0;
 
 struct CouplingDiagnostics {
@@ -26,7 +26,7 @@ struct CouplingDiagnostics {
   double coupling_asymmetry_sigma = 0.0;  //!< same in standard errors
   //! Node pairs whose two directions disagree by more than kNonReciprocalSigma pooled
   //! standard errors (geometry, not noise: e.g. a face inside another body's closed part);
-  //! they are combined by their plain mean, which does not depend on the ray counts.
+  //! their inverse-variance combination depends on the two nodes' ray counts (docs/radiation.md).
   int non_reciprocal_pairs = 0;
   //! max over nodes of |sum_j F_ij + F_i,space - 1| after symmetrisation (0 before: every ray
   //! is counted once).
