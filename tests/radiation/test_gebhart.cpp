@@ -8,6 +8,7 @@
 
 #include "test_meshes.h"
 #include "thermodec/common/errors.h"
+#include "thermodec/nodes/merge_nodes.h"
 #include "thermodec/radiation/gebhart_factors.h"
 #include "thermodec/radiation/radiative_couplings.h"
 #include "thermodec/rays/ray_scene.h"
@@ -199,4 +200,77 @@ TEST(Gebhart, coupling_to_space_of_a_flat_node_comes_from_closure_with_the_symme
   // of the true one, so 0.6 leaves room on both sides.
   EXPECT_LT(spread(closed), 0.6 * spread(raw)) << "closure " << spread(closed) << " raw " << spread(raw);
   EXPECT_LT(spread(closed), 2.0 * se) << "spread " << spread(closed) << " reported " << se;
+}
+
+namespace {
+// A plate inside a closed box (one-sided, outward) facing down onto a plate under the box:
+// the inner plate's rays leave through the back of the box's floor and land on the lower
+// plate, whose rays stop on the floor's front. The pair is not reciprocal by geometry, whatever
+// the ray counts (the Juno bus floor inside a larger closed part). A third plate beside, off
+// both their views.
+Mesh plate_inside_a_box() {
+  Mesh mesh;
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F;
+  box({-1, -1, 0}, {1, 1, 2}, false, 2, V, F);
+  append_part(mesh, V, F, "box");
+  grid({-0.5, -0.5, 0.5}, {0, 1, 0}, {1, 0, 0}, 2, 2, V, F);  // normal -z
+  append_part(mesh, V, F, "inner");
+  grid({-1, -1, -0.25}, {2, 0, 0}, {0, 2, 0}, 3, 3, V, F);  // normal +z
+  append_part(mesh, V, F, "lower");
+  grid({4, 4, -1}, {0, 1, 0}, {1, 0, 0}, 2, 2, V, F);  // normal -z: sees neither
+  append_part(mesh, V, F, "beside");
+  return mesh;
+}
+
+NodeCouplings couplings_of(const ThermalModel& m) {
+  const RayScene scene(m.mesh);
+  const SurfaceSides sides = surface_sides(m);
+  const FaceViewFactors vf = face_view_factors(scene, sides, m.radiation);
+  const Eigen::VectorXd eps = side_emissivity(m, sides);
+  const int n = static_cast<int>(m.nodes.size());
+  return aggregate_couplings(vf, eps, gebhart_factors(vf, eps, node_groups(sides, n), n + 1), n);
+}
+}  // namespace
+
+TEST(Gebhart, pairs_not_reciprocal_by_geometry_are_counted_and_reciprocal_ones_are_not) {
+  // The inner plate sees the lower one through the box floor (thousands of hits), the lower
+  // plate never sees the inner one: counted. Two plates facing each other in the open: not.
+  ThermalModel m = model_of(plate_inside_a_box(), 1.0, 1.0, 64, 3);
+  m.radiation.min_rays_per_node = 20000;
+  const NodeCouplings c = couplings_of(m);
+  EXPECT_GT(c.diagnostics.back_hits_on_one_sided, 0);
+  EXPECT_GE(c.diagnostics.non_reciprocal_pairs, 1);
+  Mesh open;
+  Eigen::MatrixXd V;
+  Eigen::MatrixXi F;
+  grid({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 3, 3, V, F);
+  append_part(open, V, F, "bottom");
+  grid({0, 0, 0.5}, {0, 1, 0}, {1, 0, 0}, 3, 3, V, F);
+  append_part(open, V, F, "top");
+  ThermalModel r = model_of(open, 1.0, 1.0, 64, 3);
+  r.radiation.min_rays_per_node = 20000;
+  r.nodes[1].sampling_boost.ir = 16.0;
+  EXPECT_EQ(couplings_of(r).diagnostics.non_reciprocal_pairs, 0);
+}
+
+TEST(Gebhart, a_pair_not_reciprocal_by_geometry_does_not_depend_on_the_other_sides_ray_count) {
+  // Black surfaces (B = F): the inner plate's couplings come from its own rays and from the
+  // lower plate's, which never reach it. Inverse-variance weights would take the lower plate's
+  // zero count as exact, weighed against the inner plate's by its "one ray" floor: 16x its rays
+  // moved the coupling 256x in weight. The plain mean of the two directions, with the pair's
+  // difference left on GR_ii, does not move, nor does a merge of the lower plate with a third.
+  ThermalModel m = model_of(plate_inside_a_box(), 1.0, 1.0, 64, 3);
+  m.radiation.min_rays_per_node = 20000;
+  const NodeCouplings base = couplings_of(m);
+  const double gr = base.radiative_couplings_m2(1, 2), space = base.to_space_couplings_m2[1];
+  ASSERT_GT(gr, 0.02 * base.area_m2[1]) << "the inner plate must see the lower one through the floor";
+  m.nodes[2].sampling_boost.ir = 16.0;
+  const NodeCouplings boosted = couplings_of(m);
+  EXPECT_NEAR(boosted.radiative_couplings_m2(1, 2), gr, 1e-12);
+  EXPECT_NEAR(boosted.to_space_couplings_m2[1], space, 1e-12);
+  m.nodes[2].sampling_boost.ir = 1.0;
+  const NodeCouplings merged = couplings_of(merge_nodes(m, node_merge_map({0, 1, 2, 2}, 4)));
+  EXPECT_NEAR(merged.radiative_couplings_m2(1, 2), gr + base.radiative_couplings_m2(1, 3), 1e-12);
+  EXPECT_NEAR(merged.to_space_couplings_m2[1], space, 1e-12);
 }

@@ -28,6 +28,48 @@ double combine(double x1, double v1, double x2, double v2, double& x, double& as
   return v1 * v2 / vs;
 }
 
+// The plain mean of the two estimates, for a pair the geometry makes one-way
+// (non_reciprocal_pairs): returns its variance.
+double mean_of(double x1, double v1, double x2, double v2, double& x, double& asym_sigma) {
+  const double vs = v1 + v2;
+  x = 0.5 * (x1 + x2);
+  asym_sigma = vs > 0.0 ? std::abs(x1 - x2) / std::sqrt(vs) : 0.0;
+  return 0.25 * vs;
+}
+
+// Pairs whose two directions disagree beyond any noise (1 = i, j), in units of a binomial
+// standard error that does not rest on either direction's own count: an exchange
+// x = (X_ij + X_ji) / 2 [m^2] spread over node i's sides scores about x a_i in variance from
+// i's rays, a_i = sum_s A_s^2 / R_s / sum_s A_s its area per ray [m^2] (and likewise from j's).
+// Geometry makes such pairs: a face inside a closed part of another body sends rays out through
+// one-sided backs that nothing outside sends back. Their inverse-variance combination takes the
+// zero count as exact and weighs it against the other direction by the "one ray" floors, i.e.
+// by the two nodes' ray counts: it moves with any change of ray allocation (a merged partner, a
+// sampling boost, a decimated face). They take the plain mean of the two directions, and their
+// difference stays out of the closure correction (restore_closure): both free of ray counts
+// (docs/radiation.md, Reciprocity).
+Eigen::MatrixXi non_reciprocal_pairs(const FaceViewFactors& vf, const Eigen::VectorXi& group, const Eigen::MatrixXd& X,
+                                     const Eigen::VectorXd& floor_vf, int N) {
+  const SurfaceSides& sd = vf.sides;
+  Eigen::VectorXd a2r = Eigen::VectorXd::Zero(N), area = Eigen::VectorXd::Zero(N);
+  for (int s = 0; s < sd.size(); ++s) {
+    const int i = group[s];
+    if (i < 0 || i >= N) continue;
+    const double R = vf.side_rays.size() ? vf.side_rays[s] : vf.rays_per_side;
+    a2r[i] += sd.area_m2[s] * sd.area_m2[s] / R;
+    area[i] += sd.area_m2[s];
+  }
+  Eigen::MatrixXi out = Eigen::MatrixXi::Zero(N, N);
+  for (int i = 0; i < N; ++i)
+    for (int j = i + 1; j < N; ++j) {
+      if (!(area[i] > 0.0) || !(area[j] > 0.0)) continue;
+      const double x = 0.5 * (X(i, j) + X(j, i));
+      const double var = x * (a2r[i] / area[i] + a2r[j] / area[j]) + floor_vf[i] + floor_vf[j];
+      if (var > 0.0 && std::abs(X(i, j) - X(j, i)) > kNonReciprocalSigma * std::sqrt(var)) out(i, j) = out(j, i) = 1;
+    }
+  return out;
+}
+
 // Delta-method variance of one linear combination of row i's Gebhart couplings per node i,
 // sum_j M(i, j) GR_ij (columns: nodes, unassigned, space): a ray of side s landing on side t
 // scores Y(t, :) M(i, :)^T (an escaping ray M(i, space)); side s's per-ray variance of that
@@ -71,7 +113,8 @@ Eigen::VectorXd row_combination_variance(const FaceViewFactors& vf, const RowMat
 // its floor, as combined.
 void restore_closure(const FaceViewFactors& vf, const RowMatrixXd& Y, const RowMatrixXd& B, const Eigen::MatrixXd& W,
                      const Eigen::MatrixXd& VG, const Eigen::MatrixXd& GR, const Eigen::VectorXd& emit,
-                     const Eigen::MatrixXd& lambda, const Eigen::MatrixXd& v_partner, NodeCouplings& nc) {
+                     const Eigen::MatrixXd& lambda, const Eigen::MatrixXd& v_partner, const Eigen::MatrixXi& broken,
+                     NodeCouplings& nc) {
   const int N = static_cast<int>(emit.size()), U = N, SP = N + 1, C = N + 2;
   CouplingDiagnostics& dg = nc.diagnostics;
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(N, C);
@@ -88,17 +131,22 @@ void restore_closure(const FaceViewFactors& vf, const RowMatrixXd& Y, const RowM
   for (int i = 0; i < N; ++i) {
     M(i, SP) = 1.0;
     for (int j = 0; j < N; ++j)
-      if (j != i) M(i, j) = w[i] * (1.0 - lambda(i, j));
+      if (j != i && !broken(i, j)) M(i, j) = w[i] * (1.0 - lambda(i, j));
   }
   const Eigen::VectorXd v_row = row_combination_variance(vf, Y, B, W, M);
   for (int i = 0; i < N; ++i) {
     if (!(emit[i] > 0.0)) continue;
     const double missing = emit[i] - (nc.radiative_couplings_m2.row(i).sum() + GR(i, SP) + GR(i, U));
     dg.coupling_closure_error = std::max(dg.coupling_closure_error, std::abs(missing) / emit[i]);
+    // A pair not reciprocal by geometry is no noise to predict the space error from: its part
+    // of the missing amount stays on GR_ii (which carries no heat), whatever the ray counts.
+    double geometric = 0.0;
+    for (int j = 0; j < N; ++j)
+      if (j != i && broken(i, j)) geometric += GR(i, j) - nc.radiative_couplings_m2(i, j);
     double v_other = 0.0;
     for (int j = 0; j < N; ++j)
       if (j != i) v_other += std::pow(M(i, j), 2) * v_partner(j, i);
-    const double sp = std::max(0.0, GR(i, SP) + w[i] * missing);
+    const double sp = std::max(0.0, GR(i, SP) + w[i] * (missing - geometric));
     nc.radiative_couplings_m2(i, i) = std::max(0.0, nc.radiative_couplings_m2(i, i) + missing - (sp - GR(i, SP)));
     nc.to_space_couplings_m2[i] = sp;
     nc.to_space_couplings_standard_error[i] = std::sqrt(v_row[i] + v_other);
@@ -155,6 +203,7 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
       }
   }
   nc.area_m2 = area;
+  const Eigen::MatrixXi broken = non_reciprocal_pairs(vf, group, X, floor_vf, N);
   nc.view_factors.setZero(N, N);
   nc.view_factors_standard_error.setZero(N, N);
   nc.to_space.setZero(N);
@@ -167,6 +216,10 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
       if (i == j) {
         x = X(i, i);
         v = VX(i, i);
+      } else if (broken(i, j)) {
+        ++dg.non_reciprocal_pairs;
+        v = mean_of(X(i, j), VX(i, j) + floor_vf[i], X(j, i), VX(j, i) + floor_vf[j], x, sig);
+        dg.view_factor_asymmetry_sigma = std::max(dg.view_factor_asymmetry_sigma, sig);
       } else {
         v = combine(X(i, j), VX(i, j) + floor_vf[i], X(j, i), VX(j, i) + floor_vf[j], x, sig);
         dg.view_factor_asymmetry_sigma = std::max(dg.view_factor_asymmetry_sigma, sig);
@@ -232,9 +285,14 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
       } else {
         v_dir(i, j) = VG(i, j) + floor_gr[i] * ymax[j] * ymax[j];
         v_dir(j, i) = VG(j, i) + floor_gr[j] * ymax[i] * ymax[i];
-        v = combine(GR(i, j), v_dir(i, j), GR(j, i), v_dir(j, i), x, sig);
         const double vs = v_dir(i, j) + v_dir(j, i);
-        lambda(i, j) = vs > 0.0 ? v_dir(j, i) / vs : 0.5;
+        if (broken(i, j)) {
+          v = mean_of(GR(i, j), v_dir(i, j), GR(j, i), v_dir(j, i), x, sig);
+          lambda(i, j) = 0.5;
+        } else {
+          v = combine(GR(i, j), v_dir(i, j), GR(j, i), v_dir(j, i), x, sig);
+          lambda(i, j) = vs > 0.0 ? v_dir(j, i) / vs : 0.5;
+        }
         lambda(j, i) = 1.0 - lambda(i, j);
         dg.coupling_asymmetry_sigma = std::max(dg.coupling_asymmetry_sigma, sig);
         const double big = std::max(GR(i, j), GR(j, i));
@@ -247,7 +305,7 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
     nc.to_space_couplings_m2[i] = GR(i, SP);
     nc.to_space_couplings_standard_error[i] = std::sqrt(VG(i, SP));
   }
-  restore_closure(vf, Y, B, W, VG, GR, emit, lambda, v_dir, nc);
+  restore_closure(vf, Y, B, W, VG, GR, emit, lambda, v_dir, broken, nc);
   return nc;
 }
 

@@ -12,6 +12,12 @@
 namespace thermodec {
 
 //! How well the Monte Carlo estimate obeys the exact identities (before enforcing them).
+//! A pair of nodes whose two ray directions disagree by more than this many standard errors
+//! (pooled: from their mean exchange, not from either direction's own count) is not
+//! reciprocal by geometry: it takes the plain mean of its two directions and its difference
+//! stays on GR_ii (radiative_couplings.cpp, non_reciprocal_pairs).
+constexpr double kNonReciprocalSigma = 6.0;
+
 struct CouplingDiagnostics {
   //! max over node pairs of |A_i F_ij - A_j F_ji| / sqrt(var_ij + var_ji): the raw
   //! reciprocity asymmetry in standard errors (~N(0,1) per pair if the errors are right).
@@ -19,6 +25,10 @@ struct CouplingDiagnostics {
   //! max over pairs with GR > 1e-3 max(GR) of |GR_ij - GR_ji| / max(GR_ij, GR_ji), raw.
   double coupling_asymmetry_relative = 0.0;
   double coupling_asymmetry_sigma = 0.0;  //!< same in standard errors
+  //! Node pairs whose two directions disagree by more than kNonReciprocalSigma pooled
+  //! standard errors (geometry, not noise: e.g. a face inside another body's closed part);
+  //! each takes the plain mean of its two directions (docs/radiation.md, Reciprocity).
+  int non_reciprocal_pairs = 0;
   //! max over nodes of |sum_j F_ij + F_i,space - 1| after symmetrisation (0 before: every ray
   //! is counted once).
   double view_factor_closure_error = 0.0;
