@@ -104,8 +104,8 @@ void run(const ViewFactorsOptions& o) {
                "inconsistently oriented, self-intersecting or has coincident faces{}\n",
                d.view_factor_asymmetry_sigma, o.two_sided ? "" : " (try --two-sided)");
   if (d.non_reciprocal_pairs)
-    fmt::print("{} node pairs not reciprocal beyond {:.0f} pooled standard errors (geometry, not noise): each "
-               "averaged over its two directions\n", d.non_reciprocal_pairs, kNonReciprocalSigma);
+    fmt::print("{} node pairs not reciprocal beyond {:.0f} pooled standard errors (geometry, not noise): their "
+               "couplings depend on the ray counts\n", d.non_reciprocal_pairs, kNonReciprocalSigma);
   fmt::print("{:<20} {:>10} {:>10} {:>12}\n", "node", "area_m2", "F_space", "GR_space_m2");
   for (std::size_t i = 0; i < model.nodes.size(); ++i)
     fmt::print("{:<20} {:>10.4g} {:>10.4f} {:>12.4g}\n", model.nodes[i].name, c.area_m2[i], c.to_space[i],

@@ -28,15 +28,6 @@ double combine(double x1, double v1, double x2, double v2, double& x, double& as
   return v1 * v2 / vs;
 }
 
-// The plain mean of the two estimates, for a pair the geometry makes one-way
-// (non_reciprocal_pairs): returns its variance.
-double mean_of(double x1, double v1, double x2, double v2, double& x, double& asym_sigma) {
-  const double vs = v1 + v2;
-  x = 0.5 * (x1 + x2);
-  asym_sigma = vs > 0.0 ? std::abs(x1 - x2) / std::sqrt(vs) : 0.0;
-  return 0.25 * vs;
-}
-
 // Pairs whose two directions disagree beyond any noise (1 = i, j), in units of a binomial
 // standard error that does not rest on either direction's own count: an exchange
 // x = (X_ij + X_ji) / 2 [m^2] spread over node i's sides scores about x a_i in variance from
@@ -45,8 +36,8 @@ double mean_of(double x1, double v1, double x2, double v2, double& x, double& as
 // one-sided backs that nothing outside sends back. Their inverse-variance combination takes the
 // zero count as exact and weighs it against the other direction by the "one ray" floors, i.e.
 // by the two nodes' ray counts: it moves with any change of ray allocation (a merged partner, a
-// sampling boost, a decimated face). They take the plain mean of the two directions, and their
-// difference stays out of the closure correction (restore_closure): both free of ray counts
+// sampling boost, a decimated face). Reported (CouplingDiagnostics::non_reciprocal_pairs), not
+// corrected: no count-free rule tried kept both Juno's and NPP_16's merges consistent
 // (docs/radiation.md, Reciprocity).
 Eigen::MatrixXi non_reciprocal_pairs(const FaceViewFactors& vf, const Eigen::VectorXi& group, const Eigen::MatrixXd& X,
                                      const Eigen::VectorXd& floor_vf, int N) {
@@ -113,8 +104,7 @@ Eigen::VectorXd row_combination_variance(const FaceViewFactors& vf, const RowMat
 // its floor, as combined.
 void restore_closure(const FaceViewFactors& vf, const RowMatrixXd& Y, const RowMatrixXd& B, const Eigen::MatrixXd& W,
                      const Eigen::MatrixXd& VG, const Eigen::MatrixXd& GR, const Eigen::VectorXd& emit,
-                     const Eigen::MatrixXd& lambda, const Eigen::MatrixXd& v_partner, const Eigen::MatrixXi& broken,
-                     NodeCouplings& nc) {
+                     const Eigen::MatrixXd& lambda, const Eigen::MatrixXd& v_partner, NodeCouplings& nc) {
   const int N = static_cast<int>(emit.size()), U = N, SP = N + 1, C = N + 2;
   CouplingDiagnostics& dg = nc.diagnostics;
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(N, C);
@@ -131,22 +121,17 @@ void restore_closure(const FaceViewFactors& vf, const RowMatrixXd& Y, const RowM
   for (int i = 0; i < N; ++i) {
     M(i, SP) = 1.0;
     for (int j = 0; j < N; ++j)
-      if (j != i && !broken(i, j)) M(i, j) = w[i] * (1.0 - lambda(i, j));
+      if (j != i) M(i, j) = w[i] * (1.0 - lambda(i, j));
   }
   const Eigen::VectorXd v_row = row_combination_variance(vf, Y, B, W, M);
   for (int i = 0; i < N; ++i) {
     if (!(emit[i] > 0.0)) continue;
     const double missing = emit[i] - (nc.radiative_couplings_m2.row(i).sum() + GR(i, SP) + GR(i, U));
     dg.coupling_closure_error = std::max(dg.coupling_closure_error, std::abs(missing) / emit[i]);
-    // A pair not reciprocal by geometry is no noise to predict the space error from: its part
-    // of the missing amount stays on GR_ii (which carries no heat), whatever the ray counts.
-    double geometric = 0.0;
-    for (int j = 0; j < N; ++j)
-      if (j != i && broken(i, j)) geometric += GR(i, j) - nc.radiative_couplings_m2(i, j);
     double v_other = 0.0;
     for (int j = 0; j < N; ++j)
       if (j != i) v_other += std::pow(M(i, j), 2) * v_partner(j, i);
-    const double sp = std::max(0.0, GR(i, SP) + w[i] * (missing - geometric));
+    const double sp = std::max(0.0, GR(i, SP) + w[i] * missing);
     nc.radiative_couplings_m2(i, i) = std::max(0.0, nc.radiative_couplings_m2(i, i) + missing - (sp - GR(i, SP)));
     nc.to_space_couplings_m2[i] = sp;
     nc.to_space_couplings_standard_error[i] = std::sqrt(v_row[i] + v_other);
@@ -216,11 +201,8 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
       if (i == j) {
         x = X(i, i);
         v = VX(i, i);
-      } else if (broken(i, j)) {
-        ++dg.non_reciprocal_pairs;
-        v = mean_of(X(i, j), VX(i, j) + floor_vf[i], X(j, i), VX(j, i) + floor_vf[j], x, sig);
-        dg.view_factor_asymmetry_sigma = std::max(dg.view_factor_asymmetry_sigma, sig);
       } else {
+        dg.non_reciprocal_pairs += broken(i, j);
         v = combine(X(i, j), VX(i, j) + floor_vf[i], X(j, i), VX(j, i) + floor_vf[j], x, sig);
         dg.view_factor_asymmetry_sigma = std::max(dg.view_factor_asymmetry_sigma, sig);
       }
@@ -285,14 +267,9 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
       } else {
         v_dir(i, j) = VG(i, j) + floor_gr[i] * ymax[j] * ymax[j];
         v_dir(j, i) = VG(j, i) + floor_gr[j] * ymax[i] * ymax[i];
+        v = combine(GR(i, j), v_dir(i, j), GR(j, i), v_dir(j, i), x, sig);
         const double vs = v_dir(i, j) + v_dir(j, i);
-        if (broken(i, j)) {
-          v = mean_of(GR(i, j), v_dir(i, j), GR(j, i), v_dir(j, i), x, sig);
-          lambda(i, j) = 0.5;
-        } else {
-          v = combine(GR(i, j), v_dir(i, j), GR(j, i), v_dir(j, i), x, sig);
-          lambda(i, j) = vs > 0.0 ? v_dir(j, i) / vs : 0.5;
-        }
+        lambda(i, j) = vs > 0.0 ? v_dir(j, i) / vs : 0.5;
         lambda(j, i) = 1.0 - lambda(i, j);
         dg.coupling_asymmetry_sigma = std::max(dg.coupling_asymmetry_sigma, sig);
         const double big = std::max(GR(i, j), GR(j, i));
@@ -305,7 +282,7 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
     nc.to_space_couplings_m2[i] = GR(i, SP);
     nc.to_space_couplings_standard_error[i] = std::sqrt(VG(i, SP));
   }
-  restore_closure(vf, Y, B, W, VG, GR, emit, lambda, v_dir, broken, nc);
+  restore_closure(vf, Y, B, W, VG, GR, emit, lambda, v_dir, nc);
   return nc;
 }
 

@@ -14,8 +14,7 @@ namespace thermodec {
 //! How well the Monte Carlo estimate obeys the exact identities (before enforcing them).
 //! A pair of nodes whose two ray directions disagree by more than this many standard errors
 //! (pooled: from their mean exchange, not from either direction's own count) is not
-//! reciprocal by geometry: it takes the plain mean of its two directions and its difference
-//! stays on GR_ii (radiative_couplings.cpp, non_reciprocal_pairs).
+//! reciprocal by geometry (radiative_couplings.cpp, non_reciprocal_pairs).
 constexpr double kNonReciprocalSigma = 6.0;
 
 struct CouplingDiagnostics {
@@ -27,7 +26,7 @@ struct CouplingDiagnostics {
   double coupling_asymmetry_sigma = 0.0;  //!< same in standard errors
   //! Node pairs whose two directions disagree by more than kNonReciprocalSigma pooled
   //! standard errors (geometry, not noise: e.g. a face inside another body's closed part);
-  //! each takes the plain mean of its two directions (docs/radiation.md, Reciprocity).
+  //! their inverse-variance combination depends on the two nodes' ray counts (docs/radiation.md).
   int non_reciprocal_pairs = 0;
   //! max over nodes of |sum_j F_ij + F_i,space - 1| after symmetrisation (0 before: every ray
   //! is counted once).
