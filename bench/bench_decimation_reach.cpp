@@ -21,6 +21,7 @@
 #include <sys/resource.h>
 
 #include "thermodec/decimation/decimate_nodes.h"
+#include "thermodec/mesh/mesh_stats.h"
 #include "thermodec/nodes/load_model.h"
 #include "projected_areas.h"
 #include "thermodec/reduction/reduction_reference.h"
@@ -60,12 +61,7 @@ int main(int argc, char** argv) {
     const Mesh& mesh = model.mesh;
     const int nodes = static_cast<int>(model.nodes.size());
     const auto p0 = projected_areas(mesh, nodes, 200);
-    std::vector<double> area(nodes, 0.0);
-    for (int f = 0; f < mesh.num_faces(); ++f) {
-      if (mesh.face_node[f] < 0) continue;
-      const Eigen::Vector3d a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)), c = mesh.V.row(mesh.F(f, 2));
-      area[mesh.face_node[f]] += 0.5 * (b - a).cross(c - a).norm();
-    }
+    const std::vector<double> area = node_areas_m2(mesh);  // [m^2], one entry per node
     const double t0 = cpu_seconds();
     const DecimationResult r = decimate_nodes(mesh, Eigen::VectorXd::Constant(nodes, 0.9), o);
     const double t = cpu_seconds() - t0;
