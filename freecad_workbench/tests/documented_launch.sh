@@ -15,7 +15,7 @@ ln -s "$build" "$out/checkout/build"
 cd "$out/checkout"
 export HOME="$out/home" THERMODEC_START_CHECK="$out/check.txt" QTWEBENGINE_DISABLE_SANDBOX=1
 echo "documented: $line"
-xvfb-run -a -s '-screen 0 1600x1000x24' sh -c "$line" > "$out/freecad.log" 2>&1 || {
+"$src/scripts/with_xvfb" --screen 1600x1000x24 sh -c "$line" > "$out/freecad.log" 2>&1 || {
   tail -20 "$out/freecad.log"; exit 1; }
 cat "$out/check.txt"
 grep -qx 'workbench ThermoDecWorkbench' "$out/check.txt"

@@ -3,11 +3,12 @@
 #   check_dump.sh MESHLABSERVER WORKDIR "filter name" ...
 set -euo pipefail
 server=$1 work=$2
+with_xvfb=$(cd "$(dirname "$0")/../../scripts" && pwd)/with_xvfb
 shift 2
 mkdir -p "$work"
 cd "$work"
 rm -f filters.txt
-xvfb-run -a "$server" -d filters.txt >dump.log 2>&1 || { cat dump.log >&2; exit 1; }
+"$with_xvfb" "$server" -d filters.txt >dump.log 2>&1 || { cat dump.log >&2; exit 1; }
 grep -q "^Loading Plugins" dump.log || { echo "FAIL: no plugin loading in dump.log" >&2; exit 1; }
 status=0
 for name in "$@"; do

@@ -19,6 +19,9 @@ import numpy as np
 
 import thermodec as td
 
+# One X server per run (the repository's scripts/with_xvfb): parallel tests never share a display.
+WITH_XVFB = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "with_xvfb")
+
 
 def fail(message):
     print("FAIL: " + message, file=sys.stderr)
@@ -67,7 +70,7 @@ def main(cli, server, model_file, mesh, work):
                 ' </filter>\n</FilterScript>\n')
     if os.path.exists(ml_json):
         os.remove(ml_json)
-    out = subprocess.run(["xvfb-run", "-a", server, "-i", mesh, "-o", os.path.join(work, "meshlab.ply"),
+    out = subprocess.run([WITH_XVFB, server, "-i", mesh, "-o", os.path.join(work, "meshlab.ply"),
                           "-m", "fq", "fc", "-s", script], capture_output=True, text=True, cwd=work)
     log = out.stdout + out.stderr
     with open(os.path.join(work, "meshlab.log"), "w") as f:

@@ -7,10 +7,10 @@
 #   gui_screenshot.sh MESHLAB OUT.png [--expect-log REGEX]... [--reject-log REGEX]... FILE [-- XKEYS-STEP...]
 #     FILE: a mesh or a .mlp project; XKEYS-STEP: see xkeys.py (screen pixels of a fresh
 #     1280x800 Xvfb screen without a window manager, MeshLab's default layout).
-# Re-executes itself through xvfb-run unless THERMODEC_IN_XVFB is set.
+# Re-executes itself through scripts/with_xvfb (a server of its own) unless THERMODEC_IN_XVFB is set.
 set -euo pipefail
 if [ -z "${THERMODEC_IN_XVFB:-}" ]; then
-  THERMODEC_IN_XVFB=1 exec xvfb-run -a -s "-screen 0 1280x800x24" "$0" "$@"
+  THERMODEC_IN_XVFB=1 exec "$(dirname "$0")/../../scripts/with_xvfb" --screen 1280x800x24 "$0" "$@"
 fi
 here=$(cd "$(dirname "$0")" && pwd)
 meshlab=$1 out=$2

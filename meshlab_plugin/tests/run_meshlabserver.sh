@@ -38,7 +38,7 @@ in_args=()
 for i in "${inputs[@]}"; do
   case $i in *.mlp) in_args+=(-p "$i") ;; *) in_args+=(-i "$i") ;; esac
 done
-xvfb-run -a "$server" "${in_args[@]}" -o "$out" -m $mask -s "$script" >"$log" 2>&1
+"$here/../../scripts/with_xvfb" "$server" "${in_args[@]}" -o "$out" -m $mask -s "$script" >"$log" 2>&1
 rc=$?
 set -e
 sed -n '/^LOG:/p' "$log"

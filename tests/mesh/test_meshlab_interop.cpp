@@ -12,12 +12,12 @@
 using namespace thermodec;
 
 TEST(MeshLabInterop, node_ids_survive_a_meshlabserver_round_trip_as_face_quality) {
-  if (std::system("command -v meshlabserver >/dev/null 2>&1 && command -v xvfb-run >/dev/null 2>&1") != 0)
-    GTEST_SKIP() << "meshlabserver or xvfb-run not installed";
+  if (std::system("command -v meshlabserver >/dev/null 2>&1 && command -v Xvfb >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "meshlabserver or Xvfb not installed";
   const auto d = thermodec::test::temp_dir("meshlab");
   const Mesh cube = thermodec::test::unit_cube();
   write_mesh(d / "cube.ply", cube);
-  const std::string cmd = "timeout 60 xvfb-run -a meshlabserver -i '" + (d / "cube.ply").string() + "' -o '" +
+  const std::string cmd = "timeout 60 " THERMODEC_SOURCE_DIR "/scripts/with_xvfb meshlabserver -i '" + (d / "cube.ply").string() + "' -o '" +
                           (d / "back.ply").string() + "' -m fq >'" + (d / "log.txt").string() + "' 2>&1";
   const int status = std::system(cmd.c_str());
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "meshlabserver failed, see " << d / "log.txt";
