@@ -115,6 +115,8 @@ def main():
     Gui.Control.showDialog(panel)
     panel.length.setValue(MAX_EDGE_MM)
     assert panel.accept(), "tessellate"
+    wait_for_job(taskpanels.ACTIVE.get("RunPanel"), 300)  # meshed in the background (freecadcmd)
+    Gui.Control.closeDialog()
     for obj in shapes.values():
         obj.ViewObject.Visibility = False
     analysis.ThermalMesh.ViewObject.DisplayMode = "Flat Lines"
