@@ -764,15 +764,20 @@ class CoreRuns(_DocTest):
         self.assertEqual(sorted(series["merged_into"]), sorted(n for m in merged for n in m.Members))
 
     def test_reduce_progress_follows_the_clis_stage_lines(self):
-        lines = ["reduce: model.json: 600 faces", "reduce: [   0.0 s] node merging: simulating the original",
-                 "reduce: [   1.3 s] node merging: 41 candidate pairs, each merged alone",
-                 "reduce: [   2.0 s] sampling: estimating",
+        lines = ["reduce: model.json: 600 faces", "reduce: [   0.0 s] sampling: estimating",
                  "reduce: [   2.8 s] noise floor 0.06 K", "reduce: [   3.0 s] sensitivity: 6/12 nodes",
                  "reduce: [   9.0 s] prediction and reduction", "reduce: [  20.0 s] verification: max |dT|"]
         shares = [runner.stage_fraction(line) for line in lines]
         self.assertIsNone(shares[0])
         self.assertEqual(shares[1:], sorted(shares[1:]))
-        self.assertAlmostEqual(shares[5], 0.15 + 0.55 / 2)
+        self.assertAlmostEqual(shares[3], 0.15 + 0.55 / 2)
+        merging = ["reduce: [   0.0 s] node merging: simulating the original",  # --merge-nodes: before the above
+                   "reduce: [   1.3 s] node merging: 41 candidate pairs, each merged alone",
+                   "reduce: [   5.0 s]   merged (0.1 K alone, 0.1 K with the merges so far): a + b",
+                   "reduce: [   6.0 s] node merging: the first 1 merges traced: max |dT| 0.2 K"]
+        shares = [runner.stage_fraction(line) for line in merging]
+        self.assertEqual(shares, sorted(shares))
+        self.assertLess(shares[-1], runner.stage_fraction(lines[-3]))
 
     def test_reduction_meets_its_tolerance_and_writes_the_core_outputs(self):
         # Fixed sun and few rays keep this fast (the orbit case takes ~1 min: see docs/freecad.md).

@@ -168,7 +168,7 @@ def main():
     assert panel.accept(), "reduce settings"
     wide_combo_view(window)  # the progress log readable
     run_panel = active_panel(taskpanels.RunPanel)
-    turns = wait_for(run_panel, 420, shot="reduce_running")
+    turns = wait_for(run_panel, 420, shot="reduce_running", shot_after_s=15)  # past the node merging
     assert turns > 50, "the GUI did not process events while reducing"
     assert run_panel.bar.value() == run_panel.bar.maximum(), "progress %d of %d" % (
         run_panel.bar.value(), run_panel.bar.maximum())
