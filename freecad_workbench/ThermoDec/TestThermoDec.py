@@ -765,7 +765,7 @@ class CoreRuns(_DocTest):
 
     def test_reduce_progress_follows_the_clis_stage_lines(self):
         lines = ["reduce: model.json: 600 faces", "reduce: [   0.0 s] sampling: estimating",
-                 "reduce: [   2.8 s] noise floor 0.06 K", "reduce: [   3.0 s] sensitivity: 6/12 nodes",
+                 "reduce: [   2.8 s] noise floor 0.06 K", "reduce: [   3.0 s]   sensitivity: 6/12 nodes swept (42 trials, about 9 s left)",
                  "reduce: [   9.0 s] prediction and reduction", "reduce: [  20.0 s] verification: max |dT|"]
         shares = [runner.stage_fraction(line) for line in lines]
         self.assertIsNone(shares[0])

@@ -175,9 +175,9 @@ def export_job(analysis, fmt, out, model_path=None):
 #: bar: the sensitivity sweep, node by node, dominates; --merge-nodes merges first: its lines
 #: run up to 0.1, and the panel keeps the largest share seen). Matched in order; None: no change.
 _REDUCE_STAGES = (("node merging: simulating", 0.01), ("node merging: the first", 0.09), ("node merging: ", 0.03),
-                  ("  merged (", 0.06), ("sampling", 0.02), ("reference", 0.05), ("noise floor", 0.10), ("decimation", 0.13),
-                  ("sensitivity analysis", 0.15), ("prediction and reduction", 0.72), ("push", 0.78),
-                  ("back-off", 0.78), ("verify", 0.85), ("verification", 0.9))
+                  ("merged (", 0.06), ("sampling", 0.02), ("reference", 0.05), ("noise floor", 0.10),
+                  ("decimation", 0.13), ("sensitivity analysis", 0.15), ("prediction and reduction", 0.72),
+                  ("push", 0.78), ("back-off", 0.78), ("verify", 0.85), ("verification", 0.9))
 
 
 def stage_fraction(line):
@@ -189,6 +189,7 @@ def stage_fraction(line):
         return int(m.group(1)) / max(int(m.group(2)), 1)
     text = line.split("] ", 1)[-1] if line.startswith("reduce: [") else line[len("reduce: "):] \
         if line.startswith("reduce: ") else ""
+    text = text.lstrip()  # sub-stages are indented ("  sensitivity: 3/11 nodes swept")
     m = re.match(r"sensitivity: (\d+)/(\d+) nodes", text)
     if m:
         return 0.15 + 0.55 * int(m.group(1)) / max(int(m.group(2)), 1)
