@@ -6,7 +6,8 @@
 
 Import STEP (command, file dialog answered) -> automatic nodes per face (command: default panel
 heat capacity and edge links) -> material (task panel) -> environment (task panel) ->
-tessellate (task panel, in the background: a fine run cancelled, then the real one) -> simulate (command, in the background) -> reduce with node merging (task panel, run in
+tessellate (task panel, in the background: a fine run cancelled) -> simulate (command, in the background:
+the mesh made first, then the simulation) -> reduce with node merging (task panel, run in
 the background while the GUI keeps processing events; progress panel; the merged nodes in the
 tree under the reduced mesh) -> plots (dock) -> export the reduced
 model for NASTRAN (command, in the background) -> an edit marks the results stale -> save
@@ -98,7 +99,7 @@ def main():
 
     # 5. Tessellate through its task panel: meshed in the background (freecadcmd) with a progress
     # panel. A first run at 8 mm edges (about 200 000 triangles) is cancelled after 3 s, the
-    # event loop counted meanwhile: nothing is stored. Then 250 mm.
+    # event loop counted meanwhile: nothing is stored.
     panel = taskpanels.TessellatePanel(analysis)
     Gui.Control.showDialog(panel)
     panel.length.setValue(8.0)
@@ -120,28 +121,30 @@ def main():
     assert analysis.ThermalMesh is None, "a cancelled tessellation stored a mesh"
     note("tessellation at 8 mm: %d event-loop turns in 3 s, then %s" % (turns, run_panel.message))
     Gui.Control.closeDialog()
-    panel = taskpanels.TessellatePanel(analysis)
-    Gui.Control.showDialog(panel)
-    panel.length.setValue(250.0)
-    assert panel.accept(), "tessellate settings"
-    wait_for(active_panel(taskpanels.RunPanel), 240)
-    Gui.Control.closeDialog()
-    assert analysis.ThermalMesh is not None and analysis.ThermalMesh.LongestEdge <= 250.0, "tessellate"
-    sat.ViewObject.Visibility = False
-    analysis.ThermalMesh.ViewObject.DisplayMode = "Flat Lines"
-    Gui.activeDocument().activeView().viewIsometric()
-    Gui.SendMsgToActiveView("ViewFit")
-    screenshot("tessellated")
 
-    # 6. Simulate (command): `thermodec simulate` in the background, a progress panel.
+    # 6. Simulate (command) on the analysis left without a mesh: it tessellates first (the edge
+    # length set to 250 mm as in the property editor), then runs `thermodec simulate`, each in the
+    # background with its progress panel.
+    assert gui_actions.run("Max edge length", ["App.ActiveDocument.%s.MaxEdgeLength = '250 mm'" % analysis.Name])
     Gui.runCommand("ThermoDec_Simulate")
-    wait_for(active_panel(taskpanels.RunPanel), 240)
+    first = active_panel(taskpanels.RunPanel)
+    assert first.job.title == "Tessellate", first.job.title
+    wait_for(first, 240)
+    assert analysis.ThermalMesh is not None and analysis.ThermalMesh.LongestEdge <= 250.0, "tessellate"
+    then = active_panel(taskpanels.RunPanel)
+    assert then is not first and then.job.title == "Simulate", then.job.title
+    wait_for(then, 240)
     Gui.Control.closeDialog()
     dense = plots._result_on(analysis, "ThermalMesh")
     assert dense is not None and not dense.Stale, "simulate"
     _, _, T = thermal_result.matrix(dense)
     note("simulated: %d triangles, %.1f .. %.1f K" % (analysis.ThermalMesh.Mesh.CountFacets, T.min(), T.max()))
     assert T.min() > 100.0, "a node below 100 K"
+    sat.ViewObject.Visibility = False
+    analysis.ThermalMesh.ViewObject.DisplayMode = "Flat Lines"
+    Gui.activeDocument().activeView().viewIsometric()
+    Gui.SendMsgToActiveView("ViewFit")
+    screenshot("tessellated")
 
     # 7. Reduce through its task panel: runs in the background with a progress panel. A first
     # run is cancelled after a few seconds: nothing is imported.
