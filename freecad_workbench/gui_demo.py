@@ -115,6 +115,8 @@ def main():
     Gui.Control.showDialog(panel)
     panel.length.setValue(MAX_EDGE_MM)
     assert panel.accept(), "tessellate"
+    wait_for_job(taskpanels.ACTIVE.get("RunPanel"), 300)  # meshed in the background (freecadcmd)
+    Gui.Control.closeDialog()
     for obj in shapes.values():
         obj.ViewObject.Visibility = False
     analysis.ThermalMesh.ViewObject.DisplayMode = "Flat Lines"
@@ -142,11 +144,12 @@ def main():
         assert gui_actions.run("Reduce", ["analysis = App.ActiveDocument.%s" % analysis.Name,
                                           "import thermodec_freecad.results as tdresults",
                                           "tdresults.reduce(analysis)"]), "reduce"
-    else:  # quick: decimation to a fixed ratio
-        assert gui_actions.run("Decimate", ["analysis = App.ActiveDocument.%s" % analysis.Name,
-                                         "analysis.GlobalRatio = 0.9",
-                                         "import thermodec_freecad.results as tdresults",
-                                         "tdresults.decimate(analysis)"]), "decimate"
+    else:  # quick: decimation to a fixed ratio (the command: `thermodec decimate` in the background)
+        from PySide import QtGui
+        QtGui.QInputDialog.getDouble = staticmethod(lambda *a, **k: (0.9, True))  # the ratio asked for
+        Gui.runCommand("ThermoDec_Decimate")
+        wait_for_job(taskpanels.ACTIVE.get("RunPanel"), 300)
+        Gui.Control.closeDialog()
     reduced = doc.getObject("ReducedMesh")
     if reduced is None:
         raise RuntimeError("no reduced mesh: the Reduce/Decimate step failed (see the report view)")

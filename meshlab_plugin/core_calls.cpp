@@ -261,18 +261,16 @@ DocumentReduction reduce_document(const DocumentModelRequest& request, double to
   out.noise_floor_K = run.noise_floor_K;
   out.mesh = run.reduced.model.mesh;
   out.mesh.node_names = request.mesh->node_names;
+  out.model_file = (fs::path(out_dir) / "model.json").string();
   // A merged node shows under its first member's document node.
   std::vector<int> doc_of_reduced;
   for (const thermodec::Node& nd : run.reduced.model.nodes) {
-    int original = -1;
+    std::vector<std::string> members;
     for (const auto& [name, into] : run.reduced.model.node_map)
-      if (into == nd.name && original < 0)
-        for (std::size_t i = 0; i < model.nodes.size(); ++i)
-          if (model.nodes[i].name == name) original = static_cast<int>(i);
-    if (original < 0)
-      for (std::size_t i = 0; i < model.nodes.size(); ++i)
-        if (model.nodes[i].name == nd.name) original = static_cast<int>(i);
+      if (into == nd.name) members.push_back(name);
+    const int original = index_of_node(model, members.empty() ? nd.name : members.front());
     doc_of_reduced.push_back(original >= 0 ? doc_node[original] : 0);
+    if (members.size() > 1) out.merged.push_back({nd.name, members, doc_of_reduced.back()});
   }
   for (int f = 0; f < out.mesh.num_faces(); ++f) out.mesh.face_node[f] = doc_of_reduced[out.mesh.face_node[f]];
   return out;

@@ -68,6 +68,14 @@ struct DocumentReduction {
   std::vector<std::string> warnings;   //!< plots that could not be written
   double max_temperature_difference_K = 0.0;
   double noise_floor_K = 0.0;
+  //! merge_nodes: a node of the reduced model made of two or more original nodes.
+  struct MergedNode {
+    std::string name;                  //!< its name in out_dir/model.json ("wing_py+1")
+    std::vector<std::string> members;  //!< the original nodes, in the model's order
+    int document_node = -1;            //!< the document node its faces carry (its first member's)
+  };
+  std::vector<MergedNode> merged;      //!< empty without merge_nodes or when nothing merged
+  std::string model_file;              //!< out_dir/model.json: the reduced (merged) model
 };
 
 //! `thermodec reduce` on the document: reduce_model with the tolerance [K] and strategy

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <exception>
+#include <map>
 #include <string>
+#include <vector>
 
 #include <QDir>
 #include <QFileInfo>
@@ -613,6 +615,42 @@ DocumentModelRequest reduction_request(MeshDocument& md, const DocumentMesh& dm,
   return request;
 }
 
+// A merged node's members for the log: all up to six, else the first five and the count of the
+// rest (the node map in model.json has them all), as the core's plots list them.
+std::string member_list(const std::vector<std::string>& members) {
+  const std::size_t shown = members.size() > 6 ? 5 : members.size();
+  std::string out;
+  for (std::size_t i = 0; i < shown; ++i) out += (i ? " + " : "") + members[i];
+  if (shown < members.size()) out += " \u2026 (+" + std::to_string(members.size() - shown) + " more)";
+  return out;
+}
+
+// A merged reduction's layers name each merged node as the reduced model does ("wing_py+1") and
+// take that model (out_dir/model.json) as theirs: Thermal: simulate on a reduced layer then
+// simulates the merged network, whose node names are the layer's. With the original model the
+// other members would be left without faces.
+void name_merged_nodes(const DocumentMesh& dm, const std::vector<MeshModel*>& layers, const DocumentReduction& r) {
+  const QString model_file = QString::fromStdString(r.model_file);
+  for (MeshModel* layer : layers) set_layer_model_file(*layer, model_file);
+  if (dm.source == NodeSource::Layers) {  // one layer per node: the merged node's layer renamed
+    for (const auto& m : r.merged)
+      for (MeshModel* layer : layers)
+        if (layer->label() == result_label(QString::fromStdString(dm.mesh.node_names[m.document_node]) + " reduced"))
+          layer->setLabel(result_label(QString::fromStdString(m.name) + " reduced"));
+    return;
+  }
+  if (layers.empty()) return;
+  std::map<int, std::string> names;  // document node id -> name, as the reduced model has them
+  for (std::size_t n = 0; n < dm.node_ids.size(); ++n) names[dm.node_ids[n]] = dm.mesh.node_names[n];
+  for (const auto& m : r.merged) {
+    for (const auto& member : m.members)
+      for (std::size_t n = 0; n < dm.node_ids.size(); ++n)
+        if (dm.mesh.node_names[n] == member) names.erase(dm.node_ids[n]);  // no faces of its own now
+    names[dm.node_ids[m.document_node]] = m.name;
+  }
+  set_node_names(*layers.front(), names);
+}
+
 std::string model_line(const ModelFileChoice& model) {
   if (model.path.isEmpty()) return "no model file given or found beside the mesh: thermodec's defaults for a bare mesh";
   return "model file " + model.path.toStdString() + " (" + model.how.toStdString() + ")";
@@ -712,6 +750,7 @@ bool ThermodecFilterPlugin::reduce(MeshDocument& md, const RichParameterList& pa
       },
       [this](const std::string& m) { Log("  %s", m.c_str()); });
   const auto layers = add_layers(md, dm, r.mesh, "reduced");
+  if (!r.merged.empty()) name_merged_nodes(dm, layers, r);
 
   Log("Thermal: physics-informed decimation (%s, tolerance %.3g K): %d -> %d faces, verified "
       "max |dT| %.3g K, noise floor %.3g K, %d new layer(s), results in %s",
@@ -720,6 +759,12 @@ bool ThermodecFilterPlugin::reduce(MeshDocument& md, const RichParameterList& pa
   for (const QString& line : QString::fromStdString(r.summary).split('\n', Qt::SkipEmptyParts))
     Log("  %s", qUtf8Printable(line));
   for (const auto& w : r.warnings) Log(GLLogStream::WARNING, ("  plot not written: " + w).c_str());
+  if (!r.merged.empty()) {  // last, where the log pane shows it
+    std::string list;
+    for (const auto& m : r.merged) list += (list.empty() ? "" : "; ") + m.name + " = " + member_list(m.members);
+    Log("Thermal: %d merged node(s), isothermal, coloured and named as one (the reduced layer's model is now %s): %s",
+        int(r.merged.size()), r.model_file.c_str(), list.c_str());
+  }
   progress(cb, 100, "Thermal: reduced");
   return true;
 #else

@@ -107,6 +107,14 @@ class CoatingLibrary(unittest.TestCase):
             FreeCAD.closeDocument(doc.Name)
 
 
+class MergedNodeLabels(unittest.TestCase):
+    def test_a_long_member_list_shows_its_first_five_and_counts_the_rest(self):
+        self.assertEqual(merged_nodes.label("a+2", ["a", "b", "c"]), "a+2 (merged: a, b, c)")
+        members = ["n%02d" % k for k in range(20)]
+        self.assertEqual(merged_nodes.label("n00+19", members),
+                         "n00+19 (merged: n00, n01, n02, n03, n04, \u2026 (+15 more))")
+
+
 class TemperatureField(unittest.TestCase):
     """The pure part of a result's display: statistics, field, colour map, legend."""
 
@@ -241,6 +249,32 @@ class SampleSatellite(_DocTest):
         self.assertLessEqual(float(np.max(_edge_lengths(V, F))), 150.0)
         self.assertAlmostEqual(tm.LongestEdge, float(np.max(_edge_lengths(V, F))), places=6)
         self.assertGreater(len(F), 1500)
+
+    def test_the_background_tessellation_gives_the_in_process_mesh(self):
+        self.analysis.OutputDirectory = _output_dir("background_tessellation")
+        job = runner.tessellate_job(self.analysis)  # what the Tessellate command runs with QProcess
+        self.assertEqual(job.steps[0][1][1], "-c")  # freecadcmd -c <worker>
+        lines = []
+        runner.run_blocking(job, log=lines.append)
+        shares = [runner.stage_fraction(line) for line in lines if line.startswith("tessellate: ") and "/" in line]
+        self.assertTrue(shares and shares[-1] == 1.0, lines[-5:])  # a shape meshed again counts again
+        tm = tessellate.import_job(self.analysis, job.outputs)
+        background = tessellate.mesh_arrays(tm) + (list(tm.FaceNode), list(tm.FaceMaterial), tm.LongestEdge)
+        tm = tessellate.tessellate(self.analysis)
+        here = tessellate.mesh_arrays(tm) + (list(tm.FaceNode), list(tm.FaceMaterial), tm.LongestEdge)
+        self.assertEqual(background[1].tolist(), here[1].tolist())
+        self.assertEqual(background[0].tolist(), here[0].tolist())  # bit for bit: same Mefisto, BREP exact
+        self.assertEqual(background[2:], here[2:])
+
+    def test_a_background_tessellation_of_an_edited_analysis_is_refused(self):
+        self.analysis.OutputDirectory = _output_dir("background_tessellation_edited")
+        job = runner.tessellate_job(self.analysis)
+        runner.run_blocking(job)
+        self.doc.getObject("Body").Placement.Base = Vector(0, 0, 10)  # moved while it ran
+        self.doc.recompute()
+        with self.assertRaisesRegex(ThermoDecError, "changed while tessellating: tessellate again"):
+            tessellate.import_job(self.analysis, job.outputs)
+        self.assertIsNone(self.analysis.ThermalMesh)
 
     def test_every_triangle_faces_out_of_its_solid(self):
         tm = tessellate.tessellate(self.analysis)
@@ -661,6 +695,21 @@ class CoreRuns(_DocTest):
         self.assertEqual(len([r for r in objects.members(self.analysis, thermal_result.ThermalResult)
                               if r.ResultMesh is None or r.ResultMesh.Name == "ReducedMesh"]), 1)
 
+    def test_the_background_decimate_job_gives_the_in_process_mesh(self):
+        if not os.environ.get("THERMODEC_CLI") and not shutil.which("thermodec"):
+            self.skipTest("no thermodec command")
+        here, _ = results.decimate(self.analysis, 0.8)
+        faces_here = tessellate.mesh_arrays(here)
+        job = runner.decimate_job(self.analysis, 0.8)  # what the Decimate command runs with QProcess
+        self.assertEqual([argv[1] for _, argv in job.steps], ["decimate"])
+        runner.run_blocking(job)
+        feature, summary = results.import_decimation(self.analysis, job.outputs)
+        background = tessellate.mesh_arrays(feature)
+        self.assertEqual(background[1].tolist(), faces_here[1].tolist())
+        self.assertTrue(np.allclose(background[0], faces_here[0], rtol=0, atol=1e-6))  # mm, through OBJ text
+        self.assertEqual(summary["faces"], len(background[1]))
+        self.assertEqual(len([o for o in self.doc.Objects if o.Name.startswith("ReducedMesh")]), 1)
+
     def test_reduce_job_runs_the_cli_and_export_writes_the_reduced_model_until_an_input_changes(self):
         objects.members(self.analysis, objects.Environment)[0].EnvironmentType = "fixed_sun"
         self.analysis.RaysPerFace = 100
@@ -716,12 +765,19 @@ class CoreRuns(_DocTest):
 
     def test_reduce_progress_follows_the_clis_stage_lines(self):
         lines = ["reduce: model.json: 600 faces", "reduce: [   0.0 s] sampling: estimating",
-                 "reduce: [   2.8 s] noise floor 0.06 K", "reduce: [   3.0 s] sensitivity: 6/12 nodes",
+                 "reduce: [   2.8 s] noise floor 0.06 K", "reduce: [   3.0 s]   sensitivity: 6/12 nodes swept (42 trials, about 9 s left)",
                  "reduce: [   9.0 s] prediction and reduction", "reduce: [  20.0 s] verification: max |dT|"]
         shares = [runner.stage_fraction(line) for line in lines]
         self.assertIsNone(shares[0])
         self.assertEqual(shares[1:], sorted(shares[1:]))
         self.assertAlmostEqual(shares[3], 0.15 + 0.55 / 2)
+        merging = ["reduce: [   0.0 s] node merging: simulating the original",  # --merge-nodes: before the above
+                   "reduce: [   1.3 s] node merging: 41 candidate pairs, each merged alone",
+                   "reduce: [   5.0 s]   merged (0.1 K alone, 0.1 K with the merges so far): a + b",
+                   "reduce: [   6.0 s] node merging: the first 1 merges traced: max |dT| 0.2 K"]
+        shares = [runner.stage_fraction(line) for line in merging]
+        self.assertEqual(shares, sorted(shares))
+        self.assertLess(shares[-1], runner.stage_fraction(lines[-3]))
 
     def test_reduction_meets_its_tolerance_and_writes_the_core_outputs(self):
         # Fixed sun and few rays keep this fast (the orbit case takes ~1 min: see docs/freecad.md).

@@ -10,50 +10,28 @@
 2. The sample around the Moon with a power schedule and a heater: Open model file, then Export
    model (command, dialog answered) writes them back; the heater node's kept keys in the
    property editor; screenshot kept_keys.png.
-`freecad script.py` exits 0 whatever happens: the script writes DONE or FAILED and the
-traceback to status.txt in THERMODEC_GUI_OUTPUT and leaves with os._exit.
+status.txt in THERMODEC_GUI_OUTPUT says DONE or FAILED (gui_helpers.run).
 """
 
 import json
 import os
 import subprocess
 import sys
-import traceback
 
 import FreeCAD as App
 import FreeCADGui as Gui
 
-OUT = os.path.abspath(os.environ.get("THERMODEC_GUI_OUTPUT", "thermodec_gui_model_file"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import gui_helpers  # noqa: E402
+from gui_helpers import OUT, events, note, patch_dialogs, wide_combo_view  # noqa: E402
+
+gui_helpers.NAME = "gui_model_file"
 SAMPLE = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, os.pardir, "sample_models",
                       "satellite", "model.json")
-LOG = []
-
-
-def note(text):
-    LOG.append(text)
-    App.Console.PrintMessage("gui_model_file: %s\n" % text)
-
-
-def events(n=5):
-    from PySide import QtGui
-    for _ in range(n):
-        QtGui.QApplication.processEvents()
 
 
 def screenshot(name):
-    import time
-    for _ in range(25):  # the property view follows the selection on a timer
-        events(2)
-        time.sleep(0.02)
-    subprocess.run(["import", "-window", "root", os.path.join(OUT, name + ".png")], check=True)
-
-
-def patch_dialogs(open_file=None, save_file=None):
-    from PySide import QtGui
-    if open_file:
-        QtGui.QFileDialog.getOpenFileName = staticmethod(lambda *a, **k: (open_file, ""))
-    if save_file:
-        QtGui.QFileDialog.getSaveFileName = staticmethod(lambda *a, **k: (save_file, ""))
+    gui_helpers.screenshot(name, settle_s=0.5)  # the property view follows the selection on a timer
 
 
 def tree_children(label):
@@ -89,13 +67,6 @@ def show_in_tree(path, obj, scroll_to=None):
 def QtCore_flags():
     from PySide import QtCore
     return QtCore.Qt.MatchExactly | QtCore.Qt.MatchRecursive
-
-
-def wide_combo_view(window):
-    from PySide import QtCore, QtGui
-    docks = [d for d in window.findChildren(QtGui.QDockWidget) if d.windowTitle() == "Combo View"]
-    window.resizeDocks(docks, [520] * len(docks), QtCore.Qt.Horizontal)
-    events()
 
 
 def merged_nodes_in_the_tree(window, cli):
@@ -167,25 +138,10 @@ def main():
     window = Gui.getMainWindow()
     window.showMaximized()
     Gui.activateWorkbench("ThermoDecWorkbench")
-    wide_combo_view(window)
+    wide_combo_view(window, 520)
     cli = runner.cli_path()
     merged_nodes_in_the_tree(window, cli)
     kept_keys_written_back(window)
 
 
-def run():
-    status = os.path.join(OUT, "status.txt")
-    os.makedirs(OUT, exist_ok=True)
-    try:
-        main()
-        text, code = "DONE\n", 0
-    except Exception:
-        text, code = "FAILED\n" + traceback.format_exc(), 1
-        traceback.print_exc()
-    with open(status, "w") as f:
-        f.write(text + "\n".join(LOG) + "\n")
-    sys.stdout.flush()
-    os._exit(code)
-
-
-run()
+gui_helpers.run(main)

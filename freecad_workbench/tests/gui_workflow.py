@@ -6,84 +6,27 @@
 
 Import STEP (command, file dialog answered) -> automatic nodes per face (command: default panel
 heat capacity and edge links) -> material (task panel) -> environment (task panel) ->
-tessellate (task panel) -> simulate (command, in the background) -> reduce with node merging (task panel, run in
+tessellate (task panel, in the background: a fine run cancelled) -> simulate (command, in the background:
+the mesh made first, then the simulation) -> reduce with node merging (task panel, run in
 the background while the GUI keeps processing events; progress panel; the merged nodes in the
 tree under the reduced mesh) -> plots (dock) -> export the reduced
 model for NASTRAN (command, in the background) -> an edit marks the results stale -> save
 elsewhere and reopen. Screenshots (`import -window root`) of each stage go to
-THERMODEC_GUI_OUTPUT. `freecad script.py` exits 0 whatever happens, so the script writes DONE
-or FAILED and the traceback to status.txt there and leaves with os._exit.
+THERMODEC_GUI_OUTPUT; status.txt there says DONE or FAILED (gui_helpers.run).
 """
 
 import os
 import sys
 import time
-import traceback
 
 import FreeCAD as App
 import FreeCADGui as Gui
 
-OUT = os.path.abspath(os.environ.get("THERMODEC_GUI_OUTPUT", "thermodec_gui_workflow"))
-LOG = []
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import gui_helpers  # noqa: E402
+from gui_helpers import OUT, active_panel, events, note, patch_dialogs, screenshot, wait_for, wide_combo_view  # noqa: E402
 
-
-def note(text):
-    LOG.append(text)
-    App.Console.PrintMessage("gui_workflow: %s\n" % text)
-
-
-def events(n=5):
-    from PySide import QtGui
-    for _ in range(n):
-        QtGui.QApplication.processEvents()
-
-
-def screenshot(name):
-    """The whole screen (`import -window root`, ImageMagick: a Qt grab leaves the 3D view blank)."""
-    import subprocess
-    events(10)
-    subprocess.run(["import", "-window", "root", os.path.join(OUT, name + ".png")], check=True)
-
-
-def wait_for(panel, timeout_s, shot=None):
-    """Lets the event loop run until the background job of a RunPanel ends; the GUI stays live
-    meanwhile (counted: event-loop turns while the job runs). Optionally a screenshot mid-run."""
-    from PySide import QtGui
-    start, turns, shot_taken = time.monotonic(), 0, False
-    while not panel.done:
-        QtGui.QApplication.processEvents()
-        turns += 1
-        time.sleep(0.02)
-        if shot and not shot_taken and time.monotonic() - start > 4:
-            screenshot(shot)
-            shot_taken = True
-        if time.monotonic() - start > timeout_s:
-            panel.runner.cancel()
-            raise RuntimeError("%s still running after %d s" % (panel.job.title, timeout_s))
-    note("%s: %s (%d event-loop turns while it ran, %.0f s)" % (panel.job.title, panel.message, turns,
-                                                             time.monotonic() - start))
-    if not panel.ok:
-        raise RuntimeError(panel.message)
-    return turns
-
-
-def patch_dialogs(open_file=None, save_file=None, item=None):
-    """Answers the next file / item dialogs the way a user would."""
-    from PySide import QtGui
-    if open_file:
-        QtGui.QFileDialog.getOpenFileName = staticmethod(lambda *a, **k: (open_file, ""))
-    if save_file:
-        QtGui.QFileDialog.getSaveFileName = staticmethod(lambda *a, **k: (save_file, ""))
-    if item:
-        QtGui.QInputDialog.getItem = staticmethod(lambda *a, **k: (item, True))
-
-
-def wide_combo_view(window):
-    """The Combo View (tree and task panels) wide enough for the panels' values and units."""
-    from PySide import QtCore, QtGui
-    docks = [d for d in window.findChildren(QtGui.QDockWidget) if d.windowTitle() == "Combo View"]
-    window.resizeDocks(docks, [430] * len(docks), QtCore.Qt.Horizontal)
-    events()
+gui_helpers.NAME = "gui_workflow"
 
 
 def make_step(path):
@@ -142,7 +85,7 @@ def main():
 
     # 4. Environment through its task panel (the command opens it): a transient orbit.
     Gui.runCommand("ThermoDec_Environment")
-    panel = Gui.Control.activeDialog() and _active_panel(taskpanels.EnvironmentPanel)
+    panel = Gui.Control.activeDialog() and active_panel(taskpanels.EnvironmentPanel)
     panel.altitude.setProperty("value", App.Units.Quantity("600 km"))
     panel.inclination.setProperty("value", App.Units.Quantity("98 deg"))
     panel.type.setCurrentIndex(1)  # transient_orbit
@@ -154,32 +97,60 @@ def main():
     assert abs(env.Altitude.getValueAs("km") - 600) < 1e-9 and analysis.AnalysisType == "transient_orbit"
     analysis.RaysPerFace = 100
 
-    # 5. Tessellate through its task panel.
+    # 5. Tessellate through its task panel: meshed in the background (freecadcmd) with a progress
+    # panel. A first run at 8 mm edges (about 200 000 triangles) is cancelled after 3 s, the
+    # event loop counted meanwhile: nothing is stored.
     panel = taskpanels.TessellatePanel(analysis)
     Gui.Control.showDialog(panel)
-    panel.length.setValue(250.0)
-    assert panel.accept(), "tessellate"
-    sat.ViewObject.Visibility = False
-    analysis.ThermalMesh.ViewObject.DisplayMode = "Flat Lines"
-    Gui.activeDocument().activeView().viewIsometric()
-    Gui.SendMsgToActiveView("ViewFit")
-    screenshot("tessellated")
+    panel.length.setValue(8.0)
+    assert panel.accept(), "tessellate settings"
+    run_panel = active_panel(taskpanels.RunPanel)
+    start, turns = time.monotonic(), 0
+    while time.monotonic() - start < 3 and not run_panel.done:
+        events(1)
+        turns += 1
+        time.sleep(0.02)
+    screenshot("tessellate_running")
+    assert not run_panel.done, "an 8 mm tessellation ended within 3 s: %s" % run_panel.message
+    assert turns > 50, "the GUI processed its events %d times in 3 s of tessellation" % turns
+    run_panel.cancel_button.click()
+    start = time.monotonic()
+    while not run_panel.done and time.monotonic() - start < 30:
+        events(1)
+    assert run_panel.done and "cancelled" in run_panel.message, run_panel.message
+    assert analysis.ThermalMesh is None, "a cancelled tessellation stored a mesh"
+    note("tessellation at 8 mm: %d event-loop turns in 3 s, then %s" % (turns, run_panel.message))
+    Gui.Control.closeDialog()
 
-    # 6. Simulate (command): `thermodec simulate` in the background, a progress panel.
+    # 6. Simulate (command) on the analysis left without a mesh: it tessellates first (the edge
+    # length set to 250 mm as in the property editor), then runs `thermodec simulate`, each in the
+    # background with its progress panel.
+    assert gui_actions.run("Max edge length", ["App.ActiveDocument.%s.MaxEdgeLength = '250 mm'" % analysis.Name])
     Gui.runCommand("ThermoDec_Simulate")
-    wait_for(_active_panel(taskpanels.RunPanel), 240)
+    first = active_panel(taskpanels.RunPanel)
+    assert first.job.title == "Tessellate", first.job.title
+    wait_for(first, 240)
+    assert analysis.ThermalMesh is not None and analysis.ThermalMesh.LongestEdge <= 250.0, "tessellate"
+    then = active_panel(taskpanels.RunPanel)
+    assert then is not first and then.job.title == "Simulate", then.job.title
+    wait_for(then, 240)
     Gui.Control.closeDialog()
     dense = plots._result_on(analysis, "ThermalMesh")
     assert dense is not None and not dense.Stale, "simulate"
     _, _, T = thermal_result.matrix(dense)
     note("simulated: %d triangles, %.1f .. %.1f K" % (analysis.ThermalMesh.Mesh.CountFacets, T.min(), T.max()))
     assert T.min() > 100.0, "a node below 100 K"
+    sat.ViewObject.Visibility = False
+    analysis.ThermalMesh.ViewObject.DisplayMode = "Flat Lines"
+    Gui.activeDocument().activeView().viewIsometric()
+    Gui.SendMsgToActiveView("ViewFit")
+    screenshot("tessellated")
 
     # 7. Reduce through its task panel: runs in the background with a progress panel. A first
     # run is cancelled after a few seconds: nothing is imported.
     Gui.runCommand("ThermoDec_Reduce")
-    assert _active_panel(taskpanels.ReducePanel).accept(), "reduce settings"
-    run_panel = _active_panel(taskpanels.RunPanel)
+    assert active_panel(taskpanels.ReducePanel).accept(), "reduce settings"
+    run_panel = active_panel(taskpanels.RunPanel)
     start = time.monotonic()
     while time.monotonic() - start < 3:
         events(1)
@@ -193,14 +164,14 @@ def main():
     note("cancelled: %s" % run_panel.message)
     Gui.Control.closeDialog()
     Gui.runCommand("ThermoDec_Reduce")
-    panel = _active_panel(taskpanels.ReducePanel)
+    panel = active_panel(taskpanels.ReducePanel)
     panel.tolerance.setProperty("value", App.Units.Quantity("3 K"))
     panel.merge.setChecked(True)  # nodes may be merged as well (--merge-nodes)
     screenshot("reduce_panel")
     assert panel.accept(), "reduce settings"
     wide_combo_view(window)  # the progress log readable
-    run_panel = _active_panel(taskpanels.RunPanel)
-    turns = wait_for(run_panel, 420, shot="reduce_running")
+    run_panel = active_panel(taskpanels.RunPanel)
+    turns = wait_for(run_panel, 420, shot="reduce_running", shot_after_s=15)  # past the node merging
     assert turns > 50, "the GUI did not process events while reducing"
     assert run_panel.bar.value() == run_panel.bar.maximum(), "progress %d of %d" % (
         run_panel.bar.value(), run_panel.bar.maximum())
@@ -246,7 +217,7 @@ def main():
     os.makedirs(os.path.dirname(bdf), exist_ok=True)
     patch_dialogs(save_file=bdf, item="nastran")
     Gui.runCommand("ThermoDec_ExportTool")
-    wait_for(_active_panel(taskpanels.RunPanel), 240)
+    wait_for(active_panel(taskpanels.RunPanel), 240)
     Gui.Control.closeDialog()
     back = thermodec.load_model(bdf)
     assert back.mesh.num_faces == reduced.Mesh.CountFacets, "export wrote %d faces, reduced mesh has %d" % (
@@ -287,34 +258,10 @@ def main():
     Gui.Selection.addSelection(doc.Name, results[-1].Name)
     Gui.runCommand("ThermoDec_ShowResult")  # the result panel says so too
     events(10)
-    texts = [w.text() for w in _active_panel(taskpanels.ResultPanel).form.findChildren(QtGui.QLabel)]
+    texts = [w.text() for w in active_panel(taskpanels.ResultPanel).form.findChildren(QtGui.QLabel)]
     assert any("STALE: Capacitance of" in t for t in texts), texts
     Gui.ActiveDocument.resetEdit()
     note("capacitance edited: results marked stale")
 
 
-def _active_panel(cls):
-    """The task panel of class `cls` shown now (FreeCAD hands back only its form)."""
-    from thermodec_freecad import taskpanels
-    panel = taskpanels.ACTIVE.get(cls.__name__)
-    if panel is None:
-        raise RuntimeError("no %s open" % cls.__name__)
-    return panel
-
-
-def run():
-    status = os.path.join(OUT, "status.txt")
-    os.makedirs(OUT, exist_ok=True)
-    try:
-        main()
-        text, code = "DONE\n", 0
-    except Exception:
-        text, code = "FAILED\n" + traceback.format_exc(), 1
-        traceback.print_exc()
-    with open(status, "w") as f:
-        f.write(text + "\n".join(LOG) + "\n")
-    sys.stdout.flush()
-    os._exit(code)
-
-
-run()
+gui_helpers.run(main)

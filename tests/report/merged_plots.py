@@ -51,6 +51,15 @@ note = " ".join(captured["notes"])
 for expected in ("body_px+2 = body_px + body_py + body_pz", "wing_py+1 = wing_py + wing_my"):
     if expected not in note:
         failures.append("members not listed: %r not in %r" % (expected, note))
-print("legend: %s\nnote: %s" % (", ".join(captured["legend"]), note))
+# A merged node of 20 members: its first five and the count of the rest, not a line off the page.
+import _style  # noqa: E402
+
+many = {"m%02d" % k: "m00+19" for k in range(20)}
+fig = _common.plt.figure()
+_style.note_merged(fig, many)
+long_note = fig.texts[0].get_text()
+if "m00+19 = m00 + m01 + m02 + m03 + m04 \u2026 (+15 more)" not in long_note or "m05" in long_note:
+    failures.append("a long member list is not cut: %r" % long_note)
+print("legend: %s\nnote: %s\nlong: %s" % (", ".join(captured["legend"]), note, long_note))
 if failures:
     sys.exit("\n".join(failures))

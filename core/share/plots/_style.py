@@ -37,12 +37,22 @@ def merged_members(node_map, nodes=None):
     return {m: sorted(groups[m], key=lambda o: not m.startswith(o + "+")) for m in order if len(groups.get(m, [])) > 1}
 
 
+def member_list(members, max_shown=6, sep=" + "):
+    """The members joined by `sep`; a longer list than max_shown keeps its first max_shown - 1
+    and counts the rest ("a + b + c + d + e … (+15 more)": the node_map has them all)."""
+    members = list(members)
+    if len(members) <= max_shown:
+        return sep.join(members)
+    return "%s \u2026 (+%d more)" % (sep.join(members[:max_shown - 1]), len(members) - max_shown + 1)
+
+
 def note_merged(fig, node_map, nodes=None, max_rows=12):
-    """A footnote listing each merged node's members ("a+2 = a + b + c"); returns its rows."""
+    """A footnote listing each merged node's members ("a+2 = a + b + c", long lists cut by
+    member_list); returns its rows."""
     groups = merged_members(node_map, nodes)
     if not groups:
         return 0
-    rows = ["%s = %s" % (m, " + ".join(members)) for m, members in groups.items()]
+    rows = ["%s = %s" % (m, member_list(members)) for m, members in groups.items()]
     if len(rows) > max_rows:
         rows = rows[:max_rows - 1] + ["... and %d more merged nodes (node_map)" % (len(rows) - max_rows + 1)]
     fig.text(0.01, 0.0, "merged nodes (isothermal): " + ";  ".join(rows), fontsize=7, ha="left", va="top",

@@ -173,12 +173,19 @@ class Export(_Command):
         default, _ = export.default_paths(analysis)
         path, _ = QtGui.QFileDialog.getSaveFileName(FreeCADGui.getMainWindow(), "Export thermodec model",
                                                     default, "thermodec model (*.json)")
-        if path:
+        if not path:
+            return
+
+        def write():
             status("ThermoDec: exporting %s ..." % path)
             if run("Export thermodec model", [
-                    analysis_line(), "import thermodec_freecad.export as tdexport",
+                    "analysis = App.ActiveDocument.%s" % analysis.Name, "import thermodec_freecad.export as tdexport",
                     "tdexport.write_model(analysis, %r)" % path]):
                 status("ThermoDec: model written to %s" % path)
+
+        from . import taskpanels
+        if not taskpanels._needs_mesh(analysis, write):  # else tessellated in the background first
+            write()
 
 
 class _CoreCommand(_Command):
@@ -226,7 +233,7 @@ class ShowResult(_Command):
 
 class Decimate(_CoreCommand):
     icon, menu, tip, function = "Decimate.svg", "Decimate", \
-        "Node-preserving decimation of the dense mesh to a global ratio (thermodec core)", \
+        "Node-preserving decimation of the dense mesh to a global ratio (thermodec decimate, in the background)", \
         "decimate_to_global_ratio"
 
     def Activated(self):
@@ -235,10 +242,9 @@ class Decimate(_CoreCommand):
         ratio, ok = QtGui.QInputDialog.getDouble(FreeCADGui.getMainWindow(), "Decimate",
                                                  "Fraction of faces to remove", analysis.GlobalRatio,
                                                  0.0, 0.999, 3)
-        if ok and run("Decimate", [analysis_line(), "analysis.GlobalRatio = %r" % ratio,
-                                   "import thermodec_freecad.results as tdresults",
-                                   "tdresults.decimate(analysis)"]):
-            status("ThermoDec: reduced mesh imported")
+        if ok and run("Decimate settings", [analysis_line(), "analysis.GlobalRatio = %r" % ratio]):
+            from . import taskpanels
+            taskpanels.start_decimate(analysis)  # in the background, with progress and Cancel
 
 
 class Reduce(_CoreCommand):

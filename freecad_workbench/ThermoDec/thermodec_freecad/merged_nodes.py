@@ -40,7 +40,13 @@ def members_of(node_map):
     return {merged: names for merged, names in groups.items() if len(names) > 1}
 
 
-def label(merged, members):
+def label(merged, members, max_shown=6):
+    """The tree label: "body_px+2 (merged: body_px, body_py, body_pz)"; a longer member list
+    than max_shown keeps its first max_shown - 1 and counts the rest ("a, b, c, d, e, \u2026 (+15
+    more)": the Members property has them all), as the core's plots do."""
+    if len(members) > max_shown:
+        return "%s (merged: %s, \u2026 (+%d more))" % (merged, ", ".join(members[:max_shown - 1]),
+                                                     len(members) - max_shown + 1)
     return "%s (merged: %s)" % (merged, ", ".join(members))
 
 

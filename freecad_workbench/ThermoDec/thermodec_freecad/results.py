@@ -286,9 +286,10 @@ def node_mean_temperatures(result_path):
 
 def decimate(analysis, global_ratio=None, json_path=None):
     """Exports the analysis and decimates its mesh with the core's node-preserving decimation
-    to a global ratio of removed faces (the paper's per-node rule). Writes reduced/model.json
-    and reduced/model.obj beside the export and imports the reduced mesh, coloured by the last
-    simulation's temperatures when there is one. Returns (feature, summary)."""
+    to a global ratio of removed faces (the paper's per-node rule), here (the Decimate command
+    runs `thermodec decimate` in the background instead: runner.decimate_job). Writes
+    reduced/model.json and reduced/model.obj beside the export and imports the reduced mesh
+    (import_decimation). Returns (feature, summary)."""
     td = core.module()
     ratio = analysis.GlobalRatio if global_ratio is None else float(global_ratio)
     json_path, _ = export.write_model(analysis, json_path or export.default_paths(analysis)[0])
@@ -303,18 +304,26 @@ def decimate(analysis, global_ratio=None, json_path=None):
         data = json.load(f)
     data["mesh"] = "model.obj"
     _write_json(os.path.join(folder, "model.json"), data)
+    feature, summary = import_decimation(analysis, {"mesh": mesh_path, "global_ratio": ratio})
+    summary.update(nodes_reached=sum(1 for n in result.nodes if n.reached))
+    return feature, summary
+
+
+def import_decimation(analysis, outputs):
+    """The decimated mesh (outputs: "mesh", the OBJ; "global_ratio") as *ReducedMesh*, coloured
+    by the dense model's simulation node by node when there is one (else by the last result
+    file's node mean temperatures, else by node). Returns (feature, summary)."""
     dense = [r for r in objects.members(analysis, thermal_result.ThermalResult) if r.ResultMesh == analysis.ThermalMesh]
     temperatures = None
     if not dense and analysis.ResultFile and os.path.exists(analysis.ResultFile):
         temperatures = node_mean_temperatures(analysis.ResultFile)
     _remove_mesh(analysis, "ReducedMesh")
-    feature, summary = import_results(analysis, mesh_path, temperatures, name="ReducedMesh")
+    feature, summary = import_results(analysis, outputs["mesh"], temperatures, name="ReducedMesh")
     if dense:  # the dense model's simulation, node by node, on the reduced triangles
         nodes, times, T = thermal_result.matrix(dense[-1])
         thermal_result.makeResult(analysis, feature, nodes, times, T, seed=dense[-1].Seed, rays_per_face=dense[-1].RaysPerFace,
                                   result_file=dense[-1].ResultFile, name="ReducedMeshResult").TracksAnalysis = True
-    summary.update(faces_before=int(model.mesh.num_faces), global_ratio=ratio,
-                   nodes_reached=sum(1 for n in result.nodes if n.reached))
+    summary.update(faces_before=int(analysis.ThermalMesh.Mesh.CountFacets), global_ratio=outputs["global_ratio"])
     _progress("reduced to %d faces (from %d)" % (summary["faces"], summary["faces_before"]))
     return feature, summary
 

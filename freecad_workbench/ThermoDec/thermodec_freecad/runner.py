@@ -1,10 +1,11 @@
-"""Long core runs (simulate, reduce, export) as `thermodec` CLI processes, so FreeCAD's GUI stays live.
+"""Long runs (tessellate, simulate, reduce, decimate, export) as processes, so FreeCAD's GUI stays live.
 
 As FreeCAD FEM runs its solvers: the job is a list of command lines (built headless by
-`reduce_job` / `export_job`, testable without a GUI); the GUI side (`Runner`) starts them one
+`tessellate_job` / `reduce_job` / `export_job` ..., testable without a GUI); the GUI side (`Runner`) starts them one
 after the other with QProcess, shows their output lines as progress, can cancel (kills the
 process) and, when the last one succeeded, calls back on the main thread to import the results.
-The CLI is the same core and the same simulation as the Python module's functions.
+The CLI is the same core and the same simulation as the Python module's functions; the
+tessellation runs the workbench's own meshing in `freecadcmd`.
 """
 
 import os
@@ -39,6 +40,24 @@ def cli_path():
         return found
     raise ThermoDecError("the thermodec command is not found (tried %s and PATH): build the thermodec target, "
                          "install it, or set THERMODEC_CLI" % (", ".join(tried) or "THERMODEC_CLI"))
+
+
+def freecadcmd_path():
+    """FreeCAD's console executable (for the background tessellation): $THERMODEC_FREECADCMD,
+    else beside this FreeCAD (its bin/ folder), else freecadcmd / FreeCADCmd on PATH."""
+    env = os.environ.get("THERMODEC_FREECADCMD")
+    if env:
+        return env
+    import FreeCAD
+    home = os.path.join(FreeCAD.getHomePath(), "bin")
+    for name in ("FreeCADCmd", "freecadcmd", "freecadcmd-python3"):
+        if os.access(os.path.join(home, name), os.X_OK):
+            return os.path.join(home, name)
+    for name in ("freecadcmd", "FreeCADCmd"):
+        if shutil.which(name):
+            return shutil.which(name)
+    raise ThermoDecError("FreeCAD's console program (freecadcmd) is not found in %s or on PATH: set "
+                         "THERMODEC_FREECADCMD" % home)
 
 
 class Job:
@@ -86,6 +105,29 @@ def reduce_job(analysis, tolerance_K=None, strategy=None, cases=None, plots=True
     return job
 
 
+def tessellate_job(analysis, max_edge_mm=None):
+    """The Tessellate command as a background step: the shapes and their face assignment are
+    written now (on the caller's thread: it reads the document; assignment errors are raised
+    here), `freecadcmd` meshes them (tessellate_worker.py), and tessellate.import_job stores
+    the mesh when it ends. The mesh is the one tessellate.tessellate makes in-process."""
+    from . import tessellate
+    folder = os.path.join(os.path.dirname(export.default_paths(analysis)[0]), "tessellation")
+    outputs = tessellate.write_job(analysis, folder, max_edge_mm)
+    package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    paths = [package]
+    try:
+        paths.append(os.path.dirname(os.path.abspath(core.module().__file__)))  # thermodec, for the weld
+    except ThermoDecError:
+        pass
+    code = "import sys; sys.path[:0] = %r; from thermodec_freecad import tessellate_worker; " \
+           "tessellate_worker.main(%r)" % (paths, outputs["job"])
+    job = Job("Tessellate")
+    job.add("mesh %d B-rep faces (max edge %.4g mm)" % (outputs["faces"], outputs["max_edge_mm"]),
+            [freecadcmd_path(), "-c", code])
+    job.outputs.update(outputs)
+    return job
+
+
 def simulate_job(analysis):
     """The Simulate command as a CLI step: export the analysis (now, on the caller's thread: it
     reads the document), then `thermodec simulate --json result.json` beside the model (the
@@ -96,6 +138,22 @@ def simulate_job(analysis):
     job = Job("Simulate")
     job.add("simulate the model", [cli, "simulate", json_path, "--json", result])
     job.outputs.update(model=json_path, result=result)
+    return job
+
+
+def decimate_job(analysis, global_ratio=None):
+    """The Decimate command as a CLI step: export the analysis (now, on the caller's thread),
+    then `thermodec decimate --ratio` into reduced/model.json + model.obj beside it (the
+    decimation results.decimate runs in-process); results.import_decimation imports it."""
+    cli = cli_path()
+    ratio = analysis.GlobalRatio if global_ratio is None else float(global_ratio)
+    json_path, _ = export.write_model(analysis, export.default_paths(analysis)[0])
+    out = os.path.join(os.path.dirname(json_path), "reduced", "model.json")
+    job = Job("Decimate")
+    job.add("decimate (remove %.3g %% of the faces)" % (100 * ratio), [cli, "decimate", json_path, "--ratio", repr(ratio),
+                                                                      "--output", out])
+    job.outputs.update(model=json_path, reduced_model=out, mesh=os.path.join(os.path.dirname(out), "model.obj"),
+                       global_ratio=ratio)
     return job
 
 
@@ -114,17 +172,24 @@ def export_job(analysis, fmt, out, model_path=None):
 
 
 #: How far into `thermodec reduce` its stage lines are (a rough share of its time, for a progress
-#: bar: the sensitivity sweep, node by node, dominates). Matched in order; None: no change.
-_REDUCE_STAGES = (("sampling", 0.02), ("reference", 0.05), ("noise floor", 0.10), ("decimation", 0.13),
-                  ("sensitivity analysis", 0.15), ("prediction and reduction", 0.72), ("push", 0.78),
-                  ("back-off", 0.78), ("verify", 0.85), ("verification", 0.9))
+#: bar: the sensitivity sweep, node by node, dominates; --merge-nodes merges first: its lines
+#: run up to 0.1, and the panel keeps the largest share seen). Matched in order; None: no change.
+_REDUCE_STAGES = (("node merging: simulating", 0.01), ("node merging: the first", 0.09), ("node merging: ", 0.03),
+                  ("merged (", 0.06), ("sampling", 0.02), ("reference", 0.05), ("noise floor", 0.10),
+                  ("decimation", 0.13), ("sensitivity analysis", 0.15), ("prediction and reduction", 0.72),
+                  ("push", 0.78), ("back-off", 0.78), ("verify", 0.85), ("verification", 0.9))
 
 
 def stage_fraction(line):
-    """Share [0, 1] of a `thermodec reduce` run done when it prints `line`, or None."""
+    """Share [0, 1] of a `thermodec reduce` run (or a background tessellation) done when it
+    prints `line`, or None."""
     import re
+    m = re.match(r"tessellate: (\d+)/(\d+) faces", line)
+    if m:
+        return int(m.group(1)) / max(int(m.group(2)), 1)
     text = line.split("] ", 1)[-1] if line.startswith("reduce: [") else line[len("reduce: "):] \
         if line.startswith("reduce: ") else ""
+    text = text.lstrip()  # sub-stages are indented ("  sensitivity: 3/11 nodes swept")
     m = re.match(r"sensitivity: (\d+)/(\d+) nodes", text)
     if m:
         return 0.15 + 0.55 * int(m.group(1)) / max(int(m.group(2)), 1)

@@ -135,21 +135,21 @@ class TessellatePanel(_Panel):
         self.form, layout = _form("Tessellate")
         self.length = _spin(float(analysis.MaxEdgeLength.getValueAs("mm")), 0.01, 1e6, 2, "mm")
         layout.addRow("Max edge length", self.length)
-        layout.addRow(QtGui.QLabel("Each B-rep face is meshed on its own (Mefisto) and welded;\n"
-                                   "triangles keep their node and material."))
+        note = QtGui.QLabel("Each B-rep face is meshed on its own (Mefisto) and welded; triangles keep "
+                            "their node and material. Runs in the background (FreeCAD's console program): "
+                            "progress and Cancel in the next panel.")
+        note.setWordWrap(True)
+        layout.addRow(note)
 
     def accept(self):
-        gui_actions.status("ThermoDec: tessellating ...")
-        ok = gui_actions.run("Tessellate", [
-            "analysis = App.ActiveDocument.%s" % self.analysis.Name,
-            "analysis.MaxEdgeLength = '%r mm'" % self.length.value(),
-            "import thermodec_freecad.tessellate as tdtess",
-            "tdtess.tessellate(analysis)"])
-        if ok:
-            tm = self.analysis.ThermalMesh
-            gui_actions.status("ThermoDec: %d triangles, longest edge %.1f mm" % (tm.Mesh.CountFacets, tm.LongestEdge))
-            FreeCADGui.Control.closeDialog()
-        return ok
+        """Stores the edge length (one transaction) and meshes in the background (RunPanel)."""
+        if not gui_actions.run("Tessellate settings", [
+                "analysis = App.ActiveDocument.%s" % self.analysis.Name,
+                "analysis.MaxEdgeLength = '%r mm'" % self.length.value()]):
+            return False
+        FreeCADGui.Control.closeDialog()
+        start_tessellate(self.analysis)
+        return True
 
 
 def _colour_bar(low, high, height=220):
@@ -489,46 +489,76 @@ class ReducePanel(_Panel):
         return True
 
 
+def _needs_mesh(analysis, then):
+    """Without a ThermalMesh the analysis is tessellated first, in the background; `then()`
+    starts the job asked for once the mesh is in. Returns True when that was started."""
+    if analysis.ThermalMesh is not None:
+        return False
+    start_tessellate(analysis, then=then)
+    return True
+
+
+def start_tessellate(analysis, then=None):
+    """Runs the tessellation in `freecadcmd` with a RunPanel (runner.tessellate_job); the mesh
+    is stored when it ends (one transaction). `then()`: called after that, e.g. to go on with
+    a simulation. Returns the panel (or None: the error is shown)."""
+    return _start_job(analysis, None, "tessellate_job", ("tessellate", "import_job"), "Tessellate", then=then,
+                      done=lambda: _tessellated(analysis))
+
+
+def _tessellated(analysis):
+    tm = analysis.ThermalMesh
+    if tm is not None:
+        gui_actions.status("ThermoDec: %d triangles, longest edge %.1f mm" % (tm.Mesh.CountFacets, tm.LongestEdge))
+
+
 def start_reduce(analysis, plots=True):
     """Exports the analysis and runs the Reduce job in the background with a RunPanel.
     Returns the panel (or None when the job could not start: the error is shown)."""
-    from . import runner
-    try:
-        job = runner.reduce_job(analysis, plots=plots)
-    except Exception as e:
-        gui_actions.error(e)
-        return None
-    finish = ["analysis = App.ActiveDocument.%s" % analysis.Name, "import thermodec_freecad.results as tdresults",
-              "tdresults.import_reduction(analysis, %r)" % job.outputs]
-    return _start(job, finish, "Import reduced model")
+    return _start_job(analysis, lambda: start_reduce(analysis, plots), "reduce_job",
+                      ("results", "import_reduction"), "Import reduced model", plots=plots)
 
 
 def start_simulate(analysis):
     """Exports the analysis and runs `thermodec simulate` in the background with a RunPanel;
     the result is imported when it ends. Returns the panel (or None: the error is shown)."""
-    from . import runner
-    try:
-        job = runner.simulate_job(analysis)
-    except Exception as e:
-        gui_actions.error(e)
-        return None
-    finish = ["analysis = App.ActiveDocument.%s" % analysis.Name, "import thermodec_freecad.results as tdresults",
-              "tdresults.import_simulation(analysis, %r)" % job.outputs]
-    return _start(job, finish, "Import simulation")
+    return _start_job(analysis, lambda: start_simulate(analysis), "simulate_job", ("results", "import_simulation"),
+                      "Import simulation")
+
+
+def start_decimate(analysis):
+    """Exports the analysis and runs `thermodec decimate` (the analysis' GlobalRatio) in the
+    background with a RunPanel; the reduced mesh is imported when it ends."""
+    return _start_job(analysis, lambda: start_decimate(analysis), "decimate_job", ("results", "import_decimation"),
+                      "Import decimated mesh")
 
 
 def start_export(analysis, fmt, out):
+    return _start_job(analysis, lambda: start_export(analysis, fmt, out), "export_job", None, "", fmt=fmt, out=out)
+
+
+def _start_job(analysis, again, make, finish, finish_title, then=None, done=None, **args):
+    """Builds runner.<make>(analysis, **args) and runs it with a RunPanel; `finish` = (module
+    of thermodec_freecad, function) imports the outputs: function(analysis, job.outputs) as one
+    transaction. Without a ThermalMesh the analysis is tessellated first and `again()` called
+    after (`again` None: no mesh needed). Returns the panel, or None (the error is shown)."""
+    if again is not None and analysis.ThermalMesh is None:
+        return start_tessellate(analysis, then=again)
     from . import runner
     try:
-        job = runner.export_job(analysis, fmt, out)
+        job = getattr(runner, make)(analysis, **args)
     except Exception as e:
         gui_actions.error(e)
         return None
-    return _start(job, [], "")
+    lines = []
+    if finish:
+        lines = ["analysis = App.ActiveDocument.%s" % analysis.Name, "import thermodec_freecad.%s as td%s" % (finish[0], finish[0]),
+                 "td%s.%s(analysis, %r)" % (finish[0], finish[1], job.outputs)]
+    return _start(job, lines, finish_title, then=then, done=done)
 
 
-def _start(job, finish_lines, finish_title):
-    panel = RunPanel(job, finish_lines, finish_title)
+def _start(job, finish_lines, finish_title, then=None, done=None):
+    panel = RunPanel(job, finish_lines, finish_title, then, done)
     if FreeCADGui.Control.activeDialog():
         FreeCADGui.Control.closeDialog()
     FreeCADGui.Control.showDialog(panel)
@@ -541,10 +571,11 @@ class RunPanel:
     Cancel. FreeCAD stays usable meanwhile. On success the finish lines import the results in
     one transaction; the output goes to the report view."""
 
-    def __init__(self, job, finish_lines, finish_title):
+    def __init__(self, job, finish_lines, finish_title, then=None, done=None):
         ACTIVE[type(self).__name__] = self
         from . import runner
         self.job, self.finish_lines, self.finish_title = job, finish_lines, finish_title
+        self.then, self.after_import = then, done  # called after a successful import
         self.form = QtGui.QWidget()
         self.form.setWindowTitle(job.title)
         layout = QtGui.QVBoxLayout(self.form)
@@ -606,6 +637,10 @@ class RunPanel:
         gui_actions.status("ThermoDec: %s" % message)
         if not ok and not self.runner.cancelled:
             FreeCAD.Console.PrintError("ThermoDec: %s\n" % message)
+        if ok and self.after_import:
+            self.after_import()
+        if ok and self.then:  # the job this one prepared (a simulation after the mesh)
+            self.then()
 
     def getStandardButtons(self):
         return int(QtGui.QDialogButtonBox.Close)
