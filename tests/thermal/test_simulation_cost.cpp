@@ -91,8 +91,9 @@ TEST(SimulationCost, a_100k_face_model_at_default_settings_is_within_the_limits_
     EXPECT_EQ(simulation_cost_excess(cost, model), "") << cost.summary();
     EXPECT_GE(cost.ir_rays, 4000.0 * model.mesh.num_faces() * (two_sided ? 2 : 1)) << cost.summary();
     EXPECT_LT(cost.rays(), SimulationCostLimits{}.max_rays / 2.0) << cost.summary();
-    // every side's 4000 rays could hit as many distinct sides: 12 bytes each, shown not guarded
-    EXPECT_EQ(cost.view_factor_bytes_max, 12.0 * 4000.0 * cost.sides) << cost.summary();
+    // every side's 4096 rays (4000 rounded to a power of two) could hit as many distinct sides:
+    // 12 bytes each, shown not guarded
+    EXPECT_EQ(cost.view_factor_bytes_max, 12.0 * 4096.0 * cost.sides) << cost.summary();
     EXPECT_NE(cost.summary().find("view-factor rows up to"), std::string::npos) << cost.summary();
   }
 }

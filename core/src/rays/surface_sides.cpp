@@ -110,6 +110,17 @@ Eigen::VectorXd side_absorptivity(const ThermalModel& model, const SurfaceSides&
   return side_property(model, sides, false);
 }
 
+namespace {
+int power_of_two_count(double r) {
+  if (!(r > 1.0)) return 1;
+  // 2^m <= r < 2^(m+1): up when r >= 2^m / ln 2, the split that neither adds nor removes
+  // samples on average over counts spread evenly in log (E[2^m / r or 2^(m+1) / r] = 1).
+  const double low = std::exp2(std::floor(std::log2(r)));
+  const double out = r >= low / std::log(2.0) ? 2.0 * low : low;
+  return static_cast<int>(std::min(out, double(1 << 30)));
+}
+}  // namespace
+
 Eigen::VectorXi rays_per_side_of_node(const SurfaceSides& sides, int rays_per_side, int min_rays_per_node,
                                       const Eigen::VectorXd& boost) {
   const int ns = sides.size();
@@ -133,7 +144,7 @@ Eigen::VectorXi rays_per_side_of_node(const SurfaceSides& sides, int rays_per_si
     const int n = sides.node[s];
     if (n >= 0 && min_rays_per_node > 0 && area[n] > 0.0)
       r = std::max(r, std::ceil(double(min_rays_per_node) * b * sides.area_m2[s] / area[n]));
-    rays[s] = static_cast<int>(std::min(r, 1e9));
+    rays[s] = power_of_two_count(std::min(r, 1e9));
   }
   return rays;
 }

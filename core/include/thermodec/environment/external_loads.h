@@ -48,6 +48,7 @@ struct ExternalLoadSettings {
   int sun_pilot_rays = 256;
   //! Minimum shadow sample points for a node's partly shadowed sides: a node with n faces
   //! gives each such side max(sun_rays_per_face, ceil(sun_min_rays_per_node / n)); 0 = off.
+  //! Every per-side count is rounded to a power of two (rays_per_side_of_node).
   int sun_min_rays_per_node = 50000;
   //! Rays per face side towards the Earth for sides whose view of the Earth is partly blocked
   //! by the spacecraft (decided by the first earth_pilot_rays rays; unobstructed sides keep

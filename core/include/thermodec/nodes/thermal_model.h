@@ -128,7 +128,9 @@ struct Analysis {
 
 //! Monte Carlo settings of the radiative engine.
 struct RadiationSettings {
-  int rays_per_face = 4000;  //!< rays per face side (at least; see min_rays_per_node)
+  //! Rays per face side (see min_rays_per_node; each side's count is rounded to a power of
+  //! two, rays_per_side_of_node: 4000 gives 4096).
+  int rays_per_face = 4000;
   std::uint64_t seed = 1;
   //! Minimum rays a node's faces emit in total (per side family: fronts, and backs if
   //! two-sided): a node with n faces gives each side max(rays_per_face,

@@ -21,7 +21,7 @@ struct FaceViewFactors {
   //! back of a one-sided face neither emits nor absorbs: rays pass through it (see docs).
   Eigen::SparseMatrix<double, Eigen::RowMajor> F;
   Eigen::VectorXd to_space;  //!< #S fraction of rays escaping to infinity [-]
-  int rays_per_side = 0;      //!< RadiationSettings::rays_per_face (the fewest any side emits)
+  int rays_per_side = 0;      //!< RadiationSettings::rays_per_face (side_rays: the counts emitted)
   //! #S rays emitted by each side; empty = rays_per_side for all (hand-built results).
   Eigen::VectorXi side_rays;
   std::int64_t rays_traced = 0;

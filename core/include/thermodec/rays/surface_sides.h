@@ -46,7 +46,10 @@ Eigen::VectorXd side_absorptivity(const ThermalModel& model, const SurfaceSides&
 //! node get rays_per_side. A side's count depends on its own area and its node's area only, so
 //! it stays the same when other faces of its node change (decimation keeps node areas).
 //! Both counts are multiplied by the side's `boost` (SurfaceSides::ir_boost or load_boost;
-//! empty = 1). Returns #S (min_rays_per_node <= 0: rays_per_side for all).
+//! empty = 1), then rounded to a power of two, 2^m or 2^(m+1) for 2^m <= r < 2^(m+1), up when
+//! r >= 2^m / ln 2 (counts spread evenly in log keep their mean): a side's samples are the
+//! first points of its Owen-scrambled Sobol sequence (rays/sampling.h), a complete net only
+//! at 2^m points. Returns #S (min_rays_per_node <= 0: rays_per_side for all).
 Eigen::VectorXi rays_per_side_of_node(const SurfaceSides& sides, int rays_per_side, int min_rays_per_node,
                                       const Eigen::VectorXd& boost = Eigen::VectorXd());
 
