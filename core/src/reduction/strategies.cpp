@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/reduction/combined_push.h"
 #include "thermodec/reduction/prediction.h"
 #include "thermodec/reduction/superposition.h"
 
@@ -405,6 +406,13 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
     log(action + ": faces " + std::to_string(res.faces_after) + ", max|dT| " + std::to_string(res.max_abs_dT_K) +
         " K" + (fields ? " (superposition predicted " + std::to_string(step.predicted_K) + " K)" : ""));
   };
+  auto record_predicted = [&](const Eigen::VectorXd& r, const TrialResult& res, const std::string& action,
+                              double anchored_K) {
+    record(r, res, action);
+    out.history.back().anchored_predicted_K = anchored_K;
+    log("  (anchored superposition predicted " + std::to_string(anchored_K) + " K)");
+  };
+  bool push_prepared = false;  // before_push called (once per reduction)
   const SuperpositionScreen screen{curve_of, out.history, fields && o.screen_by_superposition};
   TrialResult res;
   Eigen::VectorXd ratios = predicted_start(curve_of, trial, o, fields && o.start_by_superposition, evaluations,
@@ -469,8 +477,24 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       return v;
     };
     if (within(res, tol) && o.push) {
+      // The push's start may be prepared once (before_push: a rebase), by whichever push tries first.
+      InformedOptions po = o;
+      po.before_push = [&](const Eigen::VectorXd& s, const TrialResult& r, int left) {
+        if (!push_prepared && o.before_push) o.before_push(s, r, left);
+        push_prepared = true;
+      };
+      Eigen::VectorXd start = ratios;
+      TrialResult start_res = res;
+      if (fields && o.max_combined_push_trials > 0) {
+        CombinedPushOptions co;
+        co.tolerance_K = tol;
+        co.max_trials = o.max_combined_push_trials;
+        co.log = log;
+        co.before_first_trial = [&](int left) { po.before_push(ratios, res, left); };
+        start = combined_push(curve_of, trial, co, record_predicted, ratios, start_res);
+      }
       const Eigen::VectorXd pushed =
-          push_remaining_slack(curve_of, num_nodes, trial, o, screen, evaluations, record, ratios, res);
+          push_remaining_slack(curve_of, num_nodes, trial, po, screen, evaluations, record, start, start_res);
       if (pushed != ratios) {
         verified(pushed);
         if (have_best) break;
