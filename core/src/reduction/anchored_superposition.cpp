@@ -11,6 +11,7 @@ namespace thermodec {
 namespace {
 
 constexpr double kSame = 1e-9;  // ratios closer than this are the same
+constexpr double kUnknownShare = 0.05;  // least charge of a step, as a share of the anchor's slack
 
 // max |S| with NaN propagated (a NaN field fails every target).
 double max_abs(const Eigen::MatrixXd& s) {
@@ -91,6 +92,11 @@ AllocationPath anchored_path(const std::vector<const SensitivityCurve*>& curve_o
   Eigen::MatrixXd sum = anchor.dT_K;
   double current = max_abs(sum);
   if (!std::isfinite(current)) return path;
+  // A step is charged at least a share of the anchor's slack: what a single-node field says of
+  // a step is least reliable where it says almost nothing (NPP_16: a 5-face node's step
+  // predicted ~0 K added 0.25 K beside its neighbour), so such steps go after the ones that
+  // remove many faces instead of first.
+  const double floor_K = std::max(kUnknownShare * (target_K - current), 1e-9 * target_K);
   while (true) {
     int pick = -1;
     double pick_score = -1.0, pick_max = 0.0, pick_faces = 0.0;
@@ -102,7 +108,7 @@ AllocationPath anchored_path(const std::vector<const SensitivityCurve*>& curve_o
       if (!(faces >= 0.5)) continue;  // removes nothing: no reason to spend anything on it
       const double m = max_abs(sum + field[k][next] - own[k]);
       if (!(m <= target_K)) continue;  // NaN or over the target
-      const double score = faces / std::max(m - current, 1e-9 * target_K);
+      const double score = faces / std::max(m - current, floor_K);
       if (score > pick_score) pick_score = score, pick = k, pick_max = m, pick_faces = faces;
     }
     if (pick < 0) break;

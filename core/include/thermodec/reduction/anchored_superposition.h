@@ -52,8 +52,9 @@ struct AllocationPath {
 //! `subdivisions` equal steps between consecutive samples of its curve (and from 0 to the
 //! first sample), never past its last sample nor `ceiling[k]`; each step is the one that
 //! removes the most estimated faces per kelvin of anchored increase among those whose anchored
-//! max |dT| stays <= target_K (a step that lowers it goes first). Deterministic (ties by node
-//! index). Cost: O(steps x nodes x field size).
+//! max |dT| stays <= target_K, each increase counted as at least 5 % of the anchor's slack
+//! (target_K - its max |dT|): a step predicted to cost nothing is the least known, and goes by
+//! its faces. Deterministic (ties by node index). Cost: O(steps x nodes x field size).
 //! \pre has_difference_fields(curve_of); subdivisions >= 1.
 AllocationPath anchored_path(const std::vector<const SensitivityCurve*>& curve_of, const MeasuredCandidate& anchor,
                              double target_K, int subdivisions, const Eigen::VectorXd& ceiling);
