@@ -62,11 +62,12 @@ std::string describe(const AllocationPath& p, const Eigen::VectorXd& from, const
 
 Eigen::VectorXd combined_push(const std::vector<const SensitivityCurve*>& curve_of, const TrialFunction& trial,
                               const CombinedPushOptions& o, const PredictedRecordFn& record,
-                              const Eigen::VectorXd& start, TrialResult& result) {
+                              const Eigen::VectorXd& start, TrialResult& result, std::vector<bool>* capped) {
   auto log = [&](const std::string& s) { if (o.log) o.log(s); };
   const double tol = o.tolerance_K;
   const int n = static_cast<int>(curve_of.size());
   Eigen::VectorXd current = start;
+  if (capped) capped->assign(n, false);
   if (o.max_trials < 1 || !has_difference_fields(curve_of)) return current;
   for (const SensitivityCurve* c : curve_of)
     if (c && (c->dT_K.front().rows() != result.dT_K.rows() || c->dT_K.front().cols() != result.dT_K.cols()))
@@ -104,6 +105,7 @@ Eigen::VectorXd combined_push(const std::vector<const SensitivityCurve*>& curve_
         if (b.hi == b.lo + 1) {  // the first step beyond lo fails alone: its node stays where it is
           const PathStep& s = path.steps[b.lo];
           ceiling[s.node] = s.from;
+          if (capped) (*capped)[s.node] = true;
           log("combined push: the step of node " + std::to_string(s.node) + " fails on its own; it stays at " +
               std::to_string(s.from));
         }

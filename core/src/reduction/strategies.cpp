@@ -151,11 +151,13 @@ std::string node_name(const InformedOptions& o, int k) {
 Eigen::VectorXd push_remaining_slack(const std::vector<const SensitivityCurve*>& curve_of, int num_nodes,
                                      const TrialFunction& trial, const InformedOptions& o,
                                      const SuperpositionScreen& screen, int& evaluations, const RecordFn& record,
-                                     const Eigen::VectorXd& start, const TrialResult& start_result) {
+                                     const Eigen::VectorXd& start, const TrialResult& start_result,
+                                     const std::vector<bool>& capped) {
   auto log = [&](const std::string& s) { if (o.log) o.log(s); };
   const double tol = o.tolerance_K;
   Eigen::VectorXd current = start;
-  std::vector<bool> saturated(num_nodes, false);
+  std::vector<bool> saturated = capped;  // (a node whose step the combined push measured failing alone)
+  saturated.resize(num_nodes, false);
   Eigen::VectorXd failed_at = Eigen::VectorXd::Constant(num_nodes, -1.0);
   auto step_for = [&](int k) {
     const auto& c = *curve_of[k];
@@ -485,16 +487,17 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
       };
       Eigen::VectorXd start = ratios;
       TrialResult start_res = res;
+      std::vector<bool> capped;
       if (fields && o.max_combined_push_trials > 0) {
         CombinedPushOptions co;
         co.tolerance_K = tol;
         co.max_trials = o.max_combined_push_trials;
         co.log = log;
         co.before_first_trial = [&](int left) { po.before_push(ratios, res, left); };
-        start = combined_push(curve_of, trial, co, record_predicted, ratios, start_res);
+        start = combined_push(curve_of, trial, co, record_predicted, ratios, start_res, &capped);
       }
       const Eigen::VectorXd pushed =
-          push_remaining_slack(curve_of, num_nodes, trial, po, screen, evaluations, record, start, start_res);
+          push_remaining_slack(curve_of, num_nodes, trial, po, screen, evaluations, record, start, start_res, capped);
       if (pushed != ratios) {
         verified(pushed);
         if (have_best) break;

@@ -45,9 +45,11 @@ using PredictedRecordFn =
 
 //! From `start` (its trial in `result`, within the tolerance, with a difference field), the
 //! farthest candidate the combined push measured within the tolerance; `result` receives its
-//! trial. Returns `start` unchanged if the curves or the trial carry no fields. Deterministic.
+//! trial. Returns `start` unchanged if the curves or the trial carry no fields. `capped`, if
+//! given, receives per node whether a step of it failed on its own (it went no further).
+//! Deterministic.
 Eigen::VectorXd combined_push(const std::vector<const SensitivityCurve*>& curve_of, const TrialFunction& trial,
                               const CombinedPushOptions& options, const PredictedRecordFn& record,
-                              const Eigen::VectorXd& start, TrialResult& result);
+                              const Eigen::VectorXd& start, TrialResult& result, std::vector<bool>* capped = nullptr);
 
 }  // namespace thermodec
