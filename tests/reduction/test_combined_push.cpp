@@ -119,7 +119,9 @@ TEST(CombinedPush, learns_an_interaction_the_single_node_fields_miss_and_stays_w
     predicted_measured.emplace_back(predicted, t.max_abs_dT_K);
     rejected += action.find("rejected") != std::string::npos;
   };
-  const Eigen::VectorXd out = combined_push(p, counted, o, record, start, res);
+  std::vector<bool> capped;
+  const Eigen::VectorXd out = combined_push(p, counted, o, record, start, res, &capped);
+  ASSERT_EQ(capped.size(), 6u);
   EXPECT_LE(trials, o.max_trials);
   EXPECT_GT(rejected, 0) << "the interaction must make a planned step fail for this test";
   EXPECT_LE(res.max_abs_dT_K, o.tolerance_K);

@@ -24,6 +24,10 @@ double max_abs(const Eigen::MatrixXd& s) {
 struct Bracket {
   int lo = 0, hi = -1;
   Eigen::MatrixXd field_lo, field_hi;
+  //! Weight of the interaction error, halved each time lo moves again while hi stays (the
+  //! Illinois rule: a plain regula falsi creeps towards a fixed end by a step or two a trial).
+  double error_weight = 1.0;
+  bool lo_moved_last = false;
 };
 
 // The path's anchored field after `count` steps (the anchor's own for 0).
@@ -36,7 +40,8 @@ const Eigen::MatrixXd& path_field(const AllocationPath& p, const Eigen::MatrixXd
 int farthest_within(const AllocationPath& p, const Eigen::MatrixXd& anchor, const Bracket& b, double tol,
                     double& predicted) {
   const Eigen::MatrixXd& a_lo = path_field(p, anchor, b.lo);
-  const Eigen::MatrixXd error = (b.field_hi - b.field_lo) - (path_field(p, anchor, b.hi) - a_lo);
+  const Eigen::MatrixXd error =
+      b.error_weight * ((b.field_hi - b.field_lo) - (path_field(p, anchor, b.hi) - a_lo));
   const double s_lo = p.faces_removed(b.lo), span = p.faces_removed(b.hi) - s_lo;
   for (int j = b.hi - 1; j > b.lo; --j) {
     const double w = span > 0.0 ? (p.faces_removed(j) - s_lo) / span : 1.0;
@@ -93,6 +98,8 @@ Eigen::VectorXd combined_push(const std::vector<const SensitivityCurve*>& curve_
       const bool passed = within(t, tol);
       record(r, t, describe(path, current, r, j) + (passed ? "" : " (rejected: over the tolerance)"), predicted);
       if (passed) {
+        if (b.lo_moved_last) b.error_weight *= 0.5;
+        b.lo_moved_last = true;
         b.lo = j;
         b.field_lo = t.dT_K;
         current = r;
@@ -100,6 +107,8 @@ Eigen::VectorXd combined_push(const std::vector<const SensitivityCurve*>& curve_
       } else {
         b.hi = j;
         b.field_hi = t.dT_K;
+        b.error_weight = 1.0;
+        b.lo_moved_last = false;
       }
       if (b.hi < 0 || b.hi == b.lo + 1) {
         if (b.hi == b.lo + 1) {  // the first step beyond lo fails alone: its node stays where it is

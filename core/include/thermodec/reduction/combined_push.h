@@ -12,7 +12,8 @@
 //! prediction A missed, E = (F_hi - F_lo) - (A_hi - A_lo), is taken to grow with the faces the
 //! path removes, so point j is predicted as
 //!   F_j ~= F_lo + (A_j - A_lo) + (s_j - s_lo) / (s_hi - s_lo) E     (s: faces removed),
-//! and the farthest j the model keeps within the tolerance is measured next. Where no point is
+//! and the farthest j the model keeps within the tolerance is measured next (E halved each time
+//! lo moves again while hi stays, the Illinois rule, so it does not creep). Where no point is
 //! predicted within it, the first step beyond lo alone is measured; a first step that fails alone
 //! caps its node where it is. A passing point becomes c, and a round ends where the path has
 //! nothing left between lo and hi; the next round plans again from c (its measured field holds
