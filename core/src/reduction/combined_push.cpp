@@ -78,6 +78,7 @@ Eigen::VectorXd combined_push(const std::vector<const SensitivityCurve*>& curve_
     if (c && (c->dT_K.front().rows() != result.dT_K.rows() || c->dT_K.front().cols() != result.dT_K.cols()))
       return current;  // the trial carries no field of the curves' shape
   Eigen::VectorXd ceiling = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity());
+  if (o.ceiling.size() == n) ceiling = o.ceiling;
   int trials = 0;
   bool announced = false;
   while (trials < o.max_trials) {

@@ -35,6 +35,8 @@ struct CombinedPushOptions {
   //! A round whose path removes fewer than this share of the candidate's faces (and under one
   //! face) is not measured.
   double min_faces_share = 0.002;
+  //! Per node, the highest ratio a path may plan (empty: each curve's last sample).
+  Eigen::VectorXd ceiling;
   //! Called once, before the first trial, with the trials to expect (InformedOptions::before_push).
   std::function<void(int trials_left)> before_first_trial;
   std::function<void(const std::string&)> log;
