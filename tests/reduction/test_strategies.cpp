@@ -352,6 +352,7 @@ TEST(InformedReduction, pushes_stop_at_their_trial_bound) {
     io.tolerance_K = 0.5;
     io.parallel = false;
     io.max_push_trials = bound;
+    io.max_combined_push_trials = 0;  // (the one-node push's own bound)
     const auto out = informed_reduction(curves, 3, s, s, io);
     int pushes = 0;
     for (const auto& h : out.history) pushes += h.action.rfind("push", 0) == 0;

@@ -50,6 +50,7 @@ void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& setti
     settings.informed.max_evaluations = std::min(settings.informed.max_evaluations, 20);
     settings.informed.max_leave_one_out = 8;  // two back-off steps fit in the 20 trials
     settings.informed.max_push_trials = 6;    // each about a full simulation (strategies.h)
+    settings.informed.max_combined_push_trials = std::min(settings.informed.max_combined_push_trials, 6);
     settings.prediction_targets = {1.0};      // (the search's first candidate: no extra trial)
   }
 }

@@ -108,10 +108,12 @@ json reduction_report_json(const ReductionRun& run) {
                     {"faces_after", p.faces_after}});
   j["predicted_vs_real"] = pred;
   json hist = json::array();
-  for (const auto& h : run.outcome.history)
+  for (const auto& h : run.outcome.history) {
     hist.push_back({{"action", h.action}, {"faces_after", h.result.faces_after},
                     {"max_abs_dT_K", h.result.max_abs_dT_K}, {"within_tolerance", h.within_tolerance},
                     {"superposition_predicted_K", h.predicted_K}});
+    if (std::isfinite(h.anchored_predicted_K)) hist.back()["anchored_predicted_K"] = h.anchored_predicted_K;
+  }
   j["history"] = hist;
   j["trials"] = run.trials;
   j["rays"] = {{"ir_rays_per_face", run.rays_per_face}, {"sun_rays_per_face", run.sun_rays_per_face}};

@@ -21,6 +21,10 @@ struct ReductionStep {
   //! Informed: the superposition's prediction of max |dT| for this candidate [K]
   //! (superposition.h); NaN when the curves carry no difference fields.
   double predicted_K = std::numeric_limits<double>::quiet_NaN();
+  //! Combined push: the prediction that chose this candidate [K], superposition anchored on the
+  //! measured candidate it started from, with the interactions learnt on its path
+  //! (combined_push.h); NaN for other steps.
+  double anchored_predicted_K = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct ReductionOutcome {
@@ -65,6 +69,10 @@ struct InformedOptions {
   //! to 0.56 K in 28 min, the scale-back after them reached 0.33 K in 6 trials). 0 = never.
   double stall_fraction = 0.3;
   bool push = true;           //!< use remaining slack to reduce nodes further
+  //! With difference fields, after the one-node push (below), the slack left is spent on many
+  //! nodes at once (combined_push.h): at most this many combined trials, outside
+  //! max_evaluations. 0 = one-node push only.
+  int max_combined_push_trials = 8;
   //! Bound on the push's trials (within max_evaluations). On a large CAD model each push is a
   //! trial of a combined candidate, about a full simulation against the original, for one node
   //! one sample further (tdrs at 0.5 K: 6 pushes of ~21 s removed 120 of 17289 faces), unless
@@ -117,7 +125,9 @@ struct InformedOptions {
 //! curve; once the budget is spent, or a step removed under stall_fraction of the excess (no
 //! single culprit), it bisects every node's share of the tolerance. Then, while slack remains,
 //! pushes nodes one sample further in order of smallest predicted increase (at most
-//! max_push_trials trials), keeping only pushes that stay within tolerance. The returned
+//! max_push_trials trials), keeping only pushes that stay within tolerance; then, with
+//! difference fields, the combined push (combined_push.h) from that result, at most
+//! max_combined_push_trials trials. The returned
 //! candidate always passed `verify`, the confirming evaluation (a full recompute, or the trial
 //! itself where trials are bit-identical to one, as in reduce_model); if nothing else does, the
 //! unreduced model is returned.
