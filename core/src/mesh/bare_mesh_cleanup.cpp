@@ -16,6 +16,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/mesh/enclosing_shells.h"
 #include "thermodec/mesh/face_geometry.h"
+#include "thermodec/mesh/overlapping_sheets.h"
 #include "thermodec/mesh/remove_faces.h"
 #include "thermodec/mesh/repair.h"
 
@@ -287,6 +288,13 @@ BareMeshCleanupResult cleanup_bare_mesh(const Mesh& mesh, const BareMeshCleanupO
   if (o.two_sided_enclosing_shells) shell = find_enclosing_shells(m, o.coincident_relative_distance * diag, rep);
   if (o.drop_coincident_faces && m.num_faces() > 0)
     drop_coincident_faces(m, source, res.two_sided, shell, o.coincident_relative_distance * diag, rep);
+  if (o.drop_coincident_faces && m.num_faces() > 0) {
+    const std::vector<char> keep = overlapping_sheet_faces(m, res.two_sided, o.coincident_relative_distance * diag);
+    const Eigen::VectorXd area = face_areas(m.V, m.F);
+    for (int f = 0; f < m.num_faces(); ++f)
+      if (!keep[f]) ++rep.coincident_faces_dropped, rep.coincident_area_dropped_m2 += area[f];
+    if (std::find(keep.begin(), keep.end(), 0) != keep.end()) keep_faces(m, source, res.two_sided, keep, &shell);
+  }
   for (int f = 0; f < shell.size(); ++f) {
     if (!shell[f] || res.two_sided[f] || m.face_back_material[f] >= 0) continue;
     make_two_sided(m, res.two_sided, f, m.face_material[f]);
