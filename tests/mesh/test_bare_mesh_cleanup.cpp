@@ -208,7 +208,7 @@ TEST(BareMeshCleanup, a_sheet_lying_on_a_larger_sheet_is_dropped_and_one_a_gap_a
   big.V << 2, -1, 0.5, 2, 2, 0.5, 5, 2, 0.5, 5, -1, 0.5;  // corners in reverse order: facing -z
   for (const double dz : {0.0, 0.01}) {
     const BareMeshCleanupResult r = cleanup_bare_mesh(join(bare_sheet(0.5 + dz), big));
-    EXPECT_EQ(r.report.coincident_faces_dropped, dz == 0.0 ? 2 : 0) << dz;
+    EXPECT_EQ(r.report.overlapping_sheet_faces_dropped, dz == 0.0 ? 2 : 0) << dz;
     ASSERT_EQ(r.mesh.num_faces(), dz == 0.0 ? 2 : 4) << dz;
     EXPECT_EQ(r.source_face[0], dz == 0.0 ? 2 : 0) << dz;
   }

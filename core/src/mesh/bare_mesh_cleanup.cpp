@@ -211,7 +211,7 @@ Eigen::VectorXi compose(const Eigen::VectorXi& first, const Eigen::VectorXi& sec
 bool BareMeshCleanupReport::changed() const {
   return vertices_welded || degenerate_faces_dropped || t_junctions_split || faces_flipped || duplicate_faces_dropped ||
          back_to_back_pairs_merged || open_sheet_faces_made_two_sided || coincident_faces_dropped ||
-         shell_faces_made_two_sided;
+         shell_faces_made_two_sided || overlapping_sheet_faces_dropped;
 }
 
 std::string BareMeshCleanupReport::summary() const {
@@ -231,6 +231,9 @@ std::string BareMeshCleanupReport::summary() const {
   if (coincident_faces_dropped)
     s << "coincident faces of touching parts dropped: " << coincident_faces_dropped << " (" << coincident_area_dropped_m2
       << " m^2)\n";
+  if (overlapping_sheet_faces_dropped)
+    s << "two-sided faces lying on a larger sheet dropped: " << overlapping_sheet_faces_dropped << " ("
+      << overlapping_sheet_area_dropped_m2 << " m^2)\n";
   if (enclosing_shells)
     s << "closed parts with faces inside, made two-sided: " << enclosing_shells << " (" << shell_faces_made_two_sided
       << " faces; " << enclosed_faces << " faces inside)\n";
@@ -288,11 +291,11 @@ BareMeshCleanupResult cleanup_bare_mesh(const Mesh& mesh, const BareMeshCleanupO
   if (o.two_sided_enclosing_shells) shell = find_enclosing_shells(m, o.coincident_relative_distance * diag, rep);
   if (o.drop_coincident_faces && m.num_faces() > 0)
     drop_coincident_faces(m, source, res.two_sided, shell, o.coincident_relative_distance * diag, rep);
-  if (o.drop_coincident_faces && m.num_faces() > 0) {
+  if (o.drop_coincident_faces && m.num_faces() > 0) {  // step 6
     const std::vector<char> keep = overlapping_sheet_faces(m, res.two_sided, o.coincident_relative_distance * diag);
     const Eigen::VectorXd area = face_areas(m.V, m.F);
     for (int f = 0; f < m.num_faces(); ++f)
-      if (!keep[f]) ++rep.coincident_faces_dropped, rep.coincident_area_dropped_m2 += area[f];
+      if (!keep[f]) ++rep.overlapping_sheet_faces_dropped, rep.overlapping_sheet_area_dropped_m2 += area[f];
     if (std::find(keep.begin(), keep.end(), 0) != keep.end()) keep_faces(m, source, res.two_sided, keep, &shell);
   }
   for (int f = 0; f < shell.size(); ++f) {

@@ -26,7 +26,11 @@
 //!    their walls radiate into the cavity and stop the rays of the faces inside, which then
 //!    exchange with the walls and each other only. One-sided, the walls let those rays out
 //!    through their backs to faces whose rays never come back, and the couplings of the inside
-//!    faces depend on the ray counts. Found on the mesh entering step 4, applied after it.
+//!    faces depend on the ray counts. Found on the mesh entering step 4, applied after step 6.
+//! 6. Two-sided faces lying in the plane of a larger two-sided face (mesh/overlapping_sheets.h)
+//!    are dropped: where sheets overlap they are one surface. Both layers would emit from the
+//!    same place while a ray meeting them stops on one by a tie rule, so the other would
+//!    radiate without ever being hit.
 #include <Eigen/Core>
 #include <string>
 
@@ -40,7 +44,7 @@ struct BareMeshCleanupOptions {
   bool repair = true;                  //!< step 1
   bool merge_duplicate_faces = true;   //!< step 2
   bool two_sided_open_sheets = true;   //!< step 3
-  bool drop_coincident_faces = true;   //!< step 4
+  bool drop_coincident_faces = true;   //!< steps 4 and 6
   bool two_sided_enclosing_shells = true;  //!< step 5
   //! Step 4: two faces are coincident when parallel (|cos| > 1 - 1e-4) and their planes are
   //! closer than this fraction of the bounding-box diagonal. Step 5: a point this close to a
@@ -61,6 +65,8 @@ struct BareMeshCleanupReport {
   int open_components = 0, closed_components = 0;  //!< edge-connected parts after repair
   int coincident_faces_dropped = 0;         //!< touching faces, steps 2 and 4
   double coincident_area_dropped_m2 = 0.0;
+  int overlapping_sheet_faces_dropped = 0;  //!< step 6
+  double overlapping_sheet_area_dropped_m2 = 0.0;
   int enclosing_shells = 0;            //!< step 5: closed parts with faces inside
   int shell_faces_made_two_sided = 0;  //!< their faces (not two-sided before)
   int enclosed_faces = 0;              //!< faces of other parts inside them (found before step 4)
