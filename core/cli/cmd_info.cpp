@@ -55,13 +55,19 @@ void run_info(const InfoArgs& args) {
   // simulate, reduce and decimate clean a raw mesh before building its nodes (load_model.h).
   // info describes the file even where the cleanup refuses it (the other commands then stop).
   bool cleans = false;
+  BareMeshCleanupReport cleanup;
   try {
     const ThermalModel cleaned = load_model(args.model, model_load_options());
     cleans = cleaned.mesh_cleanup.has_value();
+    if (cleans) cleanup = *cleaned.mesh_cleanup;
     if (cleans)
       line("bare-mesh cleanup", fmt::format("on: simulate, reduce and decimate use {} faces, {} nodes",
                                             cleaned.mesh.num_faces(), cleaned.nodes.size()));
-    else
+    if (cleans && cleanup.enclosing_shells)
+      line("enclosed faces", fmt::format("{} inside {} closed parts, whose {} faces radiate from both sides",
+                                         cleanup.enclosed_faces, cleanup.enclosing_shells,
+                                         cleanup.shell_faces_made_two_sided));
+    if (!cleans)
       line("bare-mesh cleanup", "off (grouped mesh, or a model file naming nodes or radiation)");
   } catch (const Error& e) {
     line("bare-mesh cleanup", "fails: " + shown(e.what()));
@@ -101,6 +107,10 @@ void run_info(const InfoArgs& args) {
     j["mesh"] = model.mesh_path.string();
     j["faces"] = s.faces;
     j["bare_mesh_cleanup"] = cleans;
+    if (cleans)
+      j["enclosed"] = {{"faces", cleanup.enclosed_faces},
+                       {"closed_parts", cleanup.enclosing_shells},
+                       {"shell_faces_made_two_sided", cleanup.shell_faces_made_two_sided}};
     j["vertices"] = s.vertices;
     j["unreferenced_vertices"] = s.unreferenced_vertices;
     j["edges"] = s.edges;

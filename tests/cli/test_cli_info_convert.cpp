@@ -149,3 +149,31 @@ TEST(SharedModelsCliInfo, info_succeeds_on_every_sample_and_nasa_model) {
     EXPECT_NE(r.out.find("nodes "), std::string::npos) << m;
   }
 }
+
+TEST(CliInfo, bare_mesh_with_a_sheet_inside_a_closed_box_reports_the_enclosed_faces) {
+  auto d = temp_dir("info_enclosed");
+  // A 3 m cube (outward) around a 1 m square sheet: the cube's 12 faces radiate from both sides.
+  const double c[8][3] = {{0, 0, 0}, {3, 0, 0}, {3, 3, 0}, {0, 3, 0}, {0, 0, 3}, {3, 0, 3}, {3, 3, 3}, {0, 3, 3}};
+  const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {1, 2, 6, 5}, {0, 4, 7, 3}};
+  std::ostringstream stl;
+  auto tri = [&](const double* a, const double* b, const double* e) {
+    stl << "facet normal 0 0 0\nouter loop\n";
+    for (const double* v : {a, b, e}) stl << "vertex " << v[0] << " " << v[1] << " " << v[2] << "\n";
+    stl << "endloop\nendfacet\n";
+  };
+  stl << "solid enclosed\n";
+  for (const auto& q4 : quads) tri(c[q4[0]], c[q4[1]], c[q4[2]]), tri(c[q4[0]], c[q4[2]], c[q4[3]]);
+  const double s[4][3] = {{1, 1, 1.5}, {2, 1, 1.5}, {2, 2, 1.5}, {1, 2, 1.5}};
+  tri(s[0], s[1], s[2]), tri(s[0], s[2], s[3]);
+  stl << "endsolid enclosed\n";
+  std::ofstream(d / "enclosed.stl") << stl.str();
+  const CliRun r = run_cli("info " + q(d / "enclosed.stl") + " --json " + q(d / "info.json"), d);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("enclosed faces      2 inside 1 closed parts, whose 12 faces radiate from both sides"),
+            std::string::npos)
+      << r.out;
+  const auto j = nlohmann::json::parse(read_text(d / "info.json"));
+  EXPECT_EQ(j["enclosed"]["faces"], 2);
+  EXPECT_EQ(j["enclosed"]["closed_parts"], 1);
+  EXPECT_EQ(j["enclosed"]["shell_faces_made_two_sided"], 12);
+}

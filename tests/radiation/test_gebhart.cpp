@@ -8,6 +8,7 @@
 
 #include "test_meshes.h"
 #include "thermodec/common/errors.h"
+#include "thermodec/mesh/bare_mesh_cleanup.h"
 #include "thermodec/radiation/gebhart_factors.h"
 #include "thermodec/radiation/radiative_couplings.h"
 #include "thermodec/rays/ray_scene.h"
@@ -251,4 +252,25 @@ TEST(Gebhart, pairs_not_reciprocal_by_geometry_are_counted_and_reciprocal_ones_a
   r.radiation.min_rays_per_node = 20000;
   r.nodes[1].sampling_boost.ir = 16.0;
   EXPECT_EQ(couplings_of(r).diagnostics.non_reciprocal_pairs, 0);
+}
+
+TEST(Gebhart, a_closed_part_with_a_plate_inside_radiates_into_its_cavity_and_every_pair_is_reciprocal) {
+  // The bare-mesh cleanup finds the box hollow (something is inside) and makes its walls
+  // two-sided: the inner plate's rays stop on the inside of the floor, and with every surface
+  // black and no escape from the box, both sides of the inner plate (1 m^2 each) deliver all
+  // they emit to the box: GR(inner, box) = 2 m^2, GR(inner, lower) = 0.
+  const BareMeshCleanupResult cleaned = cleanup_bare_mesh(plate_inside_a_box());
+  EXPECT_EQ(cleaned.report.enclosing_shells, 1);
+  ThermalModel m = model_of(cleaned.mesh, 1.0, 1.0, 64, 3);
+  m.radiation.min_rays_per_node = 20000;
+  ASSERT_EQ(m.nodes.size(), 4u);
+  ASSERT_EQ(m.nodes[1].name, "inner");
+  const NodeCouplings c = couplings_of(m);
+  EXPECT_EQ(c.diagnostics.back_hits_on_one_sided, 0);
+  EXPECT_EQ(c.diagnostics.non_reciprocal_pairs, 0);
+  EXPECT_EQ(c.radiative_couplings_m2(1, 2), 0.0);
+  EXPECT_EQ(c.radiative_couplings_m2(1, 3), 0.0);
+  const double se = c.radiative_couplings_standard_error(0, 1);
+  EXPECT_GT(se, 0.0);
+  EXPECT_NEAR(c.radiative_couplings_m2(0, 1), 2.0, 4.0 * se + 1e-12);
 }

@@ -11,12 +11,12 @@
 #include <map>
 #include <numeric>
 #include <sstream>
-#include <tuple>
 #include <vector>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/mesh/enclosing_shells.h"
 #include "thermodec/mesh/face_geometry.h"
-#include "thermodec/mesh/mesh_stats.h"
+#include "thermodec/mesh/overlapping_sheets.h"
 #include "thermodec/mesh/remove_faces.h"
 #include "thermodec/mesh/repair.h"
 
@@ -26,10 +26,12 @@ namespace {
 int attr(const Eigen::VectorXi& a, int f) { return a.size() > f ? a[f] : -1; }
 
 // Keeps the faces with keep[f] != 0; provenance and two-sided flags follow.
-void keep_faces(Mesh& m, Eigen::VectorXi& source, Eigen::VectorXi& two_sided, const std::vector<char>& keep) {
+void keep_faces(Mesh& m, Eigen::VectorXi& source, Eigen::VectorXi& two_sided, const std::vector<char>& keep,
+                Eigen::VectorXi* tag = nullptr) {
   const std::vector<int> kept = remove_faces(m, keep);
   source = source(kept).eval();
   two_sided = two_sided(kept).eval();
+  if (tag && tag->size()) *tag = (*tag)(kept).eval();
 }
 
 void make_two_sided(Mesh& m, Eigen::VectorXi& two_sided, int f, int back_material) {
@@ -112,38 +114,36 @@ void merge_index_duplicates(Mesh& m, Eigen::VectorXi& source, Eigen::VectorXi& t
 void two_sided_open_sheets(Mesh& m, Eigen::VectorXi& two_sided, BareMeshCleanupReport& rep) {
   const int nf = m.num_faces();
   if (nf == 0) return;
-  const Eigen::VectorXi comp = face_components(m.F);
-  const int nc = comp.maxCoeff() + 1;
-  std::vector<std::tuple<int, int, int>> edges;  // (min vertex, max vertex, face)
-  edges.reserve(3 * static_cast<size_t>(nf));
-  for (int f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = m.F(f, k), b = m.F(f, (k + 1) % 3);
-      edges.emplace_back(std::min(a, b), std::max(a, b), f);
-    }
-  std::sort(edges.begin(), edges.end());
-  std::vector<char> open(nc, 0);
-  for (size_t i = 0; i < edges.size();) {
-    size_t j = i;
-    while (j < edges.size() && std::get<0>(edges[j]) == std::get<0>(edges[i]) &&
-           std::get<1>(edges[j]) == std::get<1>(edges[i]))
-      ++j;
-    if (j - i == 1) open[comp[std::get<2>(edges[i])]] = 1;
-    i = j;
-  }
-  for (int c = 0; c < nc; ++c) (open[c] ? rep.open_components : rep.closed_components)++;
+  Eigen::VectorXi comp;
+  const std::vector<char> closed = closed_components(m.F, comp);
+  for (char c : closed) (c ? rep.closed_components : rep.open_components)++;
   for (int f = 0; f < nf; ++f) {
-    if (!open[comp[f]] || two_sided[f] || m.face_back_material[f] >= 0) continue;
+    if (closed[comp[f]] || two_sided[f] || m.face_back_material[f] >= 0) continue;
     make_two_sided(m, two_sided, f, m.face_material[f]);
     ++rep.open_sheet_faces_made_two_sided;
   }
 }
 
+// Step 5, found before step 4 (whose dropped contact faces would open the touching parts):
+// #F 1 = face of a closed part with other faces inside it.
+Eigen::VectorXi find_enclosing_shells(const Mesh& m, double on_surface_m, BareMeshCleanupReport& rep) {
+  Eigen::VectorXi comp;
+  const std::vector<char> closed = closed_components(m.F, comp);
+  const EnclosingShells e = enclosing_shells(m, comp, closed, on_surface_m);
+  Eigen::VectorXi shell(m.num_faces());
+  for (int f = 0; f < m.num_faces(); ++f) {
+    shell[f] = e.shell_face[f];
+    rep.enclosed_faces += e.enclosed_face[f];
+  }
+  rep.enclosing_shells = e.shells;
+  return shell;
+}
+
 // Step 4: one-sided faces lying on an opposite-facing face (touching parts). Sweep over the
 // faces' boxes along x; candidates are tested at 7 interior sample points, and a face goes when
 // most of them (4 of 7) lie on an opposite face.
-void drop_coincident_faces(Mesh& m, Eigen::VectorXi& source, Eigen::VectorXi& two_sided, double distance,
-                           BareMeshCleanupReport& rep) {
+void drop_coincident_faces(Mesh& m, Eigen::VectorXi& source, Eigen::VectorXi& two_sided, Eigen::VectorXi& shell,
+                           double distance, BareMeshCleanupReport& rep) {
   const int nf = m.num_faces();
   const Eigen::MatrixXd N = face_normals(m.V, m.F);
   const Eigen::VectorXd A = face_areas(m.V, m.F);
@@ -196,7 +196,7 @@ void drop_coincident_faces(Mesh& m, Eigen::VectorXi& source, Eigen::VectorXi& tw
       rep.coincident_area_dropped_m2 += A[f];
     }
   }
-  if (rep.coincident_faces_dropped) keep_faces(m, source, two_sided, keep);
+  if (rep.coincident_faces_dropped) keep_faces(m, source, two_sided, keep, &shell);
 }
 
 // Composes provenance: out[i] = first[second[i]].
@@ -210,7 +210,8 @@ Eigen::VectorXi compose(const Eigen::VectorXi& first, const Eigen::VectorXi& sec
 
 bool BareMeshCleanupReport::changed() const {
   return vertices_welded || degenerate_faces_dropped || t_junctions_split || faces_flipped || duplicate_faces_dropped ||
-         back_to_back_pairs_merged || open_sheet_faces_made_two_sided || coincident_faces_dropped;
+         back_to_back_pairs_merged || open_sheet_faces_made_two_sided || coincident_faces_dropped ||
+         shell_faces_made_two_sided || overlapping_sheet_faces_dropped;
 }
 
 std::string BareMeshCleanupReport::summary() const {
@@ -230,6 +231,12 @@ std::string BareMeshCleanupReport::summary() const {
   if (coincident_faces_dropped)
     s << "coincident faces of touching parts dropped: " << coincident_faces_dropped << " (" << coincident_area_dropped_m2
       << " m^2)\n";
+  if (overlapping_sheet_faces_dropped)
+    s << "two-sided faces lying on a larger sheet dropped: " << overlapping_sheet_faces_dropped << " ("
+      << overlapping_sheet_area_dropped_m2 << " m^2)\n";
+  if (enclosing_shells)
+    s << "closed parts with faces inside, made two-sided: " << enclosing_shells << " (" << shell_faces_made_two_sided
+      << " faces; " << enclosed_faces << " faces inside)\n";
   return s.str();
 }
 
@@ -279,9 +286,22 @@ BareMeshCleanupResult cleanup_bare_mesh(const Mesh& mesh, const BareMeshCleanupO
     m = std::move(r.mesh);
   }
   if (o.two_sided_open_sheets) two_sided_open_sheets(m, res.two_sided, rep);
-  if (o.drop_coincident_faces && m.num_faces() > 0) {
-    const double diag = (m.V.colwise().maxCoeff() - m.V.colwise().minCoeff()).norm();
-    drop_coincident_faces(m, source, res.two_sided, o.coincident_relative_distance * diag, rep);
+  const double diag = m.num_faces() ? (m.V.colwise().maxCoeff() - m.V.colwise().minCoeff()).norm() : 0.0;
+  Eigen::VectorXi shell;
+  if (o.two_sided_enclosing_shells) shell = find_enclosing_shells(m, o.coincident_relative_distance * diag, rep);
+  if (o.drop_coincident_faces && m.num_faces() > 0)
+    drop_coincident_faces(m, source, res.two_sided, shell, o.coincident_relative_distance * diag, rep);
+  if (o.drop_coincident_faces && m.num_faces() > 0) {  // step 6
+    const std::vector<char> keep = overlapping_sheet_faces(m, res.two_sided, o.coincident_relative_distance * diag);
+    const Eigen::VectorXd area = face_areas(m.V, m.F);
+    for (int f = 0; f < m.num_faces(); ++f)
+      if (!keep[f]) ++rep.overlapping_sheet_faces_dropped, rep.overlapping_sheet_area_dropped_m2 += area[f];
+    if (std::find(keep.begin(), keep.end(), 0) != keep.end()) keep_faces(m, source, res.two_sided, keep, &shell);
+  }
+  for (int f = 0; f < shell.size(); ++f) {
+    if (!shell[f] || res.two_sided[f] || m.face_back_material[f] >= 0) continue;
+    make_two_sided(m, res.two_sided, f, m.face_material[f]);
+    ++rep.shell_faces_made_two_sided;
   }
   rep.faces_out = m.num_faces();
   res.mesh = std::move(m);

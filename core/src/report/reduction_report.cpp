@@ -136,7 +136,12 @@ json reduction_report_json(const ReductionRun& run) {
                          {"open_sheets", c.open_components},
                          {"open_sheet_faces_made_two_sided", c.open_sheet_faces_made_two_sided},
                          {"coincident_faces_dropped", c.coincident_faces_dropped},
-                         {"coincident_area_dropped_m2", c.coincident_area_dropped_m2}};
+                         {"coincident_area_dropped_m2", c.coincident_area_dropped_m2},
+                         {"overlapping_sheet_faces_dropped", c.overlapping_sheet_faces_dropped},
+                         {"overlapping_sheet_area_dropped_m2", c.overlapping_sheet_area_dropped_m2},
+                         {"enclosing_shells", c.enclosing_shells},
+                         {"shell_faces_made_two_sided", c.shell_faces_made_two_sided},
+                         {"enclosed_faces", c.enclosed_faces}};
   }
   j["timings_s"] = {{"total", run.seconds_total}, {"noise_floor", run.seconds_noise},
                     {"sensitivity", run.seconds_sensitivity}, {"search", run.seconds_search},
