@@ -6,7 +6,9 @@
 // projected area over 200 directions relative to its area, and CPU time. Never a pass/fail.
 // Usage:
 //   bench_decimation_reach [--normal DEG] [--contour D] [--budget B] [--fold DEG] [--kink D] [--area A]
-//                          [--geometric] [MODEL ...]
+//                          [--geometric] [--ratio R] [--per-node] [MODEL ...]
+//   --ratio R: every node asked for R instead of 0.9; --per-node: one more line per node (faces
+//   before -> after, target, the reason that stops it most and its refused edges)
 //   (default: the NASA meshes in ../shared; options override reduce's decimation options)
 #include <algorithm>
 #include <cmath>
@@ -35,6 +37,8 @@ int main(int argc, char** argv) {
   DecimationOptions o = reduction_decimation_options();
   o.max_relative_area_change = 7.5e-4;  // reduce's bound at 0.5 K on the NASA meshes
   std::vector<fs::path> models;
+  double ratio = 0.9;
+  bool per_node = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&] { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
@@ -45,6 +49,8 @@ int main(int argc, char** argv) {
     else if (a == "--fold") o.max_fold_deg = value();
     else if (a == "--area") o.max_relative_area_change = value();
     else if (a == "--geometric") o.collapse_cost = CollapseCostKind::geometric;
+    else if (a == "--ratio") ratio = value();
+    else if (a == "--per-node") per_node = true;
     else models.emplace_back(a);
   }
   if (models.empty()) {
@@ -63,7 +69,7 @@ int main(int argc, char** argv) {
     const auto p0 = projected_areas(mesh, nodes, 200);
     const std::vector<double> area = node_areas_m2(mesh);  // [m^2], one entry per node
     const double t0 = cpu_seconds();
-    const DecimationResult r = decimate_nodes(mesh, Eigen::VectorXd::Constant(nodes, 0.9), o);
+    const DecimationResult r = decimate_nodes(mesh, Eigen::VectorXd::Constant(nodes, ratio), o);
     const double t = cpu_seconds() - t0;
     const auto p1 = projected_areas(r.mesh, nodes, 200);
     std::vector<double> change(nodes, 0.0);
@@ -87,6 +93,17 @@ int main(int argc, char** argv) {
     std::printf("%-8s %6d -> %6d (%.1f %%)  max dP/A %.2e, median %.2e  %.2f s  %s\n", path.stem().string().c_str(),
                 mesh.num_faces(), r.mesh.num_faces(), 100.0 * r.mesh.num_faces() / mesh.num_faces(), change.back(),
                 change[change.size() / 2], t, why.c_str());
+    if (per_node)
+      for (int n = 0; n < nodes && n < static_cast<int>(r.nodes.size()); ++n) {
+        const NodeDecimationStats& s = r.nodes[n];
+        std::string blocks;
+        for (int k = 0; k < kCollapseBlocks; ++k)
+          if (s.blocked_edges[k] > 0)
+            blocks += std::string(" ") + collapse_block_name(static_cast<CollapseBlock>(k)) + " " +
+                      std::to_string(s.blocked_edges[k]);
+        std::printf("  %-16s %5d -> %5d (target %d, free %d)%s\n", model.nodes[n].name.c_str(), s.faces_before,
+                    s.faces_after, s.target_faces, s.faces_removed_free, blocks.c_str());
+      }
   }
   return 0;
 }
