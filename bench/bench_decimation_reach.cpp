@@ -6,7 +6,9 @@
 // projected area over 200 directions relative to its area, and CPU time. Never a pass/fail.
 // Usage:
 //   bench_decimation_reach [--normal DEG] [--contour D] [--budget B] [--fold DEG] [--kink D] [--area A]
-//                          [--geometric] [--ratio R] [--per-node] [MODEL ...]
+//                          [--geometric] [--conforming] [--passes N] [--ratio R] [--per-node] [MODEL ...]
+//   --conforming: contacts not released (DecimationOptions::release_contacts off); --passes N:
+//   DecimationOptions::passes
 //   --ratio R: every node asked for R instead of 0.9; --per-node: one more line per node (faces
 //   before -> after, target, the reason that stops it most and its refused edges)
 //   (default: the NASA meshes in ../shared; options override reduce's decimation options)
@@ -51,6 +53,8 @@ int main(int argc, char** argv) {
     else if (a == "--geometric") o.collapse_cost = CollapseCostKind::geometric;
     else if (a == "--ratio") ratio = value();
     else if (a == "--per-node") per_node = true;
+    else if (a == "--conforming") o.release_contacts = false;
+    else if (a == "--passes") o.passes = static_cast<int>(value());
     else models.emplace_back(a);
   }
   if (models.empty()) {
@@ -58,10 +62,10 @@ int main(int argc, char** argv) {
     for (const char* m : {"NPP_16.stl", "Juno.stl"})
       if (fs::exists(src / "../shared/models/nasa" / m)) models.push_back(src / "../shared/models/nasa" / m);
   }
-  std::printf("# cost %s, normals %g deg, contour %g, projected-area budget %g (fold %g deg, kink %g), area %g\n",
+  std::printf("# cost %s, normals %g deg, contour %g, projected-area budget %g (fold %g deg, kink %g), area %g%s, %d pass(es)\n",
               o.collapse_cost == CollapseCostKind::geometric ? "geometric" : "radiative", o.max_normal_deviation_deg,
               o.max_contour_deviation, o.projected_area_budget, o.max_fold_deg, o.max_kinked_contour_deviation,
-              o.max_relative_area_change);
+              o.max_relative_area_change, o.release_contacts ? ", contacts released" : "", o.passes);
   for (const auto& path : models) {
     const ThermalModel model = load_model(path);
     const Mesh& mesh = model.mesh;

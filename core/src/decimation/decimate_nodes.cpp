@@ -205,8 +205,8 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
       !(options.max_contour_deviation >= 0) || !(options.exact_contour_tolerance >= 0) ||
       !(options.radiative_cost_weight >= 0) || !(options.projected_area_budget >= 0) ||
       !(options.max_kinked_contour_deviation >= 0) ||
-      options.min_faces_per_node < 1)
-    throw InvalidInput("decimate: tolerances must be >= 0 and min_faces_per_node >= 1");
+      options.min_faces_per_node < 1 || options.passes < 1)
+    throw InvalidInput("decimate: tolerances must be >= 0, min_faces_per_node and passes >= 1");
   if (!(options.max_fold_deg > 0 && options.max_fold_deg <= 179))
     throw InvalidInput("decimate: max_fold_deg must be in (0, 179]");
 
@@ -262,6 +262,15 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     c.target_simplices = &opt.nTargetSimplices;
     opt.DoOptimization();
     collapses = opt.nPerformedOps;
+    // note: a collapse refused when it comes off the heap (a neighbour's budget, an area that
+    // has since drifted back) is queued again only when its star changes. With passes > 1,
+    // once the heap is empty every remaining edge is queued once more, while that still
+    // collapses something (DecimationOptions::passes).
+    for (int pass = 1; pass < options.passes && opt.nPerformedOps > 0 && m.fn > opt.nTargetSimplices; ++pass) {
+      opt.Init<NodeCollapse>();
+      opt.DoOptimization();
+      collapses += opt.nPerformedOps;
+    }
   }
 
   const auto blocked = collapse::explain_reach(m, c);

@@ -124,6 +124,15 @@ struct DecimationOptions {
   //! unmoved are joined back). Off by default (`decimate`'s output stays conforming), on in
   //! `reduce` (reduction_decimation_options).
   bool release_contacts = false;
+  //! Passes over the mesh: a collapse refused when it comes off the heap (a neighbour had no
+  //! budget left, a node's area had drifted to its bound) is queued again only when its star
+  //! changes, so the first pass can end while allowed collapses remain (NodeDecimationStats
+  //! counts them as `none`). Each further pass queues every remaining edge again, and runs
+  //! only if the previous one collapsed something. Same constraints in every pass. At ratio
+  //! 0.9 (bench_decimation_reach, area 7.5e-4) 4 passes reach NPP_16 1180 -> 1112 faces and
+  //! Juno 5311 -> 4781, but NPP_16's largest change of a node's projected area doubles
+  //! (5.4e-2 -> 1.1e-1, docs/benchmarks.md), so the default stays 1 (>= 1).
+  int passes = 1;
   //! Thin tubes (struts, ribs, booms, cables: a loop of n <= 12 short edges swept along long
   //! ones) are coarsened a whole cross-section at a time: the loop at the removed vertex moves
   //! onto the next loop along the tube and the 2n faces between them disappear. A single edge
