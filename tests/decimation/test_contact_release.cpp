@@ -91,3 +91,34 @@ TEST(ContactRelease, copies_left_unmoved_are_joined_back_so_an_untouched_contact
   std::set<int> inputs(r.fine_vertex_of_coarse.data(), r.fine_vertex_of_coarse.data() + r.fine_vertex_of_coarse.size());
   EXPECT_EQ(inputs.size(), static_cast<size_t>(r.mesh.num_vertices()));
 }
+
+TEST(ContactRelease, a_fin_across_a_whole_plate_and_a_bow_tie_decimate_node_preserving_and_repeatably) {
+  // The fin's foot runs from edge to edge of the plate: its two end vertices lie on the plate's
+  // outline (their fans are not closed) and stay shared; the inner ones are released.
+  const Mesh in = test::non_manifold_fin(8);
+  DecimationOptions o;
+  o.release_contacts = true;
+  const Eigen::Vector3d ratios(0.9, 0.7, 0.5);
+  const DecimationResult r = decimate_nodes(in, ratios, o);
+  ASSERT_EQ(r.fine_face_of_coarse.size(), r.mesh.num_faces());
+  for (int i = 0; i < r.mesh.num_faces(); ++i) {
+    EXPECT_EQ(r.mesh.face_node[i], in.face_node[r.fine_face_of_coarse[i]]);
+    EXPECT_NE(r.mesh.F(i, 0), r.mesh.F(i, 1));
+    EXPECT_NE(r.mesh.F(i, 1), r.mesh.F(i, 2));
+    EXPECT_NE(r.mesh.F(i, 0), r.mesh.F(i, 2));
+  }
+  for (const auto& s : r.nodes) EXPECT_LE(std::abs(s.relative_area_change()), o.max_relative_area_change + 1e-12);
+  // No crack: both ends of every open edge of the output are input vertices that were on the
+  // input's open boundary or on an edge of > 2 faces (the fin's foot, now resting on the plate).
+  std::set<int> rim;
+  for (const auto& [e, n] : edge_count(in))
+    if (n != 2) rim.insert({e.first, e.second});
+  for (const auto& [e, n] : edge_count(r.mesh))
+    if (n == 1) {
+      const int a = r.fine_vertex_of_coarse[e.first], b = r.fine_vertex_of_coarse[e.second];
+      EXPECT_TRUE(rim.count(a) && rim.count(b)) << "new open edge " << a << "-" << b;
+    }
+  const DecimationResult again = decimate_nodes(in, ratios, o);
+  EXPECT_TRUE(again.mesh.V == r.mesh.V && again.mesh.F == r.mesh.F);
+  EXPECT_LT(r.nodes[0].faces_after, decimate_nodes(in, ratios, DecimationOptions{}).nodes[0].faces_after);
+}
