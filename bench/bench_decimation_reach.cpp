@@ -6,7 +6,11 @@
 // projected area over 200 directions relative to its area, and CPU time. Never a pass/fail.
 // Usage:
 //   bench_decimation_reach [--normal DEG] [--contour D] [--budget B] [--fold DEG] [--kink D] [--area A]
-//                          [--geometric] [MODEL ...]
+//                          [--geometric] [--conforming] [--passes N] [--ratio R] [--per-node] [MODEL ...]
+//   --conforming: contacts not released (DecimationOptions::release_contacts off); --passes N:
+//   DecimationOptions::passes
+//   --ratio R: every node asked for R instead of 0.9; --per-node: one more line per node (faces
+//   before -> after, target, the reason that stops it most and its refused edges)
 //   (default: the NASA meshes in ../shared; options override reduce's decimation options)
 #include <algorithm>
 #include <cmath>
@@ -35,6 +39,8 @@ int main(int argc, char** argv) {
   DecimationOptions o = reduction_decimation_options();
   o.max_relative_area_change = 7.5e-4;  // reduce's bound at 0.5 K on the NASA meshes
   std::vector<fs::path> models;
+  double ratio = 0.9;
+  bool per_node = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&] { return i + 1 < argc ? std::atof(argv[++i]) : 0.0; };
@@ -45,6 +51,10 @@ int main(int argc, char** argv) {
     else if (a == "--fold") o.max_fold_deg = value();
     else if (a == "--area") o.max_relative_area_change = value();
     else if (a == "--geometric") o.collapse_cost = CollapseCostKind::geometric;
+    else if (a == "--ratio") ratio = value();
+    else if (a == "--per-node") per_node = true;
+    else if (a == "--conforming") o.release_contacts = false;
+    else if (a == "--passes") o.passes = static_cast<int>(value());
     else models.emplace_back(a);
   }
   if (models.empty()) {
@@ -52,10 +62,10 @@ int main(int argc, char** argv) {
     for (const char* m : {"NPP_16.stl", "Juno.stl"})
       if (fs::exists(src / "../shared/models/nasa" / m)) models.push_back(src / "../shared/models/nasa" / m);
   }
-  std::printf("# cost %s, normals %g deg, contour %g, projected-area budget %g (fold %g deg, kink %g), area %g\n",
+  std::printf("# cost %s, normals %g deg, contour %g, projected-area budget %g (fold %g deg, kink %g), area %g%s, %d pass(es)\n",
               o.collapse_cost == CollapseCostKind::geometric ? "geometric" : "radiative", o.max_normal_deviation_deg,
               o.max_contour_deviation, o.projected_area_budget, o.max_fold_deg, o.max_kinked_contour_deviation,
-              o.max_relative_area_change);
+              o.max_relative_area_change, o.release_contacts ? ", contacts released" : "", o.passes);
   for (const auto& path : models) {
     const ThermalModel model = load_model(path);
     const Mesh& mesh = model.mesh;
@@ -63,7 +73,7 @@ int main(int argc, char** argv) {
     const auto p0 = projected_areas(mesh, nodes, 200);
     const std::vector<double> area = node_areas_m2(mesh);  // [m^2], one entry per node
     const double t0 = cpu_seconds();
-    const DecimationResult r = decimate_nodes(mesh, Eigen::VectorXd::Constant(nodes, 0.9), o);
+    const DecimationResult r = decimate_nodes(mesh, Eigen::VectorXd::Constant(nodes, ratio), o);
     const double t = cpu_seconds() - t0;
     const auto p1 = projected_areas(r.mesh, nodes, 200);
     std::vector<double> change(nodes, 0.0);
@@ -87,6 +97,17 @@ int main(int argc, char** argv) {
     std::printf("%-8s %6d -> %6d (%.1f %%)  max dP/A %.2e, median %.2e  %.2f s  %s\n", path.stem().string().c_str(),
                 mesh.num_faces(), r.mesh.num_faces(), 100.0 * r.mesh.num_faces() / mesh.num_faces(), change.back(),
                 change[change.size() / 2], t, why.c_str());
+    if (per_node)
+      for (int n = 0; n < nodes && n < static_cast<int>(r.nodes.size()); ++n) {
+        const NodeDecimationStats& s = r.nodes[n];
+        std::string blocks;
+        for (int k = 0; k < kCollapseBlocks; ++k)
+          if (s.blocked_edges[k] > 0)
+            blocks += std::string(" ") + collapse_block_name(static_cast<CollapseBlock>(k)) + " " +
+                      std::to_string(s.blocked_edges[k]);
+        std::printf("  %-16s %5d -> %5d (target %d, free %d)%s\n", model.nodes[n].name.c_str(), s.faces_before,
+                    s.faces_after, s.target_faces, s.faces_removed_free, blocks.c_str());
+      }
   }
   return 0;
 }

@@ -196,6 +196,11 @@ void add_decimate(CLI::App& app) {
                   "with --projected-area-budget: no face turns by more than this [degrees], whatever its area")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 179.0));
+  sub->add_flag("--release-contacts", args->options.release_contacts,
+               "a flat region that a part only touches (a sheet standing on a panel, a part touching a flat face "
+               "at a point) drops the contact's vertices and may go down to its outline's triangles; the touching "
+               "part keeps them, so the output is no longer conforming there (`reduce` does this; "
+               "docs/decimation.md)");
   sub->add_option("--max-kink", args->options.max_kinked_contour_deviation,
                   "with --projected-area-budget: a contour vertex up to this deviation (relative to the new segment) "
                   "may go when its nodes pay the outline's swept area from the budget")

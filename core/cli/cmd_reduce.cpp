@@ -48,6 +48,7 @@ struct ReduceCliOptions {
   double projected_area_budget = reduction_decimation_options().projected_area_budget;
   double max_fold_deg = reduction_decimation_options().max_fold_deg;
   double max_kinked_contour_deviation = reduction_decimation_options().max_kinked_contour_deviation;
+  bool conforming_contacts = !reduction_decimation_options().release_contacts;
   bool merge_nodes = false;      // reduction/merge_reduction.h
   NodeMergeSettings merge;
 };
@@ -110,6 +111,7 @@ void run_reduce(const ReduceCliOptions& o) {
   s.reference.decimation.projected_area_budget = o.projected_area_budget;
   s.reference.decimation.max_fold_deg = o.max_fold_deg;
   s.reference.decimation.max_kinked_contour_deviation = o.max_kinked_contour_deviation;
+  s.reference.decimation.release_contacts = !o.conforming_contacts;
   if (o.record_memory_GiB > 0.0) s.reference.record_budget_bytes = static_cast<std::size_t>(o.record_memory_GiB * 1073741824.0);
   // Load cases read (and checked) before any simulation.
   for (const auto& f : o.case_files) s.extra_cases.push_back(load_case(f, model));
@@ -238,6 +240,10 @@ void add_reduce(CLI::App& app) {
                   "no face turns by more than this [degrees], whatever its area (with --projected-area-budget)")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 179.0));
+  sub->add_flag("--conforming-contacts", o->conforming_contacts,
+               "the decimator keeps every contact vertex (a sheet standing on a panel, a part touching a flat "
+               "face at a point) in the flat region too, so the output stays conforming there (default: the "
+               "flat region drops them; docs/decimation.md, \"Released contacts\")");
   sub->add_option("--max-kink", o->max_kinked_contour_deviation,
                   "with --projected-area-budget: a contour vertex up to this deviation (relative to the new segment) "
                   "may go when its nodes pay the outline's swept area from the budget")

@@ -71,6 +71,7 @@ struct Context : vcg::BaseParameterClass {
 
   std::vector<int> face_region, region_node, region_faces, face_component;
   std::vector<uint8_t> vclass;
+  std::vector<char> contact_frozen;  // per vertex: a touching part's contact (contact_release.h), frozen
   std::vector<int> node_faces, node_target;
   std::vector<int> node_free_removed;  // faces lost to exact contour collapses past the budget
   std::vector<double> node_area, node_area0;

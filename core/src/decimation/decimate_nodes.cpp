@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "contact_release.h"
 #include "node_collapse.h"
 #include "thermodec/common/errors.h"
 #include "thermodec/decimation/global_ratio.h"
@@ -147,12 +148,44 @@ DecimationResult assemble_result(const Mesh& mesh, VMesh& m, const Context& c, i
   return res;
 }
 
+// Maps the coarse vertices of a decimation run on released contacts (contact_release.h) back
+// to input vertices: a copy left unmoved where its input vertex also survives is the same
+// point, so the faces get that vertex back (where nothing coarsened the contact, the output
+// is as conforming as the input).
+void rejoin_contacts(const ContactRelease& rel, DecimationResult& res) {
+  Mesh& out = res.mesh;
+  const int n = out.num_vertices();
+  std::vector<int> output_of_input(rel.input_vertex.size(), -1);
+  for (int i = 0; i < n; ++i) output_of_input[res.fine_vertex_of_coarse[i]] = i;
+  std::vector<int> same(n);
+  int kept = 0;
+  for (int i = 0; i < n; ++i) {
+    const int w = res.fine_vertex_of_coarse[i], v = rel.input_vertex[w];
+    const int o = v != w ? output_of_input[v] : -1;
+    same[i] = o >= 0 && out.V.row(o) == out.V.row(i) ? o : i;
+    kept += same[i] == i;
+  }
+  std::vector<int> index(n, -1);
+  Eigen::MatrixXd V(kept, 3);
+  Eigen::VectorXi fine(kept);
+  for (int i = 0, k = 0; i < n; ++i)
+    if (same[i] == i) {
+      index[i] = k;
+      V.row(k) = out.V.row(i);
+      fine[k++] = rel.input_vertex[res.fine_vertex_of_coarse[i]];
+    }
+  for (int f = 0; f < out.num_faces(); ++f)
+    for (int j = 0; j < 3; ++j) out.F(f, j) = index[same[out.F(f, j)]];
+  out.V = std::move(V);
+  res.fine_vertex_of_coarse = std::move(fine);
+}
+
 }  // namespace
 
 DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_ratio_per_node,
                                 const DecimationOptions& options) {
   check_input(mesh);
-  const int nv = mesh.num_vertices(), nf = mesh.num_faces();
+  const int nf = mesh.num_faces();
   int num_nodes = static_cast<int>(mesh.node_names.size());
   bool has_unassigned = false;
   for (int f = 0; f < nf; ++f) {
@@ -172,8 +205,8 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
       !(options.max_contour_deviation >= 0) || !(options.exact_contour_tolerance >= 0) ||
       !(options.radiative_cost_weight >= 0) || !(options.projected_area_budget >= 0) ||
       !(options.max_kinked_contour_deviation >= 0) ||
-      options.min_faces_per_node < 1)
-    throw InvalidInput("decimate: tolerances must be >= 0 and min_faces_per_node >= 1");
+      options.min_faces_per_node < 1 || options.passes < 1)
+    throw InvalidInput("decimate: tolerances must be >= 0, min_faces_per_node and passes >= 1");
   if (!(options.max_fold_deg > 0 && options.max_fold_deg <= 179))
     throw InvalidInput("decimate: max_fold_deg must be in (0, 179]");
 
@@ -185,12 +218,23 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
   c.cos_normal = std::cos(options.max_normal_deviation_deg * M_PI / 180.0);
   c.cos_fold = std::cos(std::max(options.max_fold_deg, options.max_normal_deviation_deg) * M_PI / 180.0);
 
-  const int ncomp = classify_mesh(mesh, group_of, c);
-  const int total_target = set_node_budgets(mesh, group_of, groups, num_nodes, target_ratio_per_node, options, c);
+  // With release_contacts the collapses run on a copy whose contact vertices are split
+  // (contact_release.h); faces keep their indices, so group_of and the budgets are unchanged.
+  ContactRelease rel;
+  if (options.release_contacts) {
+    Context regions;
+    classify_mesh(mesh, group_of, regions);
+    rel = release_contacts(mesh, regions.face_region, options.exact_contour_tolerance);
+    c.contact_frozen = rel.keep_frozen;
+  }
+  const Mesh& work = rel.released > 0 ? rel.mesh : mesh;
+  const int nv = work.num_vertices();
+  const int ncomp = classify_mesh(work, group_of, c);
+  const int total_target = set_node_budgets(work, group_of, groups, num_nodes, target_ratio_per_node, options, c);
 
   // Scale: priorities are floats in vcg's heap, so make the cost dimensionless.
   double diag = 1.0;
-  if (nv > 0) diag = (mesh.V.colwise().maxCoeff() - mesh.V.colwise().minCoeff()).norm();
+  if (nv > 0) diag = (work.V.colwise().maxCoeff() - work.V.colwise().minCoeff()).norm();
   if (!(diag > 0)) diag = 1.0;
   c.cost_scale = 1.0 / std::pow(diag, 6);
   c.degenerate_area2 = std::pow(1e-12 * diag * diag, 2);
@@ -200,9 +244,9 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
   c.m = &m;
   vcg::tri::Allocator<VMesh>::AddVertices(m, nv);
   vcg::tri::Allocator<VMesh>::AddFaces(m, nf);
-  for (int v = 0; v < nv; ++v) m.vert[v].P() = vcg::Point3d(mesh.V(v, 0), mesh.V(v, 1), mesh.V(v, 2));
+  for (int v = 0; v < nv; ++v) m.vert[v].P() = vcg::Point3d(work.V(v, 0), work.V(v, 1), work.V(v, 2));
   for (int f = 0; f < nf; ++f)
-    for (int j = 0; j < 3; ++j) m.face[f].V(j) = &m.vert[mesh.F(f, j)];
+    for (int j = 0; j < 3; ++j) m.face[f].V(j) = &m.vert[work.F(f, j)];
   vcg::tri::UpdateTopology<VMesh>::VertexFace(m);
   c.absorbed_by.assign(nf, -1);
   c.stamp.assign(nv, 0);
@@ -218,10 +262,20 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     c.target_simplices = &opt.nTargetSimplices;
     opt.DoOptimization();
     collapses = opt.nPerformedOps;
+    // note: a collapse refused when it comes off the heap (a neighbour's budget, an area that
+    // has since drifted back) is queued again only when its star changes. With passes > 1,
+    // once the heap is empty every remaining edge is queued once more, while that still
+    // collapses something (DecimationOptions::passes).
+    for (int pass = 1; pass < options.passes && opt.nPerformedOps > 0 && m.fn > opt.nTargetSimplices; ++pass) {
+      opt.Init<NodeCollapse>();
+      opt.DoOptimization();
+      collapses += opt.nPerformedOps;
+    }
   }
 
   const auto blocked = collapse::explain_reach(m, c);
-  DecimationResult res = assemble_result(mesh, m, c, collapses, groups, group_of, ncomp);
+  DecimationResult res = assemble_result(work, m, c, collapses, groups, group_of, ncomp);
+  if (rel.released > 0) rejoin_contacts(rel, res);
   for (int g = 0; g < groups; ++g)
     if (!res.nodes[g].reached) res.nodes[g].blocked_edges = blocked[g];
   return res;

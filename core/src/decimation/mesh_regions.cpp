@@ -121,6 +121,7 @@ int classify_mesh(const Mesh& mesh, const NodeGroups& group_of, Context& c) {
     i = j;
   }
   freeze_nonmanifold_vertices(mesh, frozen);
+  for (size_t v = 0; v < c.contact_frozen.size() && v < frozen.size(); ++v) frozen[v] |= c.contact_frozen[v];
   c.vclass.resize(nv);
   for (int v = 0; v < nv; ++v) {
     const int k = contour_edges_at[v];

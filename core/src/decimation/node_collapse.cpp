@@ -145,8 +145,9 @@ void NodeCollapse::Init(VMesh& m, HeapType& heap, vcg::BaseParameterClass* pp) {
   heap.clear();
   std::vector<std::pair<VVertex*, VVertex*>> edges;
   for (auto& f : m.face)
-    for (int j = 0; j < 3; ++j)
-      edges.emplace_back(std::min(f.V0(j), f.V1(j)), std::max(f.V0(j), f.V1(j)));
+    if (!f.IsD())
+      for (int j = 0; j < 3; ++j)
+        edges.emplace_back(std::min(f.V0(j), f.V1(j)), std::max(f.V0(j), f.V1(j)));
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   for (const auto& e : edges) {

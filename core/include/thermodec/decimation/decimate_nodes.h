@@ -17,7 +17,8 @@
 //!    for them, except nodes whose geometry it leaves exactly unchanged (straight contour,
 //!    coplanar faces: `free_exact_contour_collapses`);
 //!  - vertices where >= 3 regions (or a region and an open boundary and another region) meet,
-//!    non-manifold vertices and the ends of non-manifold edges never move or disappear;
+//!    non-manifold vertices and the ends of non-manifold edges never move or disappear (with
+//!    release_contacts, a flat region a part only touches gets its own free copy of them);
 //!  - optionally, on thin tubes a whole cross-section loop collapses at once
 //!    (collapse_tube_sections);
 //!  - the link condition (Dey-Edelsbrunner) keeps the topology, a normal-deviation test
@@ -110,6 +111,28 @@ struct DecimationOptions {
   //! collapse from its own budget. Without this, a node reduced alone (all other ratios 0)
   //! could never coarsen any of its interfaces.
   bool free_exact_contour_collapses = true;
+  //! Contacts: where a part only touches a flat region (a sheet standing on a panel along a
+  //! non-manifold edge, a part touching a flat face at one vertex), the flat region need not
+  //! keep a vertex there: for it the contact is a point on its plane, and its outline, area and
+  //! normals (all that radiation sees of it) are the same without that vertex. When on, such a
+  //! flat region's faces get their own free copy of each contact vertex (unit normals and one
+  //! region within `exact_contour_tolerance`; contact_release.cpp), while the touching part
+  //! keeps the vertex, frozen, exactly where it was. A planar panel then goes down to its
+  //! outline's minimal triangulation (a body side holding a wing yoke: 6 -> 2 faces) and the
+  //! touching part rests on it without sharing its vertices (a T-contact: no face changes node
+  //! and no crack opens, but the output is no longer conforming at the contact; copies left
+  //! unmoved are joined back). Off by default (`decimate`'s output stays conforming), on in
+  //! `reduce` (reduction_decimation_options).
+  bool release_contacts = false;
+  //! Passes over the mesh: a collapse refused when it comes off the heap (a neighbour had no
+  //! budget left, a node's area had drifted to its bound) is queued again only when its star
+  //! changes, so the first pass can end while allowed collapses remain (NodeDecimationStats
+  //! counts them as `none`). Each further pass queues every remaining edge again, and runs
+  //! only if the previous one collapsed something. Same constraints in every pass. At ratio
+  //! 0.9 (bench_decimation_reach, area 7.5e-4) 4 passes reach NPP_16 1180 -> 1112 faces and
+  //! Juno 5311 -> 4781, but NPP_16's largest change of a node's projected area doubles
+  //! (5.4e-2 -> 1.1e-1, docs/benchmarks.md), so the default stays 1 (>= 1).
+  int passes = 1;
   //! Thin tubes (struts, ribs, booms, cables: a loop of n <= 12 short edges swept along long
   //! ones) are coarsened a whole cross-section at a time: the loop at the removed vertex moves
   //! onto the next loop along the tube and the 2n faces between them disappear. A single edge

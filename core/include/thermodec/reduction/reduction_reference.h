@@ -18,11 +18,13 @@ namespace thermodec {
 //! faces than the geometric one within the same verified tolerance (docs/reduction.md), and
 //! the projected-area budget (steep turns of slivers and kinked contours paid from a budget
 //! equal to the node-area bound: docs/decimation.md, "Projected-area budget"), which widens
-//! the decimator's reach on CAD meshes of long thin triangles.
+//! the decimator's reach on CAD meshes of long thin triangles, and released contacts (a flat
+//! panel a sheet stands on keeps no vertex of the contact: DecimationOptions::release_contacts).
 inline DecimationOptions reduction_decimation_options() {
   DecimationOptions o;
   o.collapse_cost = CollapseCostKind::radiative;
   o.projected_area_budget = 1.0;
+  o.release_contacts = true;
   return o;
 }
 
