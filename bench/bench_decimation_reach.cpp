@@ -6,7 +6,9 @@
 // projected area over 200 directions relative to its area, and CPU time. Never a pass/fail.
 // Usage:
 //   bench_decimation_reach [--normal DEG] [--contour D] [--budget B] [--fold DEG] [--kink D] [--area A]
-//                          [--geometric] [MODEL ...]
+//                          [--node-areas REPORT.json] [--geometric] [MODEL ...]
+//   (--node-areas: the per-node area bounds `reduce` used, its report's
+//   "node_max_relative_area_change", for the one MODEL it reduced)
 //   (default: the NASA meshes in ../shared; options override reduce's decimation options)
 #include <algorithm>
 #include <cmath>
@@ -14,10 +16,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
 #include <sys/resource.h>
 
 #include "thermodec/decimation/decimate_nodes.h"
@@ -45,6 +49,11 @@ int main(int argc, char** argv) {
     else if (a == "--fold") o.max_fold_deg = value();
     else if (a == "--area") o.max_relative_area_change = value();
     else if (a == "--geometric") o.collapse_cost = CollapseCostKind::geometric;
+    else if (a == "--node-areas" && i + 1 < argc) {
+      std::ifstream in(argv[++i]);
+      const nlohmann::json report = nlohmann::json::parse(in);
+      o.node_max_relative_area_change = report.at("node_max_relative_area_change").get<std::vector<double>>();
+    }
     else models.emplace_back(a);
   }
   if (models.empty()) {
@@ -56,6 +65,12 @@ int main(int argc, char** argv) {
               o.collapse_cost == CollapseCostKind::geometric ? "geometric" : "radiative", o.max_normal_deviation_deg,
               o.max_contour_deviation, o.projected_area_budget, o.max_fold_deg, o.max_kinked_contour_deviation,
               o.max_relative_area_change);
+  if (!o.node_max_relative_area_change.empty()) {
+    auto b = o.node_max_relative_area_change;
+    std::sort(b.begin(), b.end());
+    std::printf("# per-node area bounds (%zu): min %.3g, median %.3g, max %.3g\n", b.size(), b.front(), b[b.size() / 2],
+                b.back());
+  }
   for (const auto& path : models) {
     const ThermalModel model = load_model(path);
     const Mesh& mesh = model.mesh;
