@@ -6,11 +6,14 @@
 // projected area over 200 directions relative to its area, and CPU time. Never a pass/fail.
 // Usage:
 //   bench_decimation_reach [--normal DEG] [--contour D] [--budget B] [--fold DEG] [--kink D] [--area A]
-//                          [--geometric] [--conforming] [--passes N] [--ratio R] [--per-node] [MODEL ...]
+//                          [--node-areas REPORT.json] [--geometric] [--conforming] [--passes N] [--ratio R]
+//                          [--per-node] [MODEL ...]
 //   --conforming: contacts not released (DecimationOptions::release_contacts off); --passes N:
 //   DecimationOptions::passes
 //   --ratio R: every node asked for R instead of 0.9; --per-node: one more line per node (faces
 //   before -> after, target, the reason that stops it most and its refused edges)
+//   (--node-areas: the per-node area bounds `reduce` used, its report's
+//   "node_max_relative_area_change", for the one MODEL it reduced)
 //   (default: the NASA meshes in ../shared; options override reduce's decimation options)
 #include <algorithm>
 #include <cmath>
@@ -18,10 +21,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
 #include <sys/resource.h>
 
 #include "thermodec/decimation/decimate_nodes.h"
@@ -55,6 +60,11 @@ int main(int argc, char** argv) {
     else if (a == "--per-node") per_node = true;
     else if (a == "--conforming") o.release_contacts = false;
     else if (a == "--passes") o.passes = static_cast<int>(value());
+    else if (a == "--node-areas" && i + 1 < argc) {
+      std::ifstream in(argv[++i]);
+      const nlohmann::json report = nlohmann::json::parse(in);
+      o.node_max_relative_area_change = report.at("node_max_relative_area_change").get<std::vector<double>>();
+    }
     else models.emplace_back(a);
   }
   if (models.empty()) {
@@ -66,6 +76,12 @@ int main(int argc, char** argv) {
               o.collapse_cost == CollapseCostKind::geometric ? "geometric" : "radiative", o.max_normal_deviation_deg,
               o.max_contour_deviation, o.projected_area_budget, o.max_fold_deg, o.max_kinked_contour_deviation,
               o.max_relative_area_change, o.release_contacts ? ", contacts released" : "", o.passes);
+  if (!o.node_max_relative_area_change.empty()) {
+    auto b = o.node_max_relative_area_change;
+    std::sort(b.begin(), b.end());
+    std::printf("# per-node area bounds (%zu): min %.3g, median %.3g, max %.3g\n", b.size(), b.front(), b[b.size() / 2],
+                b.back());
+  }
   for (const auto& path : models) {
     const ThermalModel model = load_model(path);
     const Mesh& mesh = model.mesh;

@@ -39,6 +39,7 @@ struct ReduceCliOptions {
   double noise_target_fraction = 0.05;
   bool no_thinning = false;
   double max_area_change = -1.0;  // < 0: the default
+  bool global_area_bound = false;
   double record_memory_GiB = 0.0;  // 0: the default (record_budget.h)
   std::vector<std::string> case_files;
   std::vector<double> prediction_targets;  // empty: the default (ReduceSettings, budgets)
@@ -100,6 +101,7 @@ void run_reduce(const ReduceCliOptions& o) {
   s.sensitivity_cap_factor = o.cap_factor;
   s.noise_target_fraction = o.noise_target_fraction;
   s.thin_oversampling = !o.no_thinning;
+  s.per_node_area_bound = !o.global_area_bound;
   if (o.max_area_change >= 0.0) {  // as given: not lowered from the tolerance
     s.reference.decimation.max_relative_area_change = o.max_area_change;
     s.area_error_fraction = 0.0;
@@ -218,8 +220,11 @@ void add_reduce(CLI::App& app) {
                 "noise-targeted sampling only adds samples: an oversampled model keeps its sample counts");
   sub->add_option("--max-area-change", o->max_area_change,
                   "bound on each node's relative area change by the decimator, used as given (default: from the "
-                  "tolerance, so that area drift dT = T dA/4A costs at most 10 % of it at the hottest node)")
+                  "tolerance, so that area drift costs at most 10 % of it, per node from the reference's network)")
       ->check(CLI::NonNegativeNumber);
+  sub->add_flag("--global-area-bound", o->global_area_bound,
+                "one area bound for every node, dT = T dA/4A at the hottest node, instead of each node's own "
+                "first-order sensitivity to its area (docs/reduction.md)");
   sub->add_option("--collapse-cost", o->collapse_cost,
                   "ranking of the decimator's collapses: geometric (Lindstrom-Turk volume and shape) or radiative "
                   "(also each node's projected area over all directions; docs/decimation.md)")

@@ -75,6 +75,7 @@ struct Context : vcg::BaseParameterClass {
   std::vector<int> node_faces, node_target;
   std::vector<int> node_free_removed;  // faces lost to exact contour collapses past the budget
   std::vector<double> node_area, node_area0;
+  std::vector<double> node_area_bound;  // per group: the bound on |area - area0| / area0 [-]
   std::vector<double> node_sharp;  // projected-area budget spent: steep turns and kinks run [m^2]
   std::vector<double> comp_volume, comp_volume0;
   std::vector<char> comp_closed;
@@ -93,7 +94,7 @@ struct Context : vcg::BaseParameterClass {
   // collapse that changes node `node`'s area by delta_m2 [m^2] or part `comp`'s volume by
   // delta_m3 [m^3] on top of what earlier collapses changed.
   bool area_within_bound(int node, double delta_m2) const {
-    return std::abs(node_area[node] + delta_m2 - node_area0[node]) <= opt.max_relative_area_change * node_area0[node];
+    return std::abs(node_area[node] + delta_m2 - node_area0[node]) <= node_area_bound[node] * node_area0[node];
   }
   bool volume_within_bound(int comp, double delta_m3) const {
     return !comp_closed[comp] || std::abs(comp_volume[comp] + delta_m3 - comp_volume0[comp]) <=

@@ -60,6 +60,9 @@ int set_node_budgets(const Mesh& mesh, const NodeGroups& group_of, int groups, i
     c.node_area0[group_of(f)] += 0.5 * (p1 - p0).cross(p2 - p0).norm();
   }
   c.node_area = c.node_area0;
+  c.node_area_bound.assign(groups, options.max_relative_area_change);
+  for (int g = 0; g < num_nodes && g < static_cast<int>(options.node_max_relative_area_change.size()); ++g)
+    c.node_area_bound[g] = options.node_max_relative_area_change[g];
   c.node_sharp.assign(groups, 0.0);
   c.node_free_removed.assign(groups, 0);
   c.node_target.resize(groups);
@@ -207,6 +210,12 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
       !(options.max_kinked_contour_deviation >= 0) ||
       options.min_faces_per_node < 1 || options.passes < 1)
     throw InvalidInput("decimate: tolerances must be >= 0, min_faces_per_node and passes >= 1");
+  const auto& node_bounds = options.node_max_relative_area_change;
+  if (!node_bounds.empty() && static_cast<int>(node_bounds.size()) < num_nodes)
+    throw InvalidInput("decimate: " + std::to_string(node_bounds.size()) + " per-node area bounds for " +
+                       std::to_string(num_nodes) + " nodes");
+  for (double b : node_bounds)
+    if (!(b >= 0 && std::isfinite(b))) throw InvalidInput("decimate: per-node area bounds must be finite and >= 0");
   if (!(options.max_fold_deg > 0 && options.max_fold_deg <= 179))
     throw InvalidInput("decimate: max_fold_deg must be in (0, 179]");
 

@@ -11,6 +11,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/common/release_free_memory.h"
 #include "thermodec/decimation/global_ratio.h"
+#include "thermodec/reduction/area_bounds.h"
 #include "thermodec/reduction/prediction.h"
 #include "thermodec/reduction/record_budget.h"
 #include "thermodec/reduction/statistical_verification.h"
@@ -344,6 +345,25 @@ void rebase_for_pushes(const std::vector<std::unique_ptr<ReductionReference>>& r
           100.0 * start_result.redone_fraction));
 }
 
+// Per-node area bounds (reduction/area_bounds.h): budget_K against each node's sensitivity to
+// its area, the largest over the cases, at most `cap`; set on every case's reference.
+void set_node_area_bounds(const std::vector<std::unique_ptr<ReductionReference>>& refs, double budget_K, double cap,
+                          DecimationOptions& dec, const std::function<void(const std::string&)>& say) {
+  Eigen::VectorXd s;
+  for (const auto& r : refs) {
+    const Eigen::VectorXd sr = area_sensitivity_K(thermal_network(r->model(), r->couplings()), r->result().temperature_K);
+    s = s.size() == 0 ? sr : Eigen::VectorXd(s.cwiseMax(sr));
+  }
+  dec.node_max_relative_area_change = node_area_bounds(s, budget_K, std::max(cap, dec.max_relative_area_change));
+  for (auto& r : refs) r->set_decimation_options(dec);
+  std::vector<double> sorted = dec.node_max_relative_area_change;
+  std::sort(sorted.begin(), sorted.end());
+  if (sorted.empty()) return;
+  say(fmt("decimation: per-node area bounds from each node's sensitivity (T dA/4A alone in space, less in balance "
+          "with its surroundings): %.3g / %.3g / %.3g %% (min / median / max)",
+          100.0 * sorted.front(), 100.0 * sorted[sorted.size() / 2], 100.0 * sorted.back()));
+}
+
 }  // namespace
 
 ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& settings) {
@@ -420,6 +440,7 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   DecimationOptions dec = refs.front()->decimation_options();
   double t_max = 0.0;
   for (const auto& r : refs) t_max = std::max(t_max, r->result().temperature_K.maxCoeff());
+  const double area_cap = dec.max_relative_area_change;
   if (settings.area_error_fraction > 0.0 && t_max > 0.0 && std::isfinite(t_max)) {
     const double bound = 4.0 * settings.area_error_fraction * tol / t_max;
     if (bound < dec.max_relative_area_change) {
@@ -431,6 +452,10 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
           100.0 * dec.max_relative_area_change, t_max * dec.max_relative_area_change / 4.0, t_max) +
       (settings.area_error_fraction > 0.0 ? "" : ", bound as given"));
   run.max_relative_area_change = dec.max_relative_area_change;
+  if (settings.area_error_fraction > 0.0 && settings.per_node_area_bound) {
+    set_node_area_bounds(refs, settings.area_error_fraction * tol, area_cap, dec, say);
+    run.node_max_relative_area_change = dec.node_max_relative_area_change;
+  }
 
   const ReductionReference& ref = *refs.front();
   run.reference = ref.result();

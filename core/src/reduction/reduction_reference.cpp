@@ -112,6 +112,7 @@ ReductionReference::~ReductionReference() = default;
 
 const ThermalModel& ReductionReference::model() const { return impl_->model; }
 const SimulationResult& ReductionReference::result() const { return impl_->result; }
+const NodeCouplings& ReductionReference::couplings() const { return impl_->radiation->couplings(); }
 const Eigen::VectorXi& ReductionReference::faces_per_node() const { return impl_->faces_per_node; }
 int ReductionReference::trials_evaluated() const { return impl_->evaluated; }
 const RecordUse& ReductionReference::record_use() const { return impl_->records; }

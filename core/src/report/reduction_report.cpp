@@ -69,6 +69,8 @@ json reduction_report_json(const ReductionRun& run) {
       {"node", run.max_difference_node}, {"time_s", run.max_difference_time_s}, {"load_case", run.max_difference_case}};
   j["noise_floor_K"] = run.noise_floor_K;
   j["max_relative_area_change"] = run.max_relative_area_change;  // the decimator's node-area bound used
+  if (!run.node_max_relative_area_change.empty())
+    j["node_max_relative_area_change"] = run.node_max_relative_area_change;  // per node, in node order
   j["verified"] = "full recompute of the reduced model (no reuse) compared with the reference";
   // The guarantee: replicate pairs with seeds the search never used (docs/reduction.md).
   const VerificationStatistics& v = run.verification;

@@ -58,6 +58,12 @@ struct DecimationOptions {
 
   //! Hard bound on |area_after - area_before| / area_before of every node.
   double max_relative_area_change = 0.005;
+  //! Per node (model order): its own bound on |area_after - area_before| / area_before,
+  //! replacing max_relative_area_change for that node (e.g. from how far its temperature
+  //! depends on its area: reduction/area_bounds.h). Empty = max_relative_area_change for every
+  //! node; else an entry for every node, each >= 0. The projected-area budget stays
+  //! projected_area_budget * max_relative_area_change.
+  std::vector<double> node_max_relative_area_change;
   //! Place the vertex of a collapse inside one region where the node's area comes back to
   //! its input value (or at least where the collapse leaves the area unchanged) instead of at
   //! the volume-preserving point, when that moves it by at most a tenth of the local edge

@@ -71,6 +71,11 @@ struct ReduceSettings {
   //! a little further (a tighter bound cuts the decimator's reach on CAD nodes), but on tdrs
   //! the drift of 34 reduced nodes adds up (combined prediction 1.20 K instead of 0.55 K).
   double area_error_fraction = 0.1;
+  //! With area_error_fraction > 0: the same share of the tolerance against each node's own
+  //! first-order sensitivity to its area (reduction/area_bounds.h) instead of T_max / 4 for
+  //! every node, at most the decimator's own bound. A node in radiative balance with its
+  //! surroundings may then drift further than a sunlit one radiating to space.
+  bool per_node_area_bound = true;
   //! Extra trials for the predicted-vs-real plot: targets as multiples of the search tolerance
   //! (the tolerance less the verification margin), so that the 1.0 point is the informed
   //! search's first candidate, already simulated. Each other point is a trial of a combined
@@ -143,6 +148,9 @@ struct ReductionRun {
   //! The decimator's bound on each node's relative area change used by every trial (see
   //! ReduceSettings::area_error_fraction) [-].
   double max_relative_area_change = 0.0;
+  //! Per node, the bound actually used (ReduceSettings::per_node_area_bound); empty when every
+  //! node has max_relative_area_change [-].
+  std::vector<double> node_max_relative_area_change;
   int faces_before = 0, faces_after = 0;
   double max_temperature_difference_K = 0.0;  //!< of the verified reduced model (full recompute; max over cases)
   std::string max_difference_node;

@@ -85,6 +85,8 @@ class ReductionReference {
 
   const ThermalModel& model() const;
   const SimulationResult& result() const;
+  //! The reference's node couplings (those its result was simulated with).
+  const NodeCouplings& couplings() const;
   //! Faces per node of the reference mesh.
   const Eigen::VectorXi& faces_per_node() const;
   //! Largest ratio each node can reach alone under the decimator's constraints.
