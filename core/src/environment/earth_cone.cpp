@@ -19,7 +19,6 @@
 #include <array>
 #include <atomic>
 #include <cmath>
-#include <cstdlib>
 #include <memory>
 
 #include "thermodec/common/errors.h"
@@ -329,10 +328,12 @@ void trace_side(const EarthPass& ep, int s, SideTracer& tracer, EarthScratch& x,
   if (ep.grid) {
     const double f_open = unobstructed_earth_view_factor(g.normal.dot(earth_dir), distance_m, radius_m);
     const RasterView v = earth_view_by_raster(*ep.grid, geo, *ep.occ, s, may_be_blocked[s], sin_half, f_open,
-                                              raster_origins(rays), sd, sobol, x.raster, out.rays[s]);
-    out.view_factor[s] = v.view_factor;
-    out.relative_error[s] = v.relative_error;
-    return;
+                                              raster_origins(rays), rays, sd, sobol, x.raster, out.rays[s]);
+    if (!v.by_rays) {
+      out.view_factor[s] = v.view_factor;
+      out.relative_error[s] = v.relative_error;
+      return;
+    }  // else traced below (no per-ray records in this mode)
   }
   const RecordCursor cursor = pass.cursor(s);
   auto make_ray = [&](int k, bool origin, EarthRay& ray) { return ep.cone.make_ray(g, sd, sobol, k, origin, ray); };
