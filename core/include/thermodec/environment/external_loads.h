@@ -66,8 +66,10 @@ struct ExternalLoadSettings {
   //! is found by rasterising the faces that may block it over a fixed 64 x 64 grid of the
   //! Earth's cone, from one origin on the side per 64 of its Earth rays (at least 16): the
   //! seed then only moves the origins, and the blocked share seen from one origin is
-  //! continuous in it. true: the cone rays themselves (a 4-D visibility indicator, ~4x the
-  //! variance at this cost on the sample; reduction trials replay them from per-ray records).
+  //! continuous in it (seed-to-seed variance / 8.5 against the cone rays on a partly blocked
+  //! plate, docs/thermal.md). Sides whose blockers would cost more than their rays trace them.
+  //! true: the cone rays for every side (a 4-D visibility indicator; reduction trials replay
+  //! them from per-ray records).
   bool earth_view_by_rays = false;
   int steps_per_orbit = 0;        //!< orbit samples; 0 = model.analysis.steps_per_orbit
   //! Also trace the loads at every eclipse entry and exit, on the sunlit side (Loads::knot_*):
