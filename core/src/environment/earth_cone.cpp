@@ -333,7 +333,7 @@ void trace_side(const EarthPass& ep, int s, SideTracer& tracer, EarthScratch& x,
       out.view_factor[s] = v.view_factor;
       out.relative_error[s] = v.relative_error;
       return;
-    }  // else traced below (no per-ray records in this mode)
+    }  // else traced below, with per-ray records as without the raster
   }
   const RecordCursor cursor = pass.cursor(s);
   auto make_ray = [&](int k, bool origin, EarthRay& ray) { return ep.cone.make_ray(g, sd, sobol, k, origin, ray); };
@@ -343,7 +343,7 @@ void trace_side(const EarthPass& ep, int s, SideTracer& tracer, EarthScratch& x,
   // outcome, also when the side is traced again below.
   std::array<bool, kEarthCells> seen;
   bool have_seen = false;
-  if (can_replay && cursor.rec && may_be_blocked[s] &&
+  if (can_replay && cursor.rec && cursor.count > 0 && may_be_blocked[s] &&
       replay.ref->earth_may_be_blocked.size() == replay.ref->key.size() &&
       replay.ref->earth_may_be_blocked[(*pass.ref_side)[s]]) {
     Eigen::Vector3d c;
@@ -444,12 +444,14 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   const Eigen::Vector3f fe = earth_dir.cast<float>(), ft = et.cast<float>(), fu = eu.cast<float>();
   const float one_minus_cos_half = float(1.0 - cos_half);
   const bool raster = occ != nullptr;
-  const bool recording = pass.recording() && !raster;
+  // (Rasterised sides record nothing: a trial computes them again whole; sides on rays record
+  // and replay their rays as without the raster, a side rasterised in the reference has none.)
+  const bool recording = pass.recording();
   const EarthCellTable cells(earth_dir, et, eu, cos_half);
   std::unique_ptr<EarthGrid> grid;
   if (raster) grid = std::make_unique<EarthGrid>(earth_dir, et, eu, distance_m, radius_m);
   const RayRecords* ref_records = pass.ref_records;
-  const bool can_replay = !raster && replay.ref && !recording && pass.change && !pass.change->nothing && ref_records &&
+  const bool can_replay = replay.ref && !recording && pass.change && !pass.change->nothing && ref_records &&
                           !ref_records->empty() &&
                           static_cast<std::int64_t>(ref_records->sample_index.size()) == ref_records->ray_begin.back() &&
                           static_cast<std::int64_t>(ref_records->cell.size()) == ref_records->ray_begin.back() &&
