@@ -10,6 +10,7 @@
 // which sides need them all. A trial replays or patches a side from the reference's per-ray
 // records where its change cannot alter the outcome (ray_records.h), bit for bit.
 #include "earth_cone.h"
+#include "earth_raster.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -18,6 +19,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <memory>
 
 #include "thermodec/common/errors.h"
 #include "thermodec/environment/orbit.h"
@@ -39,14 +41,7 @@ std::vector<char> may_be_blocked_from_earth(const std::vector<Side>& geo, const 
     for (int s = range.begin(); s < range.end(); ++s) {
       if (occ.radius[s] < 0.0 || (todo && !(*todo)[s])) continue;
       out[s] = any_blocker(geo, occ, s, [&](const Eigen::Vector3d& centre, double reach) {
-        const Eigen::Vector3d v = centre - occ.centre[s];
-        if (v.dot(geo[s].normal) < -reach) return false;  // wholly behind the side
-        const double dist2 = v.squaredNorm();
-        if (dist2 <= reach * reach) return true;
-        // angle(v, earth) <= half + asin(reach / dist), compared through cosines (both angles
-        // in [0, pi], cos decreasing there): cos(half + beta) = cos_half cos_beta - sin_half sin_beta.
-        const double dist = std::sqrt(dist2), sin_b = reach / dist, cos_b = std::sqrt(1.0 - sin_b * sin_b);
-        return v.dot(earth_dir) / dist >= cos_half * cos_b - sin_half * sin_b - 1e-6;  // (float ray directions)
+        return may_meet_earth_cone(occ.centre[s], geo[s].normal, earth_dir, sin_half, cos_half, centre, reach);
       });
     }
   });
@@ -168,6 +163,8 @@ struct EarthPass {
   const EarthCellTable& cells;
   bool recording, can_replay;
   Eigen::AlignedBox3d change_box;  // the changed region, margin included (can_replay)
+  const Occluders* occ;            // with `grid`: the Earth view by rasterised blockers
+  const EarthGrid* grid;           // (earth_raster.h) instead of rays
 };
 
 // Per-thread scratch of earth_hits.
@@ -178,6 +175,7 @@ struct EarthScratch {
   std::vector<std::array<float, 3>> again_o, again_d;
   std::vector<float> cos_theta;  // per traced ray
   std::vector<Eigen::Vector3f> earth_normal;
+  RasterScratch raster;
 };
 
 // A trial's side whose reference rays are recorded: only its rays in the `seen` cells are
@@ -327,6 +325,16 @@ void trace_side(const EarthPass& ep, int s, SideTracer& tracer, EarthScratch& x,
   if (todo && !(*todo)[s]) return;
   const auto sd = side_seeds(seed, sides.key[s], 2);
   const int rays = side_rays[s], pilot = pilot_count(rays, pilot_rays);
+  if (ep.grid) {
+    const double f_open = unobstructed_earth_view_factor(g.normal.dot(earth_dir), distance_m, radius_m);
+    const RasterView v = earth_view_by_raster(*ep.grid, geo, *ep.occ, s, may_be_blocked[s], sin_half, f_open,
+                                              raster_origins(rays), rays, sd, sobol, x.raster, out.rays[s]);
+    if (!v.by_rays) {
+      out.view_factor[s] = v.view_factor;
+      out.relative_error[s] = v.relative_error;
+      return;
+    }  // else traced below, with per-ray records as without the raster
+  }
   const RecordCursor cursor = pass.cursor(s);
   auto make_ray = [&](int k, bool origin, EarthRay& ray) { return ep.cone.make_ray(g, sd, sobol, k, origin, ray); };
   auto normal_at_hit = [&](const EarthRay& ray) { return ep.cone.normal_at_hit(ray); };
@@ -335,7 +343,7 @@ void trace_side(const EarthPass& ep, int s, SideTracer& tracer, EarthScratch& x,
   // outcome, also when the side is traced again below.
   std::array<bool, kEarthCells> seen;
   bool have_seen = false;
-  if (can_replay && cursor.rec && may_be_blocked[s] &&
+  if (can_replay && cursor.rec && cursor.count > 0 && may_be_blocked[s] &&
       replay.ref->earth_may_be_blocked.size() == replay.ref->key.size() &&
       replay.ref->earth_may_be_blocked[(*pass.ref_side)[s]]) {
     Eigen::Vector3d c;
@@ -419,7 +427,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
                      const Eigen::Vector3d& earth_dir_in, double distance_m, double radius_m, const Eigen::VectorXi& side_rays,
                      int pilot_rays, std::uint64_t seed, const tracing::SobolTable& sobol,
                      const std::vector<char>& may_be_blocked, const PassContext& pass,
-                     const std::vector<char>* todo, bool flatten, const EarthReplay& replay) {
+                     const std::vector<char>* todo, bool flatten, const EarthReplay& replay, const Occluders* occ) {
   const int ns = sides.size();
   EarthHits out;
   out.rays.resize(ns);
@@ -435,8 +443,13 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   orthonormal_frame(earth_dir, et, eu);
   const Eigen::Vector3f fe = earth_dir.cast<float>(), ft = et.cast<float>(), fu = eu.cast<float>();
   const float one_minus_cos_half = float(1.0 - cos_half);
+  const bool raster = occ != nullptr;
+  // (Rasterised sides record nothing: a trial computes them again whole; sides on rays record
+  // and replay their rays as without the raster, a side rasterised in the reference has none.)
   const bool recording = pass.recording();
   const EarthCellTable cells(earth_dir, et, eu, cos_half);
+  std::unique_ptr<EarthGrid> grid;
+  if (raster) grid = std::make_unique<EarthGrid>(earth_dir, et, eu, distance_m, radius_m);
   const RayRecords* ref_records = pass.ref_records;
   const bool can_replay = replay.ref && !recording && pass.change && !pass.change->nothing && ref_records &&
                           !ref_records->empty() &&
@@ -447,7 +460,7 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
   if (can_replay) change_box = Eigen::AlignedBox3d(pass.change->box.min().cast<double>(), pass.change->box.max().cast<double>());
   const EarthPass ep{geo, sides, earth_dir, distance_m, radius_m, sin_half, cap_over_pi, side_rays, pilot_rays, seed, sobol,
                      may_be_blocked, pass, todo, replay, EarthCone{fe, ft, fu, one_minus_cos_half, distance_m, R2, radius_m},
-                     cells, recording, can_replay, change_box};
+                     cells, recording, can_replay, change_box, occ, grid.get()};
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 16), [&](const tbb::blocked_range<int>& range) {
     SideTracer tracer(scene, recording, pass.change);
     EarthScratch x;
@@ -483,17 +496,18 @@ double unobstructed_earth_view_factor(double cos_angle, double distance_m, doubl
 
 Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& sides,
                                    const Eigen::Vector3d& earth_direction_body, double distance_m, int rays,
-                                   std::uint64_t seed, double radius_m) {
+                                   std::uint64_t seed, double radius_m, bool by_rays) {
   if (rays < 1) throw InvalidInput("earth_rays_per_face must be >= 1");
   if (!(distance_m > radius_m)) throw InvalidInput("Earth view factors: distance must exceed the central body's radius");
   const auto geo = side_geometry(scene.mesh(), sides);
   const auto table = tracing::shared_sobol_table(rays);
   const tracing::SobolTable& sobol = *table;
-  const auto may_be_blocked = may_be_blocked_from_earth(geo, occluders(geo, sides), earth_direction_body.normalized(),
+  const Occluders occ = occluders(geo, sides);
+  const auto may_be_blocked = may_be_blocked_from_earth(geo, occ, earth_direction_body.normalized(),
                                                         radius_m / distance_m, nullptr);
   const EarthHits hits = earth_hits(scene, geo, sides, earth_direction_body, distance_m, radius_m,
                                     Eigen::VectorXi::Constant(sides.size(), rays), rays, seed, sobol, may_be_blocked,
-                                    PassContext{});
+                                    PassContext{}, nullptr, true, {}, by_rays ? nullptr : &occ);
   return hits.view_factor;
 }
 

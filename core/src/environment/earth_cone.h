@@ -3,6 +3,7 @@
 // axes, e.g. nadir pointing) and what they give: F_side->Earth with the share the spacecraft
 // blocks, and per kept ray its weight and the Earth normal at its hit (albedo lighting).
 #include <Eigen/Core>
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <utility>
@@ -79,6 +80,12 @@ EarthHits earth_hits(const RayScene& scene, const std::vector<Side>& geo, const 
                      const Eigen::Vector3d& earth_dir_in, double distance_m, double radius_m, const Eigen::VectorXi& side_rays,
                      int pilot_rays, std::uint64_t seed, const tracing::SobolTable& sobol,
                      const std::vector<char>& may_be_blocked, const PassContext& pass,
-                     const std::vector<char>* todo = nullptr, bool flatten = true, const EarthReplay& replay = {});
+                     const std::vector<char>* todo = nullptr, bool flatten = true, const EarthReplay& replay = {},
+                     const Occluders* occ = nullptr);
+
+// Origins of a side's rasterised Earth view (earth_raster.h) for a side of `rays` Earth rays:
+// one per kRaysPerRasterOrigin rays, a power of two when `rays` is, at least 16.
+constexpr int kRaysPerRasterOrigin = 64;
+inline int raster_origins(int rays) { return std::max(std::min(rays, 16), rays / kRaysPerRasterOrigin); }
 
 }  // namespace thermodec::load_rays

@@ -98,7 +98,8 @@ EarthSampling sample_earth(LoadRun& run) {
   if (earth_fixed) {
     hits = earth_hits(scene, geo, sides, states[0].earth_direction_body, distance, radius, earth_rays, settings.earth_pilot_rays,
                       settings.seed, sobol, may_be_blocked, pass, ref ? &earth_todo : nullptr, /*flatten=*/false,
-                      EarthReplay{ref, samples != nullptr || !ref_lit, &replayed_by_cells});
+                      EarthReplay{ref, samples != nullptr || !ref_lit, &replayed_by_cells},
+                      settings.earth_view_by_rays ? nullptr : &occ);
     if (ref)
       for (int s = 0; s < ns; ++s)
         if (!earth_todo[s]) {

@@ -366,7 +366,12 @@ void set_node_area_bounds(const std::vector<std::unique_ptr<ReductionReference>>
 
 }  // namespace
 
-ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& settings) {
+ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& settings_in) {
+  // Earth view by cone rays in reference, trials and verification alike: their per-ray records
+  // let a trial re-trace only the rays that can meet the change, where a rasterised side is
+  // computed again whole (sample at 0.5 K: sweep 40 s against 63 s with the raster).
+  ReduceSettings settings = settings_in;
+  settings.reference.simulation.loads.earth_view_by_rays = true;
   const double tol = settings.tolerance_K;
   if (!std::isfinite(tol) || tol <= 0)
     throw InvalidInput("tolerance must be a finite temperature difference > 0 K (got " + std::to_string(tol) + ")");

@@ -50,9 +50,10 @@ struct ExternalLoadSettings {
   //! gives each such side max(sun_rays_per_face, ceil(sun_min_rays_per_node / n)); 0 = off.
   //! Every per-side count is rounded to a power of two (rays_per_side_of_node).
   int sun_min_rays_per_node = 50000;
-  //! Rays per face side towards the Earth for sides whose view of the Earth is partly blocked
-  //! by the spacecraft (decided by the first earth_pilot_rays rays; unobstructed sides keep
-  //! only those, the integrand being smooth there).
+  //! Rays per face side towards the Earth for sides whose view of the Earth may be blocked by
+  //! the spacecraft; with the Earth fixed in body axes they set the rasterised view's origins
+  //! (earth_view_by_rays). With rays, the first earth_pilot_rays decide which sides are partly
+  //! blocked; unobstructed sides keep only those, the integrand being smooth there.
   int earth_rays_per_face = 1024;
   int earth_pilot_rays = 256;     //!< see earth_rays_per_face
   //! Minimum Earth rays for a node's partly blocked sides: a node with n faces gives each
@@ -61,6 +62,15 @@ struct ExternalLoadSettings {
   //! moves in body axes (sun, inertial) trace that many escaping hemisphere rays from every
   //! side (no pilot), with the same per-node minimum and noise-targeted boosts.
   int earth_min_rays_per_node = 200000;
+  //! Earth fixed in body axes (nadir): the view of the Earth from a side that may be blocked
+  //! is found by rasterising the faces that may block it over a fixed 64 x 64 grid of the
+  //! Earth's cone, from one origin on the side per 64 of its Earth rays (at least 16): the
+  //! seed then only moves the origins, and the blocked share seen from one origin is
+  //! continuous in it (seed-to-seed variance / 8.5 against the cone rays on a partly blocked
+  //! plate, docs/thermal.md). Sides whose blockers would cost more than their rays trace them.
+  //! true: the cone rays for every side (a 4-D visibility indicator; reduction trials replay
+  //! them from per-ray records).
+  bool earth_view_by_rays = false;
   int steps_per_orbit = 0;        //!< orbit samples; 0 = model.analysis.steps_per_orbit
   //! Also trace the loads at every eclipse entry and exit, on the sunlit side (Loads::knot_*):
   //! two more sun passes per orbit.
@@ -106,11 +116,13 @@ Eigen::VectorXi shadow_rays_per_pass(const Eigen::VectorXi& rays, int division);
 //! View factor from each side to the Earth, F_side->Earth = (1/pi) int cos(theta) V dw over
 //! the Earth's cone, V = 0 where the spacecraft blocks the view, for an Earth centre at
 //! `earth_direction_body * distance_m` [m] from the body origin; `rays` cone rays per side
-//! (no pilot); `radius_m` is the central body's radius (the Earth's by default). Returns
+//! (no pilot), or with `by_rays` false the rasterised view from raster_origins(rays) origins
+//! (ExternalLoadSettings::earth_view_by_rays); `radius_m` is the central body's radius (the Earth's by default). Returns
 //! #sides. \throw InvalidInput if rays < 1 or distance <= radius.
 Eigen::VectorXd earth_view_factors(const RayScene& scene, const SurfaceSides& sides,
                                    const Eigen::Vector3d& earth_direction_body, double distance_m,
-                                   int rays, std::uint64_t seed, double radius_m = 6371.0e3);
+                                   int rays, std::uint64_t seed, double radius_m = 6371.0e3,
+                                   bool by_rays = false);
 
 //! View factor from a small plane element to the whole Earth seen unobstructed, for
 //! cos_angle = cosine between the element's normal and the direction to the Earth's centre,
