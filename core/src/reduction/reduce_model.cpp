@@ -440,10 +440,21 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   run.faces_before = faces.sum();
   // Every case sees the same decimated mesh (decimation does not depend on the environment);
   // a candidate's difference is the worst over the cases, node by node.
+  // A merged model's trials, read per original node within each node's budget (node_budget.h),
+  // with the first attempt's search tolerance (verified_search's margin).
+  std::vector<NodeBudget> budgets;
+  if (settings.node_budget) {
+    const int R = settings.verification_replicates;
+    const double s = tol - student_t_975(R - 1) * run.noise_floor_K / 3.0 / std::sqrt(double(R));
+    for (std::size_t c = 0; c < refs.size(); ++c) budgets.push_back(settings.node_budget(c, refs[c]->result(), s));
+  }
+  auto case_trial = [&](std::size_t c, const Eigen::VectorXd& r) {
+    return budgets.empty() ? refs[c]->trial(r) : within_node_budget(refs[c]->trial(r), budgets[c]);
+  };
   auto trial = [&](const Eigen::VectorXd& r) {
-    TrialResult t = ref.trial(r);
+    TrialResult t = case_trial(0, r);
     for (std::size_t c = 1; c < refs.size(); ++c) {
-      const TrialResult o = refs[c]->trial(r);
+      const TrialResult o = case_trial(c, r);
       t.max_abs_dT_K = std::max(t.max_abs_dT_K, o.max_abs_dT_K);
       t.node_max_abs_dT_K = t.node_max_abs_dT_K.cwiseMax(o.node_max_abs_dT_K);
       if (t.dT_K.rows() == o.dT_K.rows()) {  // the cases' fields side by side

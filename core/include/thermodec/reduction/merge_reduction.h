@@ -52,6 +52,9 @@ std::vector<std::pair<int, int>> merge_candidates(const ThermalModel& model, con
 struct MergeSearch {
   NodeMergeMap map;
   NodeMerging summary;  //!< steps, candidates, trials, dT_K, budget_K, kept
+  //! The original simulated once per case (its own case first, then extra_cases), with the
+  //! model's seed: the baseline of the decimation's per-node budgets (node_budget.h).
+  std::vector<SimulationResult> references;
 };
 
 //! Steps 1-3: the merges of `model` within budget_K [K] over its own case and `extra_cases`.
