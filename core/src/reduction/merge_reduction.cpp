@@ -293,7 +293,12 @@ ReductionRun reduce_with_node_merging(const ThermalModel& model, const ReduceSet
   // trials are measured against the original through the map, not against the merged model
   // within the tolerance less the merges' worst |dT|.
   inner.node_budget = [&](std::size_t c, const SimulationResult& merged_reference, double search_K) {
-    return node_budget(ms.references.at(c), merged_reference, merged.node_map, search_K);
+    NodeBudget b = node_budget(ms.references.at(c), merged_reference, merged.node_map, search_K);
+    const Eigen::VectorXd left = search_K * b.weight.cwiseInverse().rowwise().minCoeff();  // per original node
+    const auto most = std::count_if(left.data(), left.data() + left.size(), [&](double x) { return x >= 0.9 * search_K; });
+    say(fmt("node budgets: search %.4g K; every original node keeps at least %.4g K, ", search_K, left.minCoeff()) +
+        fmt("%.0f of %.0f keep 90 %% or more", static_cast<double>(most), static_cast<double>(left.size())));
+    return b;
   };
   std::vector<ThermalModel> originals{with_case(model, own_case(model))};
   for (const LoadCase& c : settings.extra_cases) originals.push_back(with_case(model, c));

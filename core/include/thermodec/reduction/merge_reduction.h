@@ -12,9 +12,12 @@
 //!    nodes (reduction/merged_network.h: correlated sampling, no tracing), compared node by
 //!    node with the reference through the merge map, the largest |dT| over all nodes, times and
 //!    load cases.
-//! 4. The merged model is reduced by reduce_model() within the tolerance less the merges'
-//!    measured |dT|, and its candidates are verified against the original through the node map
-//!    (fresh seeds, the same statistics as reduce_model's verification) within the whole tolerance.
+//! 4. The merged model is reduced by reduce_model() with per-original-node budgets
+//!    (reduction/node_budget.h): each original node may take what its merge left of the search
+//!    tolerance, the merge's own difference measured by the merged model's reference against the
+//!    original's (same seed); its candidates are verified against the original through the node
+//!    map (fresh seeds, the same statistics as reduce_model's verification) within the whole
+//!    tolerance.
 #include <string>
 #include <vector>
 
@@ -27,8 +30,8 @@ namespace thermodec {
 struct NodeMergeSettings {
   //! Node name patterns (fnmatch) never merged; each must match a node.
   std::vector<std::string> keep;
-  //! Share of the tolerance the merges may spend (their measured max |dT|); the decimation
-  //! gets the tolerance less what they spent.
+  //! Share of the tolerance the merges may spend (their measured max |dT|); each original node
+  //! leaves the decimation the search tolerance less its own merge's |dT| (node_budget.h).
   double tolerance_share = 0.4;
   //! Per node, its this many strongest exchanges and this many nodes closest in temperature are
   //! candidates besides its edge neighbours.
