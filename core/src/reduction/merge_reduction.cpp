@@ -309,9 +309,9 @@ ReductionRun reduce_with_node_merging(const ThermalModel& model, const ReduceSet
     return verify_through_node_map(original_ptrs, candidates, settings.reference.simulation,
                                    settings.verification_replicates, model.radiation.seed, kept);
   };
-  say(fmt("decimating the merged model (%.0f nodes) within each original node's budget (%.4g K less its merge's "
-          "|dT|), verified against the original within %.4g K",
-          ms.summary.nodes_after, tol, tol));
+  say(fmt("decimating the merged model (%.0f nodes), each original node within the search tolerance less its "
+          "merge's |dT|, verified against the original within %.4g K",
+          ms.summary.nodes_after, tol));
   ReductionRun run;
   try {
     run = reduce_model(merged, inner);
