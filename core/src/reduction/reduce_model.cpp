@@ -344,6 +344,19 @@ void rebase_for_pushes(const std::vector<std::unique_ptr<ReductionReference>>& r
           100.0 * start_result.redone_fraction));
 }
 
+// A merged model's trials are read per original node within each node's budget (node_budget.h):
+// one budget per case, at the first attempt's search tolerance (verified_search's margin).
+// Empty without settings.node_budget.
+std::vector<NodeBudget> node_budgets(const std::vector<std::unique_ptr<ReductionReference>>& refs,
+                                     const ReduceSettings& settings, double noise_floor_K) {
+  std::vector<NodeBudget> budgets;
+  if (!settings.node_budget) return budgets;
+  const int R = settings.verification_replicates;
+  const double s = settings.tolerance_K - student_t_975(R - 1) * noise_floor_K / 3.0 / std::sqrt(double(R));
+  for (std::size_t c = 0; c < refs.size(); ++c) budgets.push_back(settings.node_budget(c, refs[c]->result(), s));
+  return budgets;
+}
+
 }  // namespace
 
 ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& settings) {
@@ -440,14 +453,7 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   run.faces_before = faces.sum();
   // Every case sees the same decimated mesh (decimation does not depend on the environment);
   // a candidate's difference is the worst over the cases, node by node.
-  // A merged model's trials, read per original node within each node's budget (node_budget.h),
-  // with the first attempt's search tolerance (verified_search's margin).
-  std::vector<NodeBudget> budgets;
-  if (settings.node_budget) {
-    const int R = settings.verification_replicates;
-    const double s = tol - student_t_975(R - 1) * run.noise_floor_K / 3.0 / std::sqrt(double(R));
-    for (std::size_t c = 0; c < refs.size(); ++c) budgets.push_back(settings.node_budget(c, refs[c]->result(), s));
-  }
+  const std::vector<NodeBudget> budgets = node_budgets(refs, settings, run.noise_floor_K);
   auto case_trial = [&](std::size_t c, const Eigen::VectorXd& r) {
     return budgets.empty() ? refs[c]->trial(r) : within_node_budget(refs[c]->trial(r), budgets[c]);
   };
