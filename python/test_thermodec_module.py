@@ -52,7 +52,7 @@ class MeshCrossesAsNumpy(unittest.TestCase):
         settings = thermodec.ReduceSettings()
         settings.tolerance_K = 1.0
         merge = thermodec.NodeMergeSettings()
-        self.assertEqual((merge.tolerance_share, merge.keep), (0.4, []))
+        self.assertEqual((merge.tolerance_share, merge.keep), (0.6, []))
         merge.keep = ["no_such_node*"]
         with self.assertRaisesRegex(thermodec.InvalidInput, "no_such_node"):  # before any simulation
             thermodec.reduce_with_node_merging(model, settings, merge)

@@ -278,7 +278,8 @@ void add_reduce(CLI::App& app) {
                   "fine; fixed-temperature nodes are never merged)")
       ->needs(merge);
   sub->add_option("--merge-share", o->merge.tolerance_share,
-                  "with --merge-nodes: the share of the tolerance the merges may spend; the decimation gets the rest")
+                  "with --merge-nodes: the share of the tolerance the merges may spend; each original node's "
+                  "decimation gets what its own merge left")
       ->needs(merge)
       ->capture_default_str()
       ->check(CLI::Range(0.01, 0.99));

@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/reduction/node_budget.h"
 #include "thermodec/reduction/statistical_verification.h"
 #include "thermodec/thermal/simulate_model.h"
 
@@ -243,6 +244,7 @@ MergeSearch search_node_merges(const ThermalModel& model, const std::vector<Load
   if (merge.confirm_by_tracing && !sum.steps.empty())
     labels = confirmed_by_tracing(model, refs, simulation, budget_K / std::max(merge.tolerance_share, 1e-9), sum, say);
   out.map = map_of_labels(labels);
+  for (const CaseReference& r : refs) out.references.push_back(r.result);
   sum.nodes_after = out.map.num_merged();
   sum.seconds = since(t0);
   say(fmt("node merging: %.0f -> %.0f nodes, max |dT| %.4f K", n, sum.nodes_after, sum.dT_K) +
@@ -285,8 +287,19 @@ ReductionRun reduce_with_node_merging(const ThermalModel& model, const ReduceSet
 
   const ThermalModel merged = merge_nodes(model, ms.map);
   ReduceSettings inner = settings;
-  inner.tolerance_K = tol - ms.summary.dT_K;
+  inner.tolerance_K = tol;
   inner.verification_tolerance_K = tol;
+  // Each original node's budget is what its merge left of it (node_budget.h): the decimation's
+  // trials are measured against the original through the map, not against the merged model
+  // within the tolerance less the merges' worst |dT|.
+  inner.node_budget = [&](std::size_t c, const SimulationResult& merged_reference, double search_K) {
+    NodeBudget b = node_budget(ms.references.at(c), merged_reference, merged.node_map, search_K);
+    const Eigen::VectorXd left = search_K * b.weight.cwiseInverse().rowwise().minCoeff();  // per original node
+    const auto most = std::count_if(left.data(), left.data() + left.size(), [&](double x) { return x >= 0.9 * search_K; });
+    say(fmt("node budgets: search %.4g K; every original node keeps at least %.4g K, ", search_K, left.minCoeff()) +
+        fmt("%.0f of %.0f keep 90 %% or more", static_cast<double>(most), static_cast<double>(left.size())));
+    return b;
+  };
   std::vector<ThermalModel> originals{with_case(model, own_case(model))};
   for (const LoadCase& c : settings.extra_cases) originals.push_back(with_case(model, c));
   std::vector<const ThermalModel*> original_ptrs;
@@ -296,8 +309,9 @@ ReductionRun reduce_with_node_merging(const ThermalModel& model, const ReduceSet
     return verify_through_node_map(original_ptrs, candidates, settings.reference.simulation,
                                    settings.verification_replicates, model.radiation.seed, kept);
   };
-  say(fmt("decimating the merged model (%.0f nodes) within %.4g K, verified against the original within %.4g K",
-          ms.summary.nodes_after, inner.tolerance_K, tol));
+  say(fmt("decimating the merged model (%.0f nodes), each original node within the search tolerance less its "
+          "merge's |dT|, verified against the original within %.4g K",
+          ms.summary.nodes_after, tol));
   ReductionRun run;
   try {
     run = reduce_model(merged, inner);

@@ -364,6 +364,19 @@ void set_node_area_bounds(const std::vector<std::unique_ptr<ReductionReference>>
           100.0 * sorted.front(), 100.0 * sorted[sorted.size() / 2], 100.0 * sorted.back()));
 }
 
+// A merged model's trials are read per original node within each node's budget (node_budget.h):
+// one budget per case, at the first attempt's search tolerance (verified_search's margin).
+// Empty without settings.node_budget.
+std::vector<NodeBudget> node_budgets(const std::vector<std::unique_ptr<ReductionReference>>& refs,
+                                     const ReduceSettings& settings, double noise_floor_K) {
+  std::vector<NodeBudget> budgets;
+  if (!settings.node_budget) return budgets;
+  const int R = settings.verification_replicates;
+  const double s = settings.tolerance_K - student_t_975(R - 1) * noise_floor_K / 3.0 / std::sqrt(double(R));
+  for (std::size_t c = 0; c < refs.size(); ++c) budgets.push_back(settings.node_budget(c, refs[c]->result(), s));
+  return budgets;
+}
+
 }  // namespace
 
 ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& settings_in) {
@@ -470,10 +483,14 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   run.faces_before = faces.sum();
   // Every case sees the same decimated mesh (decimation does not depend on the environment);
   // a candidate's difference is the worst over the cases, node by node.
+  const std::vector<NodeBudget> budgets = node_budgets(refs, settings, run.noise_floor_K);
+  auto case_trial = [&](std::size_t c, const Eigen::VectorXd& r) {
+    return budgets.empty() ? refs[c]->trial(r) : within_node_budget(refs[c]->trial(r), budgets[c]);
+  };
   auto trial = [&](const Eigen::VectorXd& r) {
-    TrialResult t = ref.trial(r);
+    TrialResult t = case_trial(0, r);
     for (std::size_t c = 1; c < refs.size(); ++c) {
-      const TrialResult o = refs[c]->trial(r);
+      const TrialResult o = case_trial(c, r);
       t.max_abs_dT_K = std::max(t.max_abs_dT_K, o.max_abs_dT_K);
       t.node_max_abs_dT_K = t.node_max_abs_dT_K.cwiseMax(o.node_max_abs_dT_K);
       if (t.dT_K.rows() == o.dT_K.rows()) {  // the cases' fields side by side

@@ -12,9 +12,12 @@
 //!    nodes (reduction/merged_network.h: correlated sampling, no tracing), compared node by
 //!    node with the reference through the merge map, the largest |dT| over all nodes, times and
 //!    load cases.
-//! 4. The merged model is reduced by reduce_model() within the tolerance less the merges'
-//!    measured |dT|, and its candidates are verified against the original through the node map
-//!    (fresh seeds, the same statistics as reduce_model's verification) within the whole tolerance.
+//! 4. The merged model is reduced by reduce_model() with per-original-node budgets
+//!    (reduction/node_budget.h): each original node may take what its merge left of the search
+//!    tolerance, the merge's own difference measured by the merged model's reference against the
+//!    original's (same seed); its candidates are verified against the original through the node
+//!    map (fresh seeds, the same statistics as reduce_model's verification) within the whole
+//!    tolerance.
 #include <string>
 #include <vector>
 
@@ -27,9 +30,11 @@ namespace thermodec {
 struct NodeMergeSettings {
   //! Node name patterns (fnmatch) never merged; each must match a node.
   std::vector<std::string> keep;
-  //! Share of the tolerance the merges may spend (their measured max |dT|); the decimation
-  //! gets the tolerance less what they spent.
-  double tolerance_share = 0.4;
+  //! Share of the tolerance the merges may spend (their measured max |dT|); each original node
+  //! leaves the decimation the search tolerance less its own merge's |dT| (node_budget.h).
+  //! 0.6 (docs/benchmarks.md, "Merging nodes"): against 0.4, NPP_16 34 nodes and 1160 faces
+  //! instead of 43 and 1191; 0.8 leaves the merged members no budget.
+  double tolerance_share = 0.6;
   //! Per node, its this many strongest exchanges and this many nodes closest in temperature are
   //! candidates besides its edge neighbours.
   int strongest_exchanges = 3;
@@ -52,6 +57,9 @@ std::vector<std::pair<int, int>> merge_candidates(const ThermalModel& model, con
 struct MergeSearch {
   NodeMergeMap map;
   NodeMerging summary;  //!< steps, candidates, trials, dT_K, budget_K, kept
+  //! The original simulated once per case (its own case first, then extra_cases), with the
+  //! model's seed: the baseline of the decimation's per-node budgets (node_budget.h).
+  std::vector<SimulationResult> references;
 };
 
 //! Steps 1-3: the merges of `model` within budget_K [K] over its own case and `extra_cases`.

@@ -24,7 +24,9 @@ struct NodeMerging {
   int trials = 0;                       //!< network trials (single merges and greedy steps)
   double budget_K = 0.0;                //!< the share of the tolerance the merges may spend [K]
   double dT_K = 0.0;                    //!< measured max |dT| of all merges together (every case) [K]
-  double decimation_tolerance_K = 0.0;  //!< what the decimation of the merged model searched within [K]
+  //! What the decimation of the merged model searched within [K]: the whole tolerance, each
+  //! original node less its merge's own |dT| (reduction/node_budget.h).
+  double decimation_tolerance_K = 0.0;
   //! The merges kept re-traced (the merged model simulated with the reference's seed): its max
   //! |dT| against the reference through the map [K] (0: not traced), and the simulations that took.
   double traced_dT_K = 0.0;

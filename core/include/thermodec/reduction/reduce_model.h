@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "thermodec/nodes/load_case.h"
+#include "thermodec/reduction/node_budget.h"
 #include "thermodec/reduction/node_merging.h"
 #include "thermodec/reduction/reduction_reference.h"
 #include "thermodec/reduction/sensitivity.h"
@@ -101,6 +102,11 @@ struct ReduceSettings {
   //! The bound the verification must meet [K]; <= 0: tolerance_K. (A merged model's decimation
   //! searches within what the merges left of the tolerance and is verified against the whole.)
   double verification_tolerance_K = 0.0;
+  //! Per load case (index, the case's reference, the search tolerance S [K] before any widened
+  //! margin), the per-original-node budget its trials are scaled by (reduction/node_budget.h);
+  //! empty: trials as measured. A merged model's decimation measures its trials against the
+  //! unmerged original's nodes this way (reduction/merge_reduction.h).
+  std::function<NodeBudget(std::size_t, const SimulationResult&, double)> node_budget;
 };
 
 struct NodeReduction {
