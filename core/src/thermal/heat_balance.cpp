@@ -1,6 +1,7 @@
 #include "heat_balance.h"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <queue>
 #include <sstream>
@@ -116,8 +117,9 @@ int newton_solve(Eigen::VectorXd& x,
     }
     const double moved = (alpha * step).cwiseAbs().maxCoeff();
     if (!accepted) {
-      // A step below the tolerance that cannot reduce the residual further: at round-off level.
-      if (step.cwiseAbs().maxCoeff() <= s.temperature_tolerance_K * 10) {
+      // A small step that cannot reduce the residual further: at round-off level
+      // (NewtonSettings::stalled_step_K).
+      if (step.cwiseAbs().maxCoeff() <= std::max(s.stalled_step_K, s.temperature_tolerance_K * 10)) {
         if (final_residual) *final_residual = G.cwiseAbs().maxCoeff();
         return it;
       }
@@ -125,7 +127,8 @@ int newton_solve(Eigen::VectorXd& x,
       G.cwiseAbs().maxCoeff(&worst);
       std::ostringstream msg;
       msg << what << ": Newton line search failed at iteration " << it << ", max heat-balance residual "
-          << G.cwiseAbs().maxCoeff() << " W at node '" << names[worst] << "'";
+          << G.cwiseAbs().maxCoeff() << " W at node '" << names[worst] << "' (Newton step "
+          << step.cwiseAbs().maxCoeff() << " K)";
       throw SolverError(msg.str());
     }
     x = x_trial;

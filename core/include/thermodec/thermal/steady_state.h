@@ -11,6 +11,10 @@ namespace thermodec {
 struct NewtonSettings {
   double temperature_tolerance_K = 1e-9;  //!< converged when the last step moves no node more
   double residual_tolerance_W = 1e-9;     //!< ... or every node's heat balance is within this
+  //! A Newton step the line search cannot use (the residual no longer decreases: its round-off
+  //! on nodes exchanging hundreds of watts) ends the solve when it moves no node more than
+  //! this [K]: the temperatures are then exact to it, far below the Monte Carlo noise (~1e-3 K).
+  double stalled_step_K = 1e-6;
   int max_iterations = 100;
 };
 
