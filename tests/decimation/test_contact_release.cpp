@@ -11,6 +11,7 @@
 
 using namespace thermodec;
 using thermodec::test::MeshBuilder;
+using thermodec::test::edge_counts;
 
 namespace {
 
@@ -29,16 +30,6 @@ Mesh plate_with_contacts() {
   b.face(base[0], base[1], base[2], 2);
   b.face(base[0], base[2], base[3], 2);
   return b.build(3);
-}
-
-std::map<std::pair<int, int>, int> edge_count(const Mesh& m) {
-  std::map<std::pair<int, int>, int> e;
-  for (int f = 0; f < m.num_faces(); ++f)
-    for (int j = 0; j < 3; ++j) {
-      const int a = m.F(f, j), b = m.F(f, (j + 1) % 3);
-      ++e[{std::min(a, b), std::max(a, b)}];
-    }
-  return e;
 }
 
 }  // namespace
@@ -84,8 +75,8 @@ TEST(ContactRelease, copies_left_unmoved_are_joined_back_so_an_untouched_contact
   // The fin's foot (two edges of three faces) is still shared with the plate, and no vertex
   // is duplicated.
   int nm_in = 0, nm_out = 0;
-  for (const auto& [e, n] : edge_count(in)) nm_in += n > 2;
-  for (const auto& [e, n] : edge_count(r.mesh)) nm_out += n > 2;
+  for (const auto& [e, n] : edge_counts(in)) nm_in += n > 2;
+  for (const auto& [e, n] : edge_counts(r.mesh)) nm_out += n > 2;
   EXPECT_EQ(nm_in, 2);
   EXPECT_EQ(nm_out, nm_in);
   std::set<int> inputs(r.fine_vertex_of_coarse.data(), r.fine_vertex_of_coarse.data() + r.fine_vertex_of_coarse.size());
@@ -111,9 +102,9 @@ TEST(ContactRelease, a_fin_across_a_whole_plate_and_a_bow_tie_decimate_node_pres
   // No crack: both ends of every open edge of the output are input vertices that were on the
   // input's open boundary or on an edge of > 2 faces (the fin's foot, now resting on the plate).
   std::set<int> rim;
-  for (const auto& [e, n] : edge_count(in))
+  for (const auto& [e, n] : edge_counts(in))
     if (n != 2) rim.insert({e.first, e.second});
-  for (const auto& [e, n] : edge_count(r.mesh))
+  for (const auto& [e, n] : edge_counts(r.mesh))
     if (n == 1) {
       const int a = r.fine_vertex_of_coarse[e.first], b = r.fine_vertex_of_coarse[e.second];
       EXPECT_TRUE(rim.count(a) && rim.count(b)) << "new open edge " << a << "-" << b;

@@ -2,9 +2,11 @@
 // Small meshes built by hand for the decimation and repair tests.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "thermodec/mesh/mesh.h"
@@ -178,6 +180,18 @@ inline Mesh non_manifold_fin(int n) {
   b.face(p, q, r, 2);
   b.face(p, s, t, 2);
   return b.build(3);
+}
+
+//! How many faces use each undirected edge (vertex pair, smaller index first): 2 on a
+//! manifold interior edge, 1 on a rim, more on a non-manifold edge.
+inline std::map<std::pair<int, int>, int> edge_counts(const Mesh& m) {
+  std::map<std::pair<int, int>, int> e;
+  for (int f = 0; f < m.num_faces(); ++f)
+    for (int j = 0; j < 3; ++j) {
+      const int a = m.F(f, j), b = m.F(f, (j + 1) % 3);
+      ++e[{std::min(a, b), std::max(a, b)}];
+    }
+  return e;
 }
 
 }  // namespace thermodec::test

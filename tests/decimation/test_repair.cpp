@@ -10,17 +10,9 @@
 
 using namespace thermodec;
 using thermodec::test::MeshBuilder;
+using thermodec::test::edge_counts;
 
 namespace {
-std::map<std::pair<int, int>, int> edge_counts(const Mesh& m) {
-  std::map<std::pair<int, int>, int> e;
-  for (int f = 0; f < m.num_faces(); ++f)
-    for (int j = 0; j < 3; ++j) {
-      const int a = m.F(f, j), b = m.F(f, (j + 1) % 3);
-      ++e[{std::min(a, b), std::max(a, b)}];
-    }
-  return e;
-}
 double area(const Mesh& m) {
   double s = 0;
   for (int f = 0; f < m.num_faces(); ++f) {
