@@ -25,6 +25,8 @@ inline DecimationOptions reduction_decimation_options() {
   o.collapse_cost = CollapseCostKind::radiative;
   o.projected_area_budget = 1.0;
   o.release_contacts = true;
+  o.projected_area_cap = 10.0;
+  o.restore_node_areas = true;
   return o;
 }
 
