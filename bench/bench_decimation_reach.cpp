@@ -7,11 +7,13 @@
 // Usage:
 //   bench_decimation_reach [--normal DEG] [--contour D] [--budget B] [--fold DEG] [--kink D] [--area A]
 //                          [--node-areas REPORT.json] [--geometric] [--conforming] [--passes N] [--ratio R]
-//                          [--per-node] [MODEL ...]
+//                          [--cap F] [--fixed-areas] [--per-node] [MODEL ...]
+//   --cap F: DecimationOptions::projected_area_cap (0 = off); --fixed-areas: restore_node_areas off
 //   --conforming: contacts not released (DecimationOptions::release_contacts off); --passes N:
 //   DecimationOptions::passes
 //   --ratio R: every node asked for R instead of 0.9; --per-node: one more line per node (faces
-//   before -> after, target, the reason that stops it most and its refused edges)
+//   before -> after, target, its largest projected-area change over 200 directions and its area
+//   change, both relative to its area, and its refused edges by reason)
 //   (--node-areas: the per-node area bounds `reduce` used, its report's
 //   "node_max_relative_area_change", for the one MODEL it reduced)
 //   (default: the NASA meshes in ../shared; options override reduce's decimation options)
@@ -60,6 +62,8 @@ int main(int argc, char** argv) {
     else if (a == "--per-node") per_node = true;
     else if (a == "--conforming") o.release_contacts = false;
     else if (a == "--passes") o.passes = static_cast<int>(value());
+    else if (a == "--cap") o.projected_area_cap = value();
+    else if (a == "--fixed-areas") o.restore_node_areas = false;
     else if (a == "--node-areas" && i + 1 < argc) {
       std::ifstream in(argv[++i]);
       const nlohmann::json report = nlohmann::json::parse(in);
@@ -72,10 +76,12 @@ int main(int argc, char** argv) {
     for (const char* m : {"NPP_16.stl", "Juno.stl"})
       if (fs::exists(src / "../shared/models/nasa" / m)) models.push_back(src / "../shared/models/nasa" / m);
   }
-  std::printf("# cost %s, normals %g deg, contour %g, projected-area budget %g (fold %g deg, kink %g), area %g%s, %d pass(es)\n",
+  std::printf("# cost %s, normals %g deg, contour %g, projected-area budget %g (fold %g deg, kink %g), area %g%s, %d pass(es), "
+              "projected-area cap %g%s\n",
               o.collapse_cost == CollapseCostKind::geometric ? "geometric" : "radiative", o.max_normal_deviation_deg,
               o.max_contour_deviation, o.projected_area_budget, o.max_fold_deg, o.max_kinked_contour_deviation,
-              o.max_relative_area_change, o.release_contacts ? ", contacts released" : "", o.passes);
+              o.max_relative_area_change, o.release_contacts ? ", contacts released" : "", o.passes,
+              o.projected_area_cap, o.projected_area_cap > 0 && o.restore_node_areas ? ", areas restored" : "");
   if (!o.node_max_relative_area_change.empty()) {
     auto b = o.node_max_relative_area_change;
     std::sort(b.begin(), b.end());
@@ -96,6 +102,7 @@ int main(int argc, char** argv) {
     for (int n = 0; n < nodes; ++n)
       for (size_t k = 0; k < p0[n].size(); ++k)
         if (area[n] > 0) change[n] = std::max(change[n], std::abs(p1[n][k] - p0[n][k]) / area[n]);
+    const std::vector<double> node_change = change;
     std::sort(change.begin(), change.end());
     std::array<int, kCollapseBlocks> edges{}, stopped{};
     for (const auto& s : r.nodes) {
@@ -121,8 +128,9 @@ int main(int argc, char** argv) {
           if (s.blocked_edges[k] > 0)
             blocks += std::string(" ") + collapse_block_name(static_cast<CollapseBlock>(k)) + " " +
                       std::to_string(s.blocked_edges[k]);
-        std::printf("  %-16s %5d -> %5d (target %d, free %d)%s\n", model.nodes[n].name.c_str(), s.faces_before,
-                    s.faces_after, s.target_faces, s.faces_removed_free, blocks.c_str());
+        std::printf("  %-16s %5d -> %5d (target %d, free %d, dP/A %.1e, dA/A %+.1e)%s\n", model.nodes[n].name.c_str(),
+                    s.faces_before, s.faces_after, s.target_faces, s.faces_removed_free, node_change[n],
+                    s.area_before_m2 > 0 ? s.area_after_m2 / s.area_before_m2 - 1 : 0.0, blocks.c_str());
       }
   }
   return 0;

@@ -196,6 +196,15 @@ void add_decimate(CLI::App& app) {
                   "with --projected-area-budget: no face turns by more than this [degrees], whatever its area")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 179.0));
+  sub->add_option("--projected-area-cap", args->options.projected_area_cap,
+                  "keep each node's projected area in 64 directions within this multiple of --max-area-change times "
+                  "its area of its input; the budget then no longer refuses (0 = off; `reduce` uses 10; "
+                  "docs/decimation.md)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  sub->add_flag("--restore-areas", args->options.restore_node_areas,
+               "with --projected-area-cap: a collapse past a node's area bound may run when offsets of the node's "
+               "free vertices restore its area (`reduce` does this; docs/decimation.md)");
   sub->add_flag("--release-contacts", args->options.release_contacts,
                "a flat region that a part only touches (a sheet standing on a panel, a part touching a flat face "
                "at a point) drops the contact's vertices and may go down to its outline's triangles; the touching "

@@ -48,6 +48,8 @@ struct ReduceCliOptions {
   double max_contour_deviation = reduction_decimation_options().max_contour_deviation;
   double projected_area_budget = reduction_decimation_options().projected_area_budget;
   double max_fold_deg = reduction_decimation_options().max_fold_deg;
+  double projected_area_cap = reduction_decimation_options().projected_area_cap;
+  bool fixed_node_areas = !reduction_decimation_options().restore_node_areas;
   double max_kinked_contour_deviation = reduction_decimation_options().max_kinked_contour_deviation;
   bool conforming_contacts = !reduction_decimation_options().release_contacts;
   bool merge_nodes = false;      // reduction/merge_reduction.h
@@ -112,6 +114,8 @@ void run_reduce(const ReduceCliOptions& o) {
   s.reference.decimation.max_contour_deviation = o.max_contour_deviation;
   s.reference.decimation.projected_area_budget = o.projected_area_budget;
   s.reference.decimation.max_fold_deg = o.max_fold_deg;
+  s.reference.decimation.projected_area_cap = o.projected_area_cap;
+  s.reference.decimation.restore_node_areas = !o.fixed_node_areas;
   s.reference.decimation.max_kinked_contour_deviation = o.max_kinked_contour_deviation;
   s.reference.decimation.release_contacts = !o.conforming_contacts;
   if (o.record_memory_GiB > 0.0) s.reference.record_budget_bytes = static_cast<std::size_t>(o.record_memory_GiB * 1073741824.0);
@@ -245,6 +249,15 @@ void add_reduce(CLI::App& app) {
                   "no face turns by more than this [degrees], whatever its area (with --projected-area-budget)")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 179.0));
+  sub->add_option("--projected-area-cap", o->projected_area_cap,
+                  "the decimator keeps each node's projected area in 64 directions within this multiple of the "
+                  "node's area bound times its area of its input; the budget then no longer refuses (0 = off: the "
+                  "budget alone; docs/decimation.md, \"Projected-area cap\")")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  sub->add_flag("--fixed-node-areas", o->fixed_node_areas,
+               "no node-area restoration: a collapse past a node's area bound is refused, not restored by offsets "
+               "of the node's free vertices (docs/decimation.md, \"Node-area restoration\")");
   sub->add_flag("--conforming-contacts", o->conforming_contacts,
                "the decimator keeps every contact vertex (a sheet standing on a panel, a part touching a flat "
                "face at a point) in the flat region too, so the output stays conforming there (default: the "

@@ -40,12 +40,30 @@ bool NodeCollapse::constraints_hold(Context& c) {
   if (!paid) return refuse(CollapseBlock::neighbour_budget);
   for (const auto& d : removed_per_region_)
     if (c.region_faces[d.key] - static_cast<int>(d.value) < 1) return refuse(CollapseBlock::last_region_face);
+  // A node past its area bound may have its area restored by its free vertices
+  // (restore_node_areas, area_restoration.cpp); at most one node per collapse.
+  restore_ = Restoration();
+  int past_bound = -1;
   for (const auto& d : area_delta_)
-    if (!c.area_within_bound(d.key, d.value)) return refuse(CollapseBlock::area_bound);
+    if (!c.area_within_bound(d.key, d.value)) {
+      if (past_bound >= 0) return refuse(CollapseBlock::area_bound);
+      past_bound = d.key;
+    }
+  if (past_bound >= 0 && !plan_area_restoration(c, past_bound)) return refuse(CollapseBlock::area_bound);
+  // With a projected-area cap, what the collapse does to each node's projected area is measured
+  // and capped; the budget's account, a bound on its steep part, no longer refuses.
+  const bool capped = !c.node_projection_change.empty();
   for (const auto& d : sharp_delta_)
-    if (!c.sharp_within_bound(d.key, d.value)) return refuse(CollapseBlock::projected_area_budget);
-  for (const auto& d : volume_delta_)
-    if (!c.volume_within_bound(d.key, d.value)) return refuse(CollapseBlock::volume_bound);
+    if (!capped && !c.sharp_within_bound(d.key, d.value)) return refuse(CollapseBlock::projected_area_budget);
+  for (const auto& d : volume_delta_) {
+    double restored = 0;
+    for (const auto& e : restore_.volume)
+      if (e.key == d.key) restored = e.value;
+    if (!c.volume_within_bound(d.key, d.value + restored)) return refuse(CollapseBlock::volume_bound);
+  }
+  if (capped)
+    for (const auto& d : area_delta_)
+      if (!projection_within_cap(c, d.key)) return refuse(CollapseBlock::projected_area_budget);
   // A section collapse checked its topology when it was evaluated (section_collapse.cpp).
   if (section_.n == 0 && !link_condition(c)) return refuse(CollapseBlock::topology);
   refused_ = CollapseBlock::none;

@@ -49,6 +49,7 @@ void NodeCollapse::reset(VVertex* gone, VVertex* kept) {
   sharp_delta_.clear();
   kink_m2_ = 0;
   exact_per_node_.clear();
+  restore_ = Restoration();
 }
 
 void NodeCollapse::evaluate(Context& c, VVertex* gone, VVertex* kept, bool optimal) {

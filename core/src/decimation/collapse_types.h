@@ -80,6 +80,20 @@ struct Context : vcg::BaseParameterClass {
   std::vector<double> comp_volume, comp_volume0;
   std::vector<char> comp_closed;
   std::vector<int> absorbed_by;  // removed face -> face that took over its area (provenance)
+  std::vector<std::vector<int>> group_faces;  // input faces of each node group (restore_node_areas)
+  std::vector<int> restore_slot;              // per vertex: its slot in a restoration plan, or -1
+  // Per node group, with projected_area_cap: how far the collapses so far moved its projected
+  // area P(d) = sum_f max(0, N_f . d) in each of kProjectionDirections directions d [m^2].
+  static constexpr int kProjectionDirections = 64;
+  using Projection = std::array<double, kProjectionDirections>;
+  std::vector<Projection> node_projection_change;
+  std::vector<VFace*> projection_faces;  // scratch for add_projection_change
+  //! The directions d: a Fibonacci lattice over the whole unit sphere (projected_area_cap.cpp).
+  static const std::array<Vec3, kProjectionDirections>& projection_directions();
+  // The cap on node `node`'s |P(d) - P0(d)| [m^2] (projected_area_cap).
+  double projection_cap_m2(int node) const {
+    return opt.projected_area_cap * node_area_bound[node] * node_area0[node];
+  }
   std::vector<VFace*> star;      // scratch for evaluate()
   StarChange change;             // scratch for evaluate(): what the candidate does (its cost's input)
   std::vector<VVertex*> scratch_v[3];

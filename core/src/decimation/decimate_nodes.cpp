@@ -207,7 +207,8 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
   if (!(options.max_relative_area_change >= 0) || !(options.max_relative_volume_change >= 0) ||
       !(options.max_contour_deviation >= 0) || !(options.exact_contour_tolerance >= 0) ||
       !(options.radiative_cost_weight >= 0) || !(options.projected_area_budget >= 0) ||
-      !(options.max_kinked_contour_deviation >= 0) ||
+      !(options.max_kinked_contour_deviation >= 0) || !(options.projected_area_cap >= 0) ||
+      !(options.max_restoring_offset > 0) ||
       options.min_faces_per_node < 1 || options.passes < 1)
     throw InvalidInput("decimate: tolerances must be >= 0, min_faces_per_node and passes >= 1");
   const auto& node_bounds = options.node_max_relative_area_change;
@@ -259,6 +260,12 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
   vcg::tri::UpdateTopology<VMesh>::VertexFace(m);
   c.absorbed_by.assign(nf, -1);
   c.stamp.assign(nv, 0);
+  if (options.projected_area_cap > 0) c.node_projection_change.assign(groups, Context::Projection{});
+  if (options.projected_area_cap > 0 && options.restore_node_areas) {
+    c.group_faces.assign(groups, {});
+    for (int f = 0; f < nf; ++f) c.group_faces[group_of(f)].push_back(f);
+    c.restore_slot.assign(nv, -1);
+  }
 
   int collapses = 0;
   bool needs_work = false;

@@ -74,6 +74,7 @@ void NodeCollapse::Execute(VMesh& m, vcg::BaseParameterClass* pp) {
   if (section_.n == 0)
     for (vcg::face::VFIterator<VFace> it(gone); !it.End(); ++it)
       if (it.V1() == kept || it.V2() == kept) removed_faces.push_back(c.fi(it.F()));
+  record_projection_change(c);  // before the collapse: it measures the star as it was
   for (const auto& d : removed_per_node_) {
     const int k = static_cast<int>(d.value);
     if (c.node_faces[d.key] - k < c.node_target[d.key]) {
@@ -89,6 +90,7 @@ void NodeCollapse::Execute(VMesh& m, vcg::BaseParameterClass* pp) {
   if (section_.n > 0) return execute_section(m, c);
   vcg::tri::EdgeCollapser<VMesh, VPair>::Do(m, pos, vcg::Point3d(x_[0], x_[1], x_[2]));
   record_absorbed(c, removed_faces, kept);
+  apply_area_restoration(c);
 }
 
 // Provenance: hand each removed face to a surviving face around the kept vertex, same

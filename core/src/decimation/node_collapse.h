@@ -144,6 +144,32 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   // Runs the section collapse: n vcg edge collapses, the kept loop moved by its shift.
   void execute_section(VMesh& m, Context& c);
 
+  // Node-area restoration (area_restoration.cpp, DecimationOptions::restore_node_areas): plans
+  // the offsets of `node`'s free vertices that bring its area back to its input value once this
+  // collapse has run (its area change delta_m2 [m^2]); false if no offset within
+  // max_restoring_offset does it or the offsets turn a face too far, degenerate one or take a
+  // closed part past its volume bound (volume_delta_ included).
+  bool plan_area_restoration(Context& c, int node);
+  // Moves the planned vertices (after the collapse), updates the node's area, the parts'
+  // volumes and the stamps of the stars that changed.
+  void apply_area_restoration(Context& c);
+  // Adds to dp what this collapse (single or section) does to `node`'s projected area in each
+  // direction of Context::projection_directions() [m^2] (projected_area_cap.cpp).
+  void add_projection_change(Context& c, int node, Context::Projection& dp) const;
+  // With projected_area_cap: node `node`'s projected area stays within its cap in every
+  // direction after this collapse (and the restoration planned with it, for that node).
+  bool projection_within_cap(Context& c, int node) const;
+  // Adds this collapse's projected-area change to each node's account (Execute).
+  void record_projection_change(Context& c) const;
+  struct Restoration {
+    int node = -1;                                // -1: none planned
+    std::vector<std::pair<VVertex*, Vec3>> moves;  // vertex -> new position [m]
+    double area_m2 = 0;                           // the node's area change it makes
+    Deltas volume;                                // part -> volume change [m^3]
+    std::vector<double> projection;               // its projected-area change per direction [m^2]
+  };
+  Restoration restore_;
+
   // Hands each face of `removed` to a surviving face around `kept` (provenance).
   static void record_absorbed(Context& c, const std::vector<int>& removed, VVertex* kept);
 
@@ -160,6 +186,10 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   Deltas sharp_delta_;    // node -> cost of its steep turns and kink [m^2] (projected_area_budget)
   Deltas exact_per_node_;  // node -> 1 if this collapse leaves its geometry unchanged
 };
+
+//! dp[k] += what turning a face's area vector from n0 to n1 [m^2] does to the projected area in
+//! direction k of Context::projection_directions() (projected_area_cap.cpp).
+void add_projection(const Vec3& n0, const Vec3& n1, Context::Projection& dp);
 
 //! For each node group still above its target after the collapses, how many of its remaining
 //! edges each CollapseBlock refuses (decimation_reach.cpp); zeros for the others.

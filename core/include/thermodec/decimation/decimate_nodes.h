@@ -71,6 +71,29 @@ struct DecimationOptions {
   //! model feels; without this, the collapses on curved parts all grow the area a little and
   //! a tight max_relative_area_change stops the decimation early.
   bool area_neutral_placement = true;
+  //! Projected-area cap (docs/decimation.md, "Projected-area cap"): every collapse keeps each
+  //! node it touches within projected_area_cap * the node's area bound (its
+  //! node_max_relative_area_change, else max_relative_area_change) * its input area [m^2] of its
+  //! input projected area P(d) = sum_f max(0, N_f . d) (N_f a face's area vector), in each of 64
+  //! directions d over the whole sphere (back faces see -d), tracked over all its collapses.
+  //! The budget's account (projected_area_budget) then no longer refuses: the steep turns and
+  //! kinks it allows (up to max_fold_deg, max_kinked_contour_deviation) run when the cap holds.
+  //! Dimensionless, >= 0; 0 = off (the default; 10 in `reduce`).
+  double projected_area_cap = 0.0;
+  //! Node-area restoration (needs projected_area_cap > 0): a collapse that would take one node's
+  //! area past its bound may still run when that node's free vertices (off every contour) bring
+  //! its area back to its input value: each moves along its own area gradient by a common
+  //! fraction s of its shortest edge, |s| <= max_restoring_offset (Newton on the exact area,
+  //! planned on the geometry after the collapse). On a curved node that is an offset along the
+  //! surface normal spread over the node instead of one vertex's tent; flat parts do not move
+  //! (their gradient vanishes); the outline, interfaces and other nodes stay as they are. The
+  //! restored node must keep every face within max_normal_deviation_deg of where the collapse
+  //! left it, every closed part within max_relative_volume_change and its projected area within
+  //! its cap. Off by default, on in `reduce`.
+  bool restore_node_areas = false;
+  //! With restore_node_areas: the largest offset of a restoring vertex, as a fraction of its
+  //! shortest edge (> 0).
+  double max_restoring_offset = 0.05;
   //! Hard bound on |volume_after - volume_before| / |volume_before| of every closed part: faces
   //! connected across manifold edges, each of its edges shared by exactly two of its faces (a
   //! closed box stays closed when a fin stands on one of its edges).
