@@ -222,6 +222,8 @@ void add_decimate(CLI::App& app) {
   sub->callback([args, ratio, per_node] {
     run_guarded([&] {
       if (ratio->count() == 0 && per_node->count() == 0) throw InvalidInput("decimate: give --ratio or --node-ratios");
+      if (args->options.restore_node_areas && !(args->options.projected_area_cap > 0))
+        throw InvalidInput("decimate: --restore-areas needs --projected-area-cap > 0 (the cap bounds what the offsets move)");
       run_decimate(*args);
     });
   });

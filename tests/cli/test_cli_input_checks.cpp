@@ -171,6 +171,15 @@ TEST(CliOutputChecks, decimate_refuses_an_unknown_extension_before_decimating) {
   EXPECT_TRUE(has(r.err, "'.txt'")) << r.err;
 }
 
+TEST(CliOutputChecks, decimate_refuses_area_restoration_without_a_projected_area_cap) {
+  auto d = temp_dir("dec_restore");
+  const CliRun r = run_cli("decimate " + q(kData / "example_model.json") + " --ratio 0.5 --restore-areas -o " +
+                               q(d / "d.obj"), d);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_TRUE(has(r.err, "--projected-area-cap")) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(d / "d.obj"));
+}
+
 TEST(CliOutputChecks, decimate_never_overwrites_its_node_ratios_file) {
   auto d = temp_dir("dec_ratios");
   write_text(d / "r.json", "{\"body_px\": 0.5}");
