@@ -35,6 +35,14 @@ struct NodeMergeSettings {
   //! 0.6 (docs/benchmarks.md, "Merging nodes"): against 0.4, NPP_16 34 nodes and 1160 faces
   //! instead of 43 and 1191; 0.8 leaves the merged members no budget.
   double tolerance_share = 0.6;
+  //! Joint allocation: merged nodes made only of *small* original nodes (below) may spend this
+  //! share of the tolerance instead. A small node has few faces, so its decimation gains little:
+  //! it gives its budget to the merges, and what those merges freeze is at most
+  //! small_faces_share of the model's faces. Off when <= tolerance_share.
+  double small_node_share = 0.85;
+  //! The small nodes: the fewest-faced original nodes (ties by index) holding together at most
+  //! this share of the model's faces [0, 1).
+  double small_faces_share = 0.1;
   //! Per node, its this many strongest exchanges and this many nodes closest in temperature are
   //! candidates besides its edge neighbours.
   int strongest_exchanges = 3;
@@ -43,6 +51,12 @@ struct NodeMergeSettings {
   //! are kept, k bisected (the network trials take the original's combined couplings as exact,
   //! which a rarely hit node's reciprocity weighting can break: docs/reduction.md).
   bool confirm_by_tracing = true;
+  //! Best first (every round, every join of two current nodes tried with the merges so far, the
+  //! least costly merged) instead of the single pairs' cheapest first.
+  bool best_first = true;
+  //! When the traced model refuses a merge, that merge's two sides are kept apart and the search
+  //! runs again, up to this many searches in all (the one keeping the fewest nodes wins).
+  int tracing_rounds = 3;
 };
 
 //! Candidate pairs (i < j), ascending: nodes sharing a mesh edge, each node's `strongest`
@@ -53,6 +67,10 @@ std::vector<std::pair<int, int>> merge_candidates(const ThermalModel& model, con
                                                   const SimulationResult& reference, int strongest,
                                                   const std::vector<int>& excluded);
 
+//! Flags of the small nodes of `model` (NodeMergeSettings::small_faces_share): the fewest-faced
+//! nodes, ascending by faces then index, while their faces together stay <= share x all faces.
+std::vector<char> small_nodes(const ThermalModel& model, double share);
+
 //! Result of the greedy merge search (step 3).
 struct MergeSearch {
   NodeMergeMap map;
@@ -62,7 +80,8 @@ struct MergeSearch {
   std::vector<SimulationResult> references;
 };
 
-//! Steps 1-3: the merges of `model` within budget_K [K] over its own case and `extra_cases`.
+//! Steps 1-3: the merges of `model` within budget_K [K] over its own case and `extra_cases`;
+//! merged nodes of small nodes only within budget_K x small_node_share / tolerance_share.
 //! \throw InvalidInput if a keep pattern matches no node.
 MergeSearch search_node_merges(const ThermalModel& model, const std::vector<LoadCase>& extra_cases,
                                const ModelSimulationSettings& simulation, const NodeMergeSettings& merge,
