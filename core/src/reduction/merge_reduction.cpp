@@ -52,16 +52,13 @@ double largest(const Eigen::VectorXd& v) {
   return v.size() ? v.maxCoeff() : 0.0;
 }
 
-// The merge budget of every original node [K]: small_K when every member of its merged node
-// (`labels`) is small, budget_K otherwise (the joint allocation, NodeMergeSettings).
-Eigen::VectorXd budgets_K(const std::vector<int>& labels, const std::vector<char>& small, double budget_K,
-                          double small_K) {
-  const std::size_t n = labels.size();
-  std::vector<char> all_small(n, 1);
-  for (std::size_t i = 0; i < n; ++i)
-    if (!small[i]) all_small[static_cast<std::size_t>(labels[i])] = 0;
-  Eigen::VectorXd b(static_cast<Eigen::Index>(n));
-  for (std::size_t i = 0; i < n; ++i) b[static_cast<Eigen::Index>(i)] = all_small[static_cast<std::size_t>(labels[i])] ? small_K : budget_K;
+// The merge budget of every original node [K]: small_K for a small node (few faces: its
+// decimation gains little), budget_K otherwise (the joint allocation, NodeMergeSettings). A
+// merged node's temperature sits near its members of most radiating area, so a small node
+// merged with a large one takes most of the merge's difference on itself.
+Eigen::VectorXd budgets_K(const std::vector<char>& small, double budget_K, double small_K) {
+  Eigen::VectorXd b(static_cast<Eigen::Index>(small.size()));
+  for (std::size_t i = 0; i < small.size(); ++i) b[static_cast<Eigen::Index>(i)] = small[i] ? small_K : budget_K;
   return b;
 }
 
@@ -104,28 +101,31 @@ std::vector<int> first_merges(const ThermalModel& model, const std::vector<NodeM
   return labels;
 }
 
-// The merged model traced (reference seed) against the reference, through the map [K].
-double traced_merge_K(const std::vector<CaseReference>& refs, const NodeMergeMap& map,
-                      const ModelSimulationSettings& simulation) {
-  double worst = 0.0;
+// Per original node (the model's order), max |dT| over times and cases of the merged model
+// traced (the reference's seed) against the reference, through the map [K]; NaN kept.
+Eigen::VectorXd traced_merge_K(const std::vector<CaseReference>& refs, const NodeMergeMap& map,
+                               const ModelSimulationSettings& simulation) {
+  Eigen::VectorXd worst = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(map.merged_of_node.size()));
   for (const CaseReference& r : refs) {
     const ThermalModel merged = merge_nodes(r.model, map);
     const SimulationResult m = simulate_model(merged, simulation);
-    const double d = compare_results(r.result, result_through_node_map(m, merged.node_map)).max_abs_K;
-    if (!(d <= worst)) worst = d;
+    const TemperatureDifference d = compare_results(r.result, result_through_node_map(m, merged.node_map));
+    for (std::size_t i = 0; i < d.per_node.size() && i < static_cast<std::size_t>(worst.size()); ++i)
+      if (!(d.per_node[i].max_abs_K <= worst[i])) worst[i] = d.per_node[i].max_abs_K;  // NaN wins
   }
   return worst;
 }
 
 // Keeps the longest prefix of the accepted merges whose traced model stays within `limit_K`
-// (all of them when they do; k bisected otherwise, at most ~log2(merges) simulations).
+// (all of them when they do; k bisected otherwise, at most ~log2(merges) simulations; with
+// `all_failed` the whole set is known to fail).
 std::vector<int> confirmed_by_tracing(const ThermalModel& model, const std::vector<CaseReference>& refs,
                                       const ModelSimulationSettings& simulation, double limit_K, NodeMerging& sum,
-                                      const std::function<void(const std::string&)>& say) {
-  std::size_t good = 0, bad = sum.steps.size() + 1, k = sum.steps.size();
+                                      const std::function<void(const std::string&)>& say, bool all_failed = false) {
+  std::size_t good = 0, bad = sum.steps.size() + (all_failed ? 0 : 1), k = all_failed ? bad / 2 : sum.steps.size();
   double good_dT = 0.0;
   while (k > good && k < bad) {
-    const double d = traced_merge_K(refs, map_of_labels(first_merges(model, sum.steps, k)), simulation);
+    const double d = largest(traced_merge_K(refs, map_of_labels(first_merges(model, sum.steps, k)), simulation));
     ++sum.traced_simulations;
     say(fmt("node merging: the first %.0f merges traced: max |dT| %.4f K (limit %.4g K)", k, d, limit_K));
     if (d <= limit_K) good = k, good_dT = d;
@@ -137,7 +137,6 @@ std::vector<int> confirmed_by_tracing(const ThermalModel& model, const std::vect
   sum.dT_K = good > 0 ? sum.steps.back().dT_K : 0.0;
   return first_merges(model, sum.steps, good);
 }
-
 
 // What the merge searches share (step 3).
 struct MergeContext {
@@ -211,7 +210,7 @@ void merge_cheapest_pairs_first(const MergeContext& c, const std::vector<std::pa
     const std::vector<int> l = joined(labels, a, b);
     const Eigen::VectorXd dT = merge_trial_K(c.refs, map_of_labels(l), c.solver);
     ++sum.trials;
-    if (!within_budgets(dT, budgets_K(l, c.small, c.budget_K, c.small_K))) continue;
+    if (!within_budgets(dT, budgets_K(c.small, c.budget_K, c.small_K))) continue;
     record_step(c, labels, l, a, b, pair_dT[k], largest(dT), sum);
     labels = l;
   }
@@ -261,7 +260,7 @@ void merge_best_first(const MergeContext& c, const std::vector<std::pair<int, in
       const auto [a, b] = joins[k];
       const std::vector<int> l = joined(labels, a, b);
       const Eigen::VectorXd dT = merge_trial_K(c.refs, map_of_labels(l), c.solver);
-      if (!within_budgets(dT, budgets_K(l, c.small, c.budget_K, c.small_K))) return;
+      if (!within_budgets(dT, budgets_K(c.small, c.budget_K, c.small_K))) return;
       double worst = 0.0;
       for (std::size_t i = 0; i < l.size(); ++i)
         if (l[i] == a) worst = std::max(worst, dT[static_cast<Eigen::Index>(i)]);
@@ -395,35 +394,73 @@ MergeSearch search_node_merges(const ThermalModel& model, const std::vector<Load
     refs.push_back(std::move(r));
   }
   std::vector<int> labels(n);
-  const std::vector<std::pair<int, int>> pairs =
+  std::vector<std::pair<int, int>> pairs =
       merge_candidates(refs.front().model, refs.front().couplings, refs.front().result, merge.strongest_exchanges, excluded);
+  // Every two nodes whose reference temperatures stay within twice the larger budget of each
+  // other in every case (near-isothermal wherever they are: what a merge can afford).
+  std::vector<char> out_of_play(n, 0);
+  for (int i : excluded) out_of_play[i] = 1;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      if (out_of_play[i] || out_of_play[j]) continue;
+      double spread = 0.0;
+      for (const CaseReference& r : refs)
+        spread = std::max(spread, (r.result.temperature_K.row(i) - r.result.temperature_K.row(j)).cwiseAbs().maxCoeff());
+      if (spread <= 2.0 * small_K) pairs.emplace_back(i, j);
+    }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   sum.candidates = static_cast<int>(pairs.size());
   say(fmt("node merging: %.0f candidate pairs (network trials, budget %.4g K, ", pairs.size(), budget_K) +
       fmt("%.4g K for merged nodes of the %.0f small nodes)", small_K, sum.small_nodes));
   MergeContext ctx{model, refs, simulation.solver, small, budget_K, small_K, say, std::vector<char>(std::size_t(n) * n, 0)};
-  // A merge that breaks the traced model (the network trials take the original's combined
-  // couplings as exact: docs/reduction.md) is banned and the search run again, a few times;
-  // the run keeping the fewest nodes wins.
-  std::vector<int> best_labels;
+  // The merges found are traced (the merged model simulated with the reference's seed: the
+  // network trials take the original's combined couplings as exact, docs/reduction.md). When
+  // that exceeds the tolerance, the last merge of the worst original node's merged node (or,
+  // for a node left alone, the first merge the bisection finds failing) is banned, its two
+  // sides never again in one merged node, and the search runs again; the last round keeps the
+  // longest prefix that traces within the tolerance. The round keeping the fewest nodes wins.
+  std::vector<int> best_labels(n);
+  for (int i = 0; i < n; ++i) best_labels[i] = i;
   std::vector<NodeMergeStep> best_steps;
   double best_dT = 0.0, best_traced = 0.0;
-  for (int round = 0; round < std::max(1, merge.tracing_rounds); ++round) {
+  const int rounds = merge.confirm_by_tracing ? std::max(1, merge.tracing_rounds) : 1;
+  for (int round = 0; round < rounds; ++round) {
     for (int i = 0; i < n; ++i) labels[i] = i;
     sum.steps.clear();
     sum.dT_K = sum.traced_dT_K = 0.0;
     if (merge.best_first) merge_best_first(ctx, pairs, labels, sum);
     else merge_cheapest_pairs_first(ctx, pairs, labels, sum);
     const std::vector<NodeMergeStep> found = sum.steps;
-    if (merge.confirm_by_tracing && !found.empty())
-      labels = confirmed_by_tracing(model, refs, simulation, tolerance_K, sum, say);
-    if (round == 0 || sum.steps.size() > best_steps.size())
+    std::size_t bad = found.size();  // the merge to ban (none)
+    if (merge.confirm_by_tracing && !found.empty()) {
+      const Eigen::VectorXd traced = traced_merge_K(refs, map_of_labels(labels), simulation);
+      ++sum.traced_simulations;
+      sum.traced_dT_K = largest(traced);
+      say(fmt("node merging: %.0f merges traced: max |dT| %.4f K (limit %.4g K)", found.size(), sum.traced_dT_K,
+              tolerance_K));
+      if (!(sum.traced_dT_K <= tolerance_K)) {
+        Eigen::Index worst = 0;
+        for (Eigen::Index i = 0; i < traced.size(); ++i)
+          if (std::isnan(traced[i]) || traced[i] > traced[worst]) worst = i;
+        for (std::size_t k = found.size(); k-- > 0 && bad == found.size();)
+          for (const auto* side : {&found[k].first, &found[k].second})
+            if (std::find(side->begin(), side->end(), model.nodes[worst].name) != side->end()) bad = k;
+        if (bad == found.size() || round + 1 == rounds) {
+          labels = confirmed_by_tracing(model, refs, simulation, tolerance_K, sum, say, true);
+          if (sum.steps.size() < found.size()) bad = sum.steps.size();
+        } else {
+          sum.steps.clear();  // nothing of this round is kept
+        }
+      }
+    }
+    if (sum.steps.size() > best_steps.size())
       best_labels = labels, best_steps = sum.steps, best_dT = sum.dT_K, best_traced = sum.traced_dT_K;
-    if (sum.steps.size() == found.size()) break;
-    const NodeMergeStep& bad = found[sum.steps.size()];  // the first merge the traced model refuses
-    say("node merging: " + bad.first.front() + " + " + bad.second.front() +
+    if (bad == found.size() || round + 1 == rounds) break;
+    say("node merging: " + found[bad].first.front() + " + " + found[bad].second.front() +
         " breaks the traced model; those members stay apart, searching again");
-    for (const std::string& a : bad.first)
-      for (const std::string& b : bad.second) {
+    for (const std::string& a : found[bad].first)
+      for (const std::string& b : found[bad].second) {
         const int i = node_index(model, a), j = node_index(model, b);
         ctx.banned[std::size_t(i) * n + j] = ctx.banned[std::size_t(j) * n + i] = 1;
       }

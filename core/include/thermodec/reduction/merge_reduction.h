@@ -54,9 +54,10 @@ struct NodeMergeSettings {
   //! Best first (every round, every join of two current nodes tried with the merges so far, the
   //! least costly merged) instead of the single pairs' cheapest first.
   bool best_first = true;
-  //! When the traced model refuses a merge, that merge's two sides are kept apart and the search
-  //! runs again, up to this many searches in all (the one keeping the fewest nodes wins).
-  int tracing_rounds = 3;
+  //! When the traced model refuses the merges, the one to blame (the last merge of the worst
+  //! node's merged node, else the first failing one by bisection) has its two sides kept apart
+  //! and the search runs again, up to this many searches in all (the fewest nodes kept wins).
+  int tracing_rounds = 6;
 };
 
 //! Candidate pairs (i < j), ascending: nodes sharing a mesh edge, each node's `strongest`
