@@ -284,9 +284,9 @@ void add_reduce(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(0.01, 0.99));
   sub->add_option("--merge-small-share", o->merge.small_node_share,
-                  "with --merge-nodes: the share of the tolerance merged nodes made only of small nodes may "
-                  "spend (the fewest-faced nodes holding 10 % of the faces: their decimation gains little); "
-                  "at most --merge-share turns this off")
+                  "with --merge-nodes: the share of the tolerance small nodes (the fewest-faced, holding 10 % "
+                  "of the faces: their decimation gains little) may take from the merges; at most "
+                  "--merge-share (the default) turns this off")
       ->needs(merge)
       ->capture_default_str()
       ->check(CLI::Range(0.01, 0.99));

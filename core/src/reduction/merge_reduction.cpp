@@ -412,7 +412,7 @@ MergeSearch search_node_merges(const ThermalModel& model, const std::vector<Load
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   sum.candidates = static_cast<int>(pairs.size());
   say(fmt("node merging: %.0f candidate pairs (network trials, budget %.4g K, ", pairs.size(), budget_K) +
-      fmt("%.4g K for merged nodes of the %.0f small nodes)", small_K, sum.small_nodes));
+      fmt("%.4g K for the %.0f small nodes)", small_K, sum.small_nodes));
   MergeContext ctx{model, refs, simulation.solver, small, budget_K, small_K, say, std::vector<char>(std::size_t(n) * n, 0)};
   // The merges found are traced (the merged model simulated with the reference's seed: the
   // network trials take the original's combined couplings as exact, docs/reduction.md). When
