@@ -11,7 +11,7 @@ namespace thermodec {
 //! members) became one.
 struct NodeMergeStep {
   std::vector<std::string> first, second;  //!< original nodes of the two merged nodes
-  double pair_dT_K = 0.0;   //!< max |dT| of the two original nodes' merge alone (single-merge trial)
+  double pair_dT_K = 0.0;   //!< max |dT| of the two merged alone, from the unmerged network
   double dT_K = 0.0;        //!< max |dT| of every merge so far, this one included (what was accepted)
   int nodes_after = 0;      //!< nodes of the network after this merge
   int faces = 0;            //!< faces of the merged node (before decimation)
