@@ -296,6 +296,13 @@ void add_reduce(CLI::App& app) {
       ->needs(merge)
       ->capture_default_str()
       ->check(CLI::Range(0.01, 0.99));
+  sub->add_option("--merge-small-share", o->merge.small_node_share,
+                  "with --merge-nodes: the share of the tolerance small nodes (the fewest-faced, holding 10 % "
+                  "of the faces: their decimation gains little) may take from the merges; at most "
+                  "--merge-share (the default) turns this off")
+      ->needs(merge)
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 0.99));
   sub->add_flag("--raw-mesh", o->raw_mesh,
                 "bare mesh: skip the cleanup (duplicates, open sheets two-sided, touching faces) and the "
                 "size-aware ray budgets");

@@ -107,7 +107,9 @@ TEST(MergeSearch, kept_and_fixed_nodes_are_never_merged_and_merges_stay_within_t
   // A loose budget: the sample's nodes differ by tens of K, so only then do most nodes merge.
   const MergeSearch ms = search_node_merges(m, {}, {}, s, 30.0);
   EXPECT_LT(ms.map.num_merged(), static_cast<int>(m.nodes.size()));
-  EXPECT_LE(ms.summary.dT_K, 30.0);
+  // Small nodes may take max(small_node_share, tolerance_share) of the tolerance (30 K / share).
+  EXPECT_NEAR(ms.summary.small_budget_K, std::max(s.small_node_share, s.tolerance_share) * 30.0 / s.tolerance_share, 1e-9);
+  EXPECT_LE(ms.summary.dT_K, ms.summary.small_budget_K);
   EXPECT_EQ(ms.summary.nodes_after, ms.map.num_merged());
   // The merges kept were re-traced within the whole tolerance (budget / share).
   EXPECT_GE(ms.summary.traced_simulations, 1);
@@ -131,4 +133,38 @@ TEST(MergeSearch, kept_and_fixed_nodes_are_never_merged_and_merges_stay_within_t
   NodeMergeSettings bad;
   bad.keep = {"no_such_node"};
   EXPECT_THROW(search_node_merges(m, {}, {}, bad, 1.0), InvalidInput);
+}
+
+TEST(MergeSearch, small_nodes_are_the_fewest_faced_within_their_share_of_the_faces) {
+  if (!fs::exists(kSample)) GTEST_SKIP() << kSample << " not present";
+  const ThermalModel m = quick_sample();
+  const int n = static_cast<int>(m.nodes.size());
+  std::vector<int> faces(n, 0);
+  for (int f = 0; f < m.mesh.num_faces(); ++f) ++faces[m.mesh.face_node[f]];
+  for (double share : {0.0, 0.1, 0.3, 0.99}) {
+    const std::vector<char> small = small_nodes(m, share);
+    int held = 0, most_small = 0, least_other = m.mesh.num_faces() + 1;
+    for (int i = 0; i < n; ++i) {
+      if (small[i]) held += faces[i], most_small = std::max(most_small, faces[i]);
+      else least_other = std::min(least_other, faces[i]);
+    }
+    EXPECT_LE(held, share * m.mesh.num_faces()) << share;
+    EXPECT_LE(most_small, least_other) << share;  // the fewest-faced ones
+    if (least_other <= m.mesh.num_faces()) EXPECT_GT(held + least_other, share * m.mesh.num_faces()) << share;
+  }
+}
+
+TEST(MergeSearch, best_first_and_cheapest_pairs_first_both_keep_every_node_within_its_budget) {
+  if (!fs::exists(kSample)) GTEST_SKIP() << kSample << " not present";
+  const ThermalModel m = quick_sample();
+  for (bool best : {true, false}) {
+    NodeMergeSettings s;
+    s.best_first = best;
+    s.small_node_share = 0.85;  // the joint allocation on
+    s.confirm_by_tracing = false;
+    const MergeSearch ms = search_node_merges(m, {}, {}, s, 12.0);
+    EXPECT_LT(ms.map.num_merged(), static_cast<int>(m.nodes.size())) << best;
+    EXPECT_LE(ms.summary.dT_K, ms.summary.small_budget_K) << best;
+    for (const NodeMergeStep& st : ms.summary.steps) EXPECT_LE(st.dT_K, ms.summary.small_budget_K) << best;
+  }
 }

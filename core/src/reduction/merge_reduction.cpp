@@ -32,16 +32,46 @@ struct CaseReference {
   NodeCouplings couplings;
 };
 
-// Max |dT| over every original node, time and case of the merged network `map` (no tracing).
-double merge_trial_K(const std::vector<CaseReference>& refs, const NodeMergeMap& map, const SimulationSettings& solver) {
-  double worst = 0.0;
+// Per original node (the model's order), max |dT| over times and cases of the merged network
+// `map` (no tracing); NaN kept.
+Eigen::VectorXd merge_trial_K(const std::vector<CaseReference>& refs, const NodeMergeMap& map,
+                              const SimulationSettings& solver) {
+  Eigen::VectorXd worst = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(map.merged_of_node.size()));
   for (const CaseReference& r : refs) {
     const ThermalModel merged = merge_nodes(r.model, map);
     const SimulationResult m = simulate(merged, merge_couplings(r.couplings, map), merge_loads(r.result.loads, map), solver);
     const TemperatureDifference d = compare_results(r.result, result_through_node_map(m, merged.node_map));
-    if (!(d.max_abs_K <= worst)) worst = d.max_abs_K;  // NaN wins
+    for (std::size_t i = 0; i < d.per_node.size() && i < static_cast<std::size_t>(worst.size()); ++i)
+      if (!(d.per_node[i].max_abs_K <= worst[i])) worst[i] = d.per_node[i].max_abs_K;  // NaN wins
   }
   return worst;
+}
+
+double largest(const Eigen::VectorXd& v) {
+  if (v.array().isNaN().any()) return std::numeric_limits<double>::quiet_NaN();
+  return v.size() ? v.maxCoeff() : 0.0;
+}
+
+// The merge budget of every original node [K]: small_K for a small node (few faces: its
+// decimation gains little), budget_K otherwise (the joint allocation, NodeMergeSettings). A
+// merged node's temperature sits near its members of most radiating area, so a small node
+// merged with a large one takes most of the merge's difference on itself.
+Eigen::VectorXd budgets_K(const std::vector<char>& small, double budget_K, double small_K) {
+  Eigen::VectorXd b(static_cast<Eigen::Index>(small.size()));
+  for (std::size_t i = 0; i < small.size(); ++i) b[static_cast<Eigen::Index>(i)] = small[i] ? small_K : budget_K;
+  return b;
+}
+
+bool within_budgets(const Eigen::VectorXd& dT, const Eigen::VectorXd& budget) {
+  for (Eigen::Index i = 0; i < dT.size(); ++i)
+    if (!(dT[i] <= budget[i])) return false;  // NaN fails
+  return true;
+}
+
+int node_index(const ThermalModel& model, const std::string& name) {
+  for (std::size_t i = 0; i < model.nodes.size(); ++i)
+    if (model.nodes[i].name == name) return static_cast<int>(i);
+  throw InvalidInput("node merging: no node '" + name + "'");
 }
 
 NodeMergeMap map_of_labels(const std::vector<int>& labels) { return node_merge_map(labels, static_cast<int>(labels.size())); }
@@ -71,28 +101,31 @@ std::vector<int> first_merges(const ThermalModel& model, const std::vector<NodeM
   return labels;
 }
 
-// The merged model traced (reference seed) against the reference, through the map [K].
-double traced_merge_K(const std::vector<CaseReference>& refs, const NodeMergeMap& map,
-                      const ModelSimulationSettings& simulation) {
-  double worst = 0.0;
+// Per original node (the model's order), max |dT| over times and cases of the merged model
+// traced (the reference's seed) against the reference, through the map [K]; NaN kept.
+Eigen::VectorXd traced_merge_K(const std::vector<CaseReference>& refs, const NodeMergeMap& map,
+                               const ModelSimulationSettings& simulation) {
+  Eigen::VectorXd worst = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(map.merged_of_node.size()));
   for (const CaseReference& r : refs) {
     const ThermalModel merged = merge_nodes(r.model, map);
     const SimulationResult m = simulate_model(merged, simulation);
-    const double d = compare_results(r.result, result_through_node_map(m, merged.node_map)).max_abs_K;
-    if (!(d <= worst)) worst = d;
+    const TemperatureDifference d = compare_results(r.result, result_through_node_map(m, merged.node_map));
+    for (std::size_t i = 0; i < d.per_node.size() && i < static_cast<std::size_t>(worst.size()); ++i)
+      if (!(d.per_node[i].max_abs_K <= worst[i])) worst[i] = d.per_node[i].max_abs_K;  // NaN wins
   }
   return worst;
 }
 
 // Keeps the longest prefix of the accepted merges whose traced model stays within `limit_K`
-// (all of them when they do; k bisected otherwise, at most ~log2(merges) simulations).
+// (all of them when they do; k bisected otherwise, at most ~log2(merges) simulations; with
+// `all_failed` the whole set is known to fail).
 std::vector<int> confirmed_by_tracing(const ThermalModel& model, const std::vector<CaseReference>& refs,
                                       const ModelSimulationSettings& simulation, double limit_K, NodeMerging& sum,
-                                      const std::function<void(const std::string&)>& say) {
-  std::size_t good = 0, bad = sum.steps.size() + 1, k = sum.steps.size();
+                                      const std::function<void(const std::string&)>& say, bool all_failed = false) {
+  std::size_t good = 0, bad = sum.steps.size() + (all_failed ? 0 : 1), k = all_failed ? bad / 2 : sum.steps.size();
   double good_dT = 0.0;
   while (k > good && k < bad) {
-    const double d = traced_merge_K(refs, map_of_labels(first_merges(model, sum.steps, k)), simulation);
+    const double d = largest(traced_merge_K(refs, map_of_labels(first_merges(model, sum.steps, k)), simulation));
     ++sum.traced_simulations;
     say(fmt("node merging: the first %.0f merges traced: max |dT| %.4f K (limit %.4g K)", k, d, limit_K));
     if (d <= limit_K) good = k, good_dT = d;
@@ -103,6 +136,151 @@ std::vector<int> confirmed_by_tracing(const ThermalModel& model, const std::vect
   sum.traced_dT_K = good_dT;
   sum.dT_K = good > 0 ? sum.steps.back().dT_K : 0.0;
   return first_merges(model, sum.steps, good);
+}
+
+// What the merge searches share (step 3).
+struct MergeContext {
+  const ThermalModel& model;
+  const std::vector<CaseReference>& refs;
+  const SimulationSettings& solver;
+  const std::vector<char>& small;
+  double budget_K, small_K;
+  std::function<void(const std::string&)> say;
+  //! n x n (row-major): original nodes that may not share a merged node (their merge broke the
+  //! traced model).
+  std::vector<char> banned;
+
+  // Whether current nodes a and b may be joined.
+  bool allowed(const std::vector<int>& labels, int a, int b) const {
+    const std::size_t n = labels.size();
+    for (std::size_t i = 0; i < n; ++i)
+      if (labels[i] == a)
+        for (std::size_t j = 0; j < n; ++j)
+          if (labels[j] == b && banned[i * n + j]) return false;
+    return true;
+  }
+};
+
+// Records the merge of current nodes a and b (labels before: `before`, after: `after`).
+void record_step(const MergeContext& c, const std::vector<int>& before, const std::vector<int>& after, int a, int b,
+                 double alone_K, double dT_K, NodeMerging& sum) {
+  const int n = static_cast<int>(before.size());
+  NodeMergeStep step;
+  step.first = members_named(c.model, before, a);
+  step.second = members_named(c.model, before, b);
+  step.pair_dT_K = alone_K;
+  step.dT_K = dT_K;
+  step.nodes_after = (sum.steps.empty() ? n : sum.steps.back().nodes_after) - 1;
+  for (int f = 0; f < c.model.mesh.num_faces(); ++f) {
+    const int nd = c.model.mesh.face_node[f];
+    step.faces += nd >= 0 && nd < n && after[nd] == a;
+  }
+  c.say(fmt("  merged (%.4f K alone, %.4f K with the merges so far): ", alone_K, dT_K) + step.first.front() +
+        (step.first.size() > 1 ? "+" + std::to_string(step.first.size() - 1) : std::string()) + " + " + step.second.front() +
+        (step.second.size() > 1 ? "+" + std::to_string(step.second.size() - 1) : std::string()) +
+        fmt(", %.0f nodes", step.nodes_after));
+  sum.steps.push_back(step);
+  sum.dT_K = dT_K;
+}
+
+std::vector<int> joined(std::vector<int> labels, int a, int b) {
+  for (int& x : labels)
+    if (x == b) x = a;
+  return labels;
+}
+
+// Greedy by pairs: every candidate pair is tried alone; then, cheapest first, each is merged
+// into the network of the merges accepted so far when every original node stays within its
+// merged node's budget (the pairs' effects need not add up).
+void merge_cheapest_pairs_first(const MergeContext& c, const std::vector<std::pair<int, int>>& pairs,
+                                std::vector<int>& labels, NodeMerging& sum) {
+  std::vector<double> pair_dT(pairs.size(), 0.0);
+  tbb::parallel_for(std::size_t(0), pairs.size(), [&](std::size_t k) {
+    const double d = largest(merge_trial_K(c.refs, map_of_labels(joined(labels, pairs[k].first, pairs[k].second)), c.solver));
+    pair_dT[k] = std::isnan(d) ? std::numeric_limits<double>::infinity() : d;  // (a strict weak order below)
+  });
+  sum.trials += static_cast<int>(pairs.size());
+  std::vector<std::size_t> order(pairs.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return pair_dT[a] < pair_dT[b]; });
+  for (std::size_t k : order) {
+    if (!(pair_dT[k] <= c.small_K)) break;
+    const int a = labels[pairs[k].first], b = labels[pairs[k].second];
+    if (a == b || !c.allowed(labels, a, b)) continue;
+    const std::vector<int> l = joined(labels, a, b);
+    const Eigen::VectorXd dT = merge_trial_K(c.refs, map_of_labels(l), c.solver);
+    ++sum.trials;
+    if (!within_budgets(dT, budgets_K(c.small, c.budget_K, c.small_K))) continue;
+    record_step(c, labels, l, a, b, pair_dT[k], largest(dT), sum);
+    labels = l;
+  }
+}
+
+// Max over cases and times of the spread (max - min) of the reference temperatures of the
+// original nodes labelled a or b [K]: a merged node cannot keep every member within half of it.
+double spread_K(const std::vector<CaseReference>& refs, const std::vector<int>& labels, int a, int b) {
+  double worst = 0.0;
+  for (const CaseReference& r : refs) {
+    const Eigen::MatrixXd& t = r.result.temperature_K;
+    Eigen::RowVectorXd lo = Eigen::RowVectorXd::Constant(t.cols(), std::numeric_limits<double>::infinity());
+    Eigen::RowVectorXd hi = -lo;
+    for (std::size_t i = 0; i < labels.size(); ++i)
+      if (labels[i] == a || labels[i] == b) {
+        lo = lo.cwiseMin(t.row(static_cast<Eigen::Index>(i)));
+        hi = hi.cwiseMax(t.row(static_cast<Eigen::Index>(i)));
+      }
+    worst = std::max(worst, (hi - lo).maxCoeff());
+  }
+  return worst;
+}
+
+// Best first: every round, each pair of current nodes joined by a candidate pair (and whose
+// members' reference temperatures spread by at most twice the larger budget) is tried with the
+// merges so far; of those keeping every original node within its merged node's budget, the one
+// of least |dT| on its own members is merged. Rounds end when no join fits.
+void merge_best_first(const MergeContext& c, const std::vector<std::pair<int, int>>& pairs, std::vector<int>& labels,
+                      NodeMerging& sum) {
+  const double inf = std::numeric_limits<double>::infinity();
+  for (;;) {
+    std::vector<std::pair<int, int>> joins;
+    for (const auto& [i, j] : pairs) {
+      const int a = labels[i], b = labels[j];
+      if (a != b) joins.emplace_back(std::min(a, b), std::max(a, b));
+    }
+    std::sort(joins.begin(), joins.end());
+    joins.erase(std::unique(joins.begin(), joins.end()), joins.end());
+    joins.erase(std::remove_if(joins.begin(), joins.end(),
+                               [&](const auto& p) {
+                                 return spread_K(c.refs, labels, p.first, p.second) > 2.0 * c.small_K ||
+                                        !c.allowed(labels, p.first, p.second);
+                               }),
+                joins.end());
+    std::vector<double> own(joins.size(), inf), all(joins.size(), inf);
+    tbb::parallel_for(std::size_t(0), joins.size(), [&](std::size_t k) {
+      const auto [a, b] = joins[k];
+      const std::vector<int> l = joined(labels, a, b);
+      const Eigen::VectorXd dT = merge_trial_K(c.refs, map_of_labels(l), c.solver);
+      if (!within_budgets(dT, budgets_K(c.small, c.budget_K, c.small_K))) return;
+      double worst = 0.0;
+      for (std::size_t i = 0; i < l.size(); ++i)
+        if (l[i] == a) worst = std::max(worst, dT[static_cast<Eigen::Index>(i)]);
+      own[k] = worst;
+      all[k] = largest(dT);
+    });
+    sum.trials += static_cast<int>(joins.size());
+    const auto best = std::min_element(own.begin(), own.end());
+    if (best == own.end() || !(*best < inf)) return;
+    const std::size_t k = static_cast<std::size_t>(best - own.begin());
+    const auto [a, b] = joins[k];
+    const std::vector<int> l = joined(labels, a, b);
+    // The two merged alone (from the unmerged network), for the report.
+    std::vector<int> alone(labels.size());
+    for (std::size_t i = 0; i < alone.size(); ++i) alone[i] = labels[i] == a || labels[i] == b ? a : static_cast<int>(i);
+    const double alone_K = largest(merge_trial_K(c.refs, map_of_labels(alone), c.solver));
+    ++sum.trials;
+    record_step(c, labels, l, a, b, alone_K, all[k], sum);
+    labels = l;
+  }
 }
 
 }  // namespace
@@ -161,6 +339,27 @@ std::vector<std::pair<int, int>> merge_candidates(const ThermalModel& model, con
   return pairs;
 }
 
+std::vector<char> small_nodes(const ThermalModel& model, double share) {
+  const int n = static_cast<int>(model.nodes.size());
+  std::vector<long> faces(n, 0);
+  long total = 0;
+  for (int f = 0; f < model.mesh.num_faces(); ++f) {
+    const int nd = model.mesh.face_node[f];
+    if (nd >= 0 && nd < n) ++faces[nd], ++total;
+  }
+  std::vector<int> order(n);
+  for (int i = 0; i < n; ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return faces[a] < faces[b]; });
+  std::vector<char> small(n, 0);
+  long sum = 0;
+  for (int i : order) {
+    if (static_cast<double>(sum + faces[i]) > share * static_cast<double>(total)) break;
+    sum += faces[i];
+    small[i] = 1;
+  }
+  return small;
+}
+
 MergeSearch search_node_merges(const ThermalModel& model, const std::vector<LoadCase>& extra_cases,
                                const ModelSimulationSettings& simulation, const NodeMergeSettings& merge,
                                double budget_K, const std::function<void(const std::string&)>& say_in) {
@@ -171,6 +370,11 @@ MergeSearch search_node_merges(const ThermalModel& model, const std::vector<Load
   NodeMerging& sum = out.summary;
   sum.nodes_before = n;
   sum.budget_K = budget_K;
+  const double tolerance_K = budget_K / std::max(merge.tolerance_share, 1e-9);
+  const double small_K = std::max(budget_K, merge.small_node_share * tolerance_K);
+  const std::vector<char> small = small_nodes(model, merge.small_faces_share);
+  sum.small_budget_K = small_K;
+  sum.small_nodes = static_cast<int>(std::count(small.begin(), small.end(), 1));
   // Kept nodes: the user's (checked before any simulation) and every boundary node.
   std::vector<int> excluded = nodes_matching(model, merge.keep);
   for (int i = 0; i < n; ++i)
@@ -189,60 +393,82 @@ MergeSearch search_node_merges(const ThermalModel& model, const std::vector<Load
     r.result = simulate_model(r.model, simulation, &r.couplings);
     refs.push_back(std::move(r));
   }
-  const SimulationSettings& solver = simulation.solver;
   std::vector<int> labels(n);
-  for (int i = 0; i < n; ++i) labels[i] = i;
-  out.map = map_of_labels(labels);
-
-  const std::vector<std::pair<int, int>> pairs =
+  std::vector<std::pair<int, int>> pairs =
       merge_candidates(refs.front().model, refs.front().couplings, refs.front().result, merge.strongest_exchanges, excluded);
-  sum.candidates = static_cast<int>(pairs.size());
-  say(fmt("node merging: %.0f candidate pairs, each merged alone (network trials, budget %.4g K)", pairs.size(), budget_K));
-  std::vector<double> pair_dT(pairs.size(), 0.0);
-  tbb::parallel_for(std::size_t(0), pairs.size(), [&](std::size_t k) {
-    std::vector<int> l = labels;
-    l[pairs[k].second] = pairs[k].first;
-    const double d = merge_trial_K(refs, map_of_labels(l), solver);
-    pair_dT[k] = std::isnan(d) ? std::numeric_limits<double>::infinity() : d;  // (a strict weak order below)
-  });
-  sum.trials = static_cast<int>(pairs.size());
-  const auto within = [&](double x) { return std::count_if(pair_dT.begin(), pair_dT.end(), [x](double d) { return d <= x; }); };
-  say(fmt("node merging: %.0f pairs within the budget alone, %.0f within the whole tolerance", within(budget_K),
-          within(budget_K / std::max(merge.tolerance_share, 1e-9))));
-  // Greedy: cheapest pair first, merged into the network of the merges accepted so far when
-  // the whole network stays within the budget (the pairs' effects need not add up).
-  std::vector<std::size_t> order(pairs.size());
-  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return pair_dT[a] < pair_dT[b]; });
-  int nodes = n;
-  for (std::size_t k : order) {
-    if (!(pair_dT[k] <= budget_K)) break;
-    const int a = labels[pairs[k].first], b = labels[pairs[k].second];
-    if (a == b) continue;
-    std::vector<int> l = labels;
-    for (int& x : l)
-      if (x == b) x = a;
-    const double d = merge_trial_K(refs, map_of_labels(l), solver);
-    ++sum.trials;
-    if (!(d <= budget_K)) continue;
-    NodeMergeStep step;
-    step.first = members_named(model, labels, a);
-    step.second = members_named(model, labels, b);
-    step.pair_dT_K = pair_dT[k];
-    step.dT_K = d;
-    step.nodes_after = --nodes;
-    for (int f = 0; f < model.mesh.num_faces(); ++f) {
-      const int nd = model.mesh.face_node[f];
-      step.faces += nd >= 0 && nd < n && l[nd] == a;
+  // Every two nodes whose reference temperatures stay within twice the larger budget of each
+  // other in every case (near-isothermal wherever they are: what a merge can afford).
+  std::vector<char> out_of_play(n, 0);
+  for (int i : excluded) out_of_play[i] = 1;
+  for (int i = 0; i < n; ++i)
+    for (int j = i + 1; j < n; ++j) {
+      if (out_of_play[i] || out_of_play[j]) continue;
+      double spread = 0.0;
+      for (const CaseReference& r : refs)
+        spread = std::max(spread, (r.result.temperature_K.row(i) - r.result.temperature_K.row(j)).cwiseAbs().maxCoeff());
+      if (spread <= 2.0 * small_K) pairs.emplace_back(i, j);
     }
-    say(fmt("  merged (%.4f K alone, %.4f K with the merges so far): ", pair_dT[k], d) + model.nodes[pairs[k].first].name +
-        " + " + model.nodes[pairs[k].second].name + fmt(", %.0f nodes", nodes));
-    sum.steps.push_back(step);
-    sum.dT_K = d;
-    labels = l;
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  sum.candidates = static_cast<int>(pairs.size());
+  say(fmt("node merging: %.0f candidate pairs (network trials, budget %.4g K, ", pairs.size(), budget_K) +
+      fmt("%.4g K for the %.0f small nodes)", small_K, sum.small_nodes));
+  MergeContext ctx{model, refs, simulation.solver, small, budget_K, small_K, say, std::vector<char>(std::size_t(n) * n, 0)};
+  // The merges found are traced (the merged model simulated with the reference's seed: the
+  // network trials take the original's combined couplings as exact, docs/reduction.md). When
+  // that exceeds the tolerance, the last merge of the worst original node's merged node (or,
+  // for a node left alone, the first merge the bisection finds failing) is banned, its two
+  // sides never again in one merged node, and the search runs again; the last round keeps the
+  // longest prefix that traces within the tolerance. The round keeping the fewest nodes wins.
+  std::vector<int> best_labels(n);
+  for (int i = 0; i < n; ++i) best_labels[i] = i;
+  std::vector<NodeMergeStep> best_steps;
+  double best_dT = 0.0, best_traced = 0.0;
+  const int rounds = merge.confirm_by_tracing ? std::max(1, merge.tracing_rounds) : 1;
+  for (int round = 0; round < rounds; ++round) {
+    for (int i = 0; i < n; ++i) labels[i] = i;
+    sum.steps.clear();
+    sum.dT_K = sum.traced_dT_K = 0.0;
+    if (merge.best_first) merge_best_first(ctx, pairs, labels, sum);
+    else merge_cheapest_pairs_first(ctx, pairs, labels, sum);
+    const std::vector<NodeMergeStep> found = sum.steps;
+    std::size_t bad = found.size();  // the merge to ban (none)
+    if (merge.confirm_by_tracing && !found.empty()) {
+      const Eigen::VectorXd traced = traced_merge_K(refs, map_of_labels(labels), simulation);
+      ++sum.traced_simulations;
+      sum.traced_dT_K = largest(traced);
+      say(fmt("node merging: %.0f merges traced: max |dT| %.4f K (limit %.4g K)", found.size(), sum.traced_dT_K,
+              tolerance_K));
+      if (!(sum.traced_dT_K <= tolerance_K)) {
+        Eigen::Index worst = 0;
+        for (Eigen::Index i = 0; i < traced.size(); ++i)
+          if (std::isnan(traced[i]) || traced[i] > traced[worst]) worst = i;
+        for (std::size_t k = found.size(); k-- > 0 && bad == found.size();)
+          for (const auto* side : {&found[k].first, &found[k].second})
+            if (std::find(side->begin(), side->end(), model.nodes[worst].name) != side->end()) bad = k;
+        if (bad == found.size() || round + 1 == rounds) {
+          labels = confirmed_by_tracing(model, refs, simulation, tolerance_K, sum, say, true);
+          if (sum.steps.size() < found.size()) bad = sum.steps.size();
+        } else {
+          sum.steps.clear();  // nothing of this round is kept
+        }
+      }
+    }
+    if (sum.steps.size() > best_steps.size())
+      best_labels = labels, best_steps = sum.steps, best_dT = sum.dT_K, best_traced = sum.traced_dT_K;
+    if (bad == found.size() || round + 1 == rounds) break;
+    say("node merging: " + found[bad].first.front() + " + " + found[bad].second.front() +
+        " breaks the traced model; those members stay apart, searching again");
+    for (const std::string& a : found[bad].first)
+      for (const std::string& b : found[bad].second) {
+        const int i = node_index(model, a), j = node_index(model, b);
+        ctx.banned[std::size_t(i) * n + j] = ctx.banned[std::size_t(j) * n + i] = 1;
+      }
   }
-  if (merge.confirm_by_tracing && !sum.steps.empty())
-    labels = confirmed_by_tracing(model, refs, simulation, budget_K / std::max(merge.tolerance_share, 1e-9), sum, say);
+  labels = best_labels;
+  sum.steps = best_steps;
+  sum.dT_K = best_dT;
+  sum.traced_dT_K = best_traced;
   out.map = map_of_labels(labels);
   for (const CaseReference& r : refs) out.references.push_back(r.result);
   sum.nodes_after = out.map.num_merged();
@@ -269,8 +495,11 @@ ReductionRun reduce_with_node_merging(const ThermalModel& model, const ReduceSet
   const double tol = settings.tolerance_K;
   if (!std::isfinite(tol) || tol <= 0)
     throw InvalidInput("tolerance must be a finite temperature difference > 0 K (got " + std::to_string(tol) + ")");
-  if (!(merge.tolerance_share > 0.0 && merge.tolerance_share < 1.0))
-    throw InvalidInput("the merges' share of the tolerance must lie in (0, 1)");
+  if (!(merge.tolerance_share > 0.0 && merge.tolerance_share < 1.0) ||
+      !(merge.small_node_share > 0.0 && merge.small_node_share < 1.0))
+    throw InvalidInput("the merges' shares of the tolerance must lie in (0, 1)");
+  if (!(merge.small_faces_share >= 0.0 && merge.small_faces_share < 1.0))
+    throw InvalidInput("the small nodes' share of the faces must lie in [0, 1)");
   auto say = [&](const std::string& s) { if (settings.progress) settings.progress(s); };
   MergeSearch ms = search_node_merges(model, settings.extra_cases, settings.reference.simulation, merge,
                                       merge.tolerance_share * tol, say);

@@ -48,7 +48,8 @@ json node_merging_json(const NodeMerging& m) {
   json map = json::object();
   for (const auto& [original, merged] : m.node_map) map[original] = merged;
   json j = {{"nodes_before", m.nodes_before}, {"nodes_after", m.nodes_after}, {"kept", m.kept},
-            {"candidates", m.candidates}, {"trials", m.trials}, {"budget_K", m.budget_K}, {"dT_K", m.dT_K},
+            {"candidates", m.candidates}, {"trials", m.trials}, {"budget_K", m.budget_K},
+            {"small_budget_K", m.small_budget_K}, {"small_nodes", m.small_nodes}, {"dT_K", m.dT_K},
             {"decimation_tolerance_K", m.decimation_tolerance_K}, {"traced_dT_K", m.traced_dT_K},
             {"traced_simulations", m.traced_simulations}, {"merges", steps}, {"node_map", map},
             {"seconds", m.seconds}};

@@ -35,6 +35,15 @@ struct NodeMergeSettings {
   //! 0.6 (docs/benchmarks.md, "Merging nodes"): against 0.4, NPP_16 34 nodes and 1160 faces
   //! instead of 43 and 1191; 0.8 leaves the merged members no budget.
   double tolerance_share = 0.6;
+  //! Joint allocation: *small* original nodes (below) may take this share of the tolerance
+  //! from the merges instead. A small node has few faces, so its decimation gains little: it
+  //! gives its budget to the merges. Off when <= tolerance_share (the default): at 0.85 NPP_16
+  //! merges to 31 nodes, but its merged members keep 0.025 K, the decimation stops at 1400 faces
+  //! and the verification rejects it (0.497 +- 0.005 K, bound 0.512 K: docs/benchmarks.md).
+  double small_node_share = 0.6;
+  //! The small nodes: the fewest-faced original nodes (ties by index) holding together at most
+  //! this share of the model's faces [0, 1).
+  double small_faces_share = 0.1;
   //! Per node, its this many strongest exchanges and this many nodes closest in temperature are
   //! candidates besides its edge neighbours.
   int strongest_exchanges = 3;
@@ -43,6 +52,13 @@ struct NodeMergeSettings {
   //! are kept, k bisected (the network trials take the original's combined couplings as exact,
   //! which a rarely hit node's reciprocity weighting can break: docs/reduction.md).
   bool confirm_by_tracing = true;
+  //! Best first (every round, every join of two current nodes tried with the merges so far, the
+  //! least costly merged) instead of the single pairs' cheapest first.
+  bool best_first = true;
+  //! When the traced model refuses the merges, the one to blame (the last merge of the worst
+  //! node's merged node, else the first failing one by bisection) has its two sides kept apart
+  //! and the search runs again, up to this many searches in all (the fewest nodes kept wins).
+  int tracing_rounds = 6;
 };
 
 //! Candidate pairs (i < j), ascending: nodes sharing a mesh edge, each node's `strongest`
@@ -53,6 +69,10 @@ std::vector<std::pair<int, int>> merge_candidates(const ThermalModel& model, con
                                                   const SimulationResult& reference, int strongest,
                                                   const std::vector<int>& excluded);
 
+//! Flags of the small nodes of `model` (NodeMergeSettings::small_faces_share): the fewest-faced
+//! nodes, ascending by faces then index, while their faces together stay <= share x all faces.
+std::vector<char> small_nodes(const ThermalModel& model, double share);
+
 //! Result of the greedy merge search (step 3).
 struct MergeSearch {
   NodeMergeMap map;
@@ -62,7 +82,8 @@ struct MergeSearch {
   std::vector<SimulationResult> references;
 };
 
-//! Steps 1-3: the merges of `model` within budget_K [K] over its own case and `extra_cases`.
+//! Steps 1-3: the merges of `model` within budget_K [K] over its own case and `extra_cases`;
+//! merged nodes of small nodes only within budget_K x small_node_share / tolerance_share.
 //! \throw InvalidInput if a keep pattern matches no node.
 MergeSearch search_node_merges(const ThermalModel& model, const std::vector<LoadCase>& extra_cases,
                                const ModelSimulationSettings& simulation, const NodeMergeSettings& merge,

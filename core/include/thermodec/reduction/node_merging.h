@@ -11,7 +11,7 @@ namespace thermodec {
 //! members) became one.
 struct NodeMergeStep {
   std::vector<std::string> first, second;  //!< original nodes of the two merged nodes
-  double pair_dT_K = 0.0;   //!< max |dT| of the two original nodes' merge alone (single-merge trial)
+  double pair_dT_K = 0.0;   //!< max |dT| of the two merged alone, from the unmerged network
   double dT_K = 0.0;        //!< max |dT| of every merge so far, this one included (what was accepted)
   int nodes_after = 0;      //!< nodes of the network after this merge
   int faces = 0;            //!< faces of the merged node (before decimation)
@@ -23,6 +23,10 @@ struct NodeMerging {
   int candidates = 0;                   //!< candidate pairs (neighbours sharing an edge, strongest exchanges)
   int trials = 0;                       //!< network trials (single merges and greedy steps)
   double budget_K = 0.0;                //!< the share of the tolerance the merges may spend [K]
+  //! What a merged node of small nodes only may spend [K] (= budget_K: no such allocation), and
+  //! how many original nodes are small (few faces: their decimation gains little).
+  double small_budget_K = 0.0;
+  int small_nodes = 0;
   double dT_K = 0.0;                    //!< measured max |dT| of all merges together (every case) [K]
   //! What the decimation of the merged model searched within [K]: the whole tolerance, each
   //! original node less its merge's own |dT| (reduction/node_budget.h).
