@@ -55,12 +55,25 @@ void add_solar_reflections(Loads& loads, const ThermalModel& model, const Surfac
   const GebhartFactors solar =
       gebhart_factors(reciprocal, alpha, node_groups(sides, num_nodes), num_nodes + 1, {}, warm_ok ? &guess : nullptr);
   if (samples) samples->solar_gebhart = solar.B;
-  Eigen::MatrixXd reflected = Eigen::MatrixXd::Zero(num_nodes, S + E);
+  // reflected(g, k) = sum over s, in increasing order, of (1 - alpha_s) B(s, g) incident(s, k):
+  // on row-major copies, so that a side's powers and a node's sums are contiguous over the
+  // steps (the column-major rows strode through memory: ~6 % of a Juno trial). The same
+  // products and sums in the same order, so the same bits.
+  const Eigen::Index T = S + E;
+  const RowMatrixXd incident = solar_incident_W;
+  RowMatrixXd reflected_rows = RowMatrixXd::Zero(num_nodes, T);
   for (int s = 0; s < ns; ++s) {
     if (solar_incident_W.row(s).isZero()) continue;
-    for (int g = 0; g < num_nodes; ++g)
-      if (solar.B(s, g) != 0.0) reflected.row(g) += (1.0 - alpha[s]) * solar.B(s, g) * solar_incident_W.row(s);
+    const double* in = incident.data() + s * T;
+    for (int g = 0; g < num_nodes; ++g) {
+      const double b = solar.B(s, g);
+      if (b == 0.0) continue;
+      const double w = (1.0 - alpha[s]) * b;
+      double* out = reflected_rows.data() + g * T;
+      for (Eigen::Index k = 0; k < T; ++k) out[k] += w * in[k];
+    }
   }
+  const Eigen::MatrixXd reflected = reflected_rows;
   loads.reflected_solar_W += reflected.leftCols(S);
   if (E > 0) loads.knot_reflected_solar_W += reflected.rightCols(E);
 }

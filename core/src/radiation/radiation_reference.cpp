@@ -216,6 +216,13 @@ RadiationReference prepare_radiation(const ThermalModel& reference, const Radiat
   return RadiationReference(std::move(impl));
 }
 
+std::size_t ir_record_bytes_kept(const ThermalModel& reference, const RadiationSettings& settings,
+                                 std::size_t max_record_bytes) {
+  const Eigen::VectorXi rays = side_ray_counts(surface_sides(reference), settings);
+  const std::size_t needed = static_cast<std::size_t>(rays.cast<double>().sum()) * kRecordBytesPerRay;
+  return needed <= max_record_bytes ? needed : 0;  // (as prepare_radiation decides)
+}
+
 GeometryChange geometry_change(const RadiationReference& reference, const ThermalModel& candidate) {
   const RadiationReference::Impl& ref = reference.impl();
   const SurfaceSides sides = surface_sides(candidate);

@@ -12,6 +12,9 @@
 #include "thermodec/radiation/reciprocal_view_factors.h"
 
 #include <Eigen/SparseCore>
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
 #include <algorithm>
 #include <tuple>
 #include <vector>
@@ -55,54 +58,73 @@ FaceViewFactors reciprocal_view_factors(const FaceViewFactors& vf) {
   const Eigen::VectorXd& A = vf.sides.area_m2;
   auto rays_of = [&](int s) -> double { return vf.side_rays.size() == S ? vf.side_rays[s] : vf.rays_per_side; };
   auto usable = [&](int s) { return A[s] > 0.0 && rays_of(s) > 0.0; };
-  // Pairs (s, t) with F_ts > 0 but no F_st: (s, t, F_ts), sorted by row s then t.
+  // Pairs (s, t) with F_ts > 0 but no F_st: (s, t, F_ts), sorted by row s then t (unique
+  // pairs: one order whatever the threads found them in).
+  tbb::enumerable_thread_specific<std::vector<std::tuple<int, int, double>>> found;
+  tbb::parallel_for(tbb::blocked_range<int>(0, S, 256), [&](const tbb::blocked_range<int>& r) {
+    auto& mine = found.local();
+    for (int t = r.begin(); t != r.end(); ++t)
+      for (RowSparse::InnerIterator it(F, t); it; ++it) {
+        const int s = static_cast<int>(it.col());
+        if (s != t && it.value() != 0.0 && usable(s) && usable(t) && entry(F, s, t) == 0.0)
+          mine.emplace_back(s, t, it.value());
+      }
+  });
   std::vector<std::tuple<int, int, double>> seen_from_t;
-  for (int t = 0; t < S; ++t)
-    for (RowSparse::InnerIterator it(F, t); it; ++it) {
-      const int s = static_cast<int>(it.col());
-      if (s != t && it.value() != 0.0 && usable(s) && usable(t) && entry(F, s, t) == 0.0)
-        seen_from_t.emplace_back(s, t, it.value());
-    }
+  for (const auto& v : found) seen_from_t.insert(seen_from_t.end(), v.begin(), v.end());
   std::sort(seen_from_t.begin(), seen_from_t.end());
+  // Rows are independent (each sums its own entries in column order): laid out first, then
+  // filled in parallel, each by the same sequence of operations as one row after another.
+  std::vector<std::size_t> seen_begin(S + 1, 0);  // row s's pairs: [seen_begin[s], seen_begin[s + 1])
+  for (const auto& p : seen_from_t) ++seen_begin[std::get<0>(p) + 1];
+  for (int s = 0; s < S; ++s) seen_begin[s + 1] += seen_begin[s];
   RowSparse G(S, S);
-  G.reserve(F.nonZeros() + static_cast<Eigen::Index>(seen_from_t.size()));
-  std::size_t next = 0;
-  for (int s = 0; s < S; ++s) {  // sequential: a fixed summation order
-    G.startVec(s);
-    double before = 0.0, after = 0.0;
-    const Eigen::Index first = G.data().size();
-    auto add = [&](int t, double f_st, double f_ts) {
-      before += f_st;
-      double f = f_st;
-      if (t != s && usable(s) && usable(t)) {
-        const double ds = rays_of(s) / A[s], dt = rays_of(t) / A[t];
-        f = (rays_of(s) * f_st + rays_of(t) * f_ts) / (ds + dt) / A[s];
+  G.makeCompressed();
+  G.resizeNonZeros(F.nonZeros() + static_cast<Eigen::Index>(seen_from_t.size()));
+  int* outer = G.outerIndexPtr();
+  outer[0] = 0;
+  for (int s = 0; s < S; ++s)
+    outer[s + 1] = outer[s] + (F.outerIndexPtr()[s + 1] - F.outerIndexPtr()[s]) +
+                   static_cast<int>(seen_begin[s + 1] - seen_begin[s]);
+  int* inner = G.innerIndexPtr();
+  double* value = G.valuePtr();
+  tbb::parallel_for(tbb::blocked_range<int>(0, S, 64), [&](const tbb::blocked_range<int>& r) {
+    for (int s = r.begin(); s != r.end(); ++s) {
+      double before = 0.0, after = 0.0;
+      int k = outer[s];
+      auto add = [&](int t, double f_st, double f_ts) {
+        before += f_st;
+        double f = f_st;
+        if (t != s && usable(s) && usable(t)) {
+          const double ds = rays_of(s) / A[s], dt = rays_of(t) / A[t];
+          f = (rays_of(s) * f_st + rays_of(t) * f_ts) / (ds + dt) / A[s];
+        }
+        after += f;
+        inner[k] = t;
+        value[k++] = f;
+      };
+      RowSparse::InnerIterator it(F, s);
+      std::size_t next = seen_begin[s];
+      while (it || next < seen_begin[s + 1]) {  // merge, column order
+        const bool from_t = next < seen_begin[s + 1] && (!it || std::get<1>(seen_from_t[next]) < it.col());
+        if (from_t) {
+          add(std::get<1>(seen_from_t[next]), 0.0, std::get<2>(seen_from_t[next]));
+          ++next;
+        } else {
+          const int t = static_cast<int>(it.col());
+          add(t, it.value(), t == s ? 0.0 : entry(F, t, s));
+          ++it;
+        }
       }
-      after += f;
-      G.insertBack(s, t) = f;
-    };
-    RowSparse::InnerIterator it(F, s);
-    while (it || (next < seen_from_t.size() && std::get<0>(seen_from_t[next]) == s)) {  // merge, column order
-      const bool from_t = next < seen_from_t.size() && std::get<0>(seen_from_t[next]) == s &&
-                          (!it || std::get<1>(seen_from_t[next]) < it.col());
-      if (from_t) {
-        add(std::get<1>(seen_from_t[next]), 0.0, std::get<2>(seen_from_t[next]));
-        ++next;
+      const double total = before + vf.to_space[s];
+      if (after > total && after > 0.0) {  // scaled back to a closed row, nothing escapes
+        for (int j = outer[s]; j < outer[s + 1]; ++j) value[j] *= total / after;
+        out.to_space[s] = 0.0;
       } else {
-        const int t = static_cast<int>(it.col());
-        add(t, it.value(), t == s ? 0.0 : entry(F, t, s));
-        ++it;
+        out.to_space[s] = total - after;
       }
     }
-    const double total = before + vf.to_space[s];
-    if (after > total && after > 0.0) {  // scaled back to a closed row, nothing escapes
-      for (Eigen::Index k = first; k < G.data().size(); ++k) G.data().value(k) *= total / after;
-      out.to_space[s] = 0.0;
-    } else {
-      out.to_space[s] = total - after;
-    }
-  }
-  G.finalize();
+  });
   out.F = std::move(G);
   return out;
 }

@@ -10,6 +10,7 @@
 
 #include "thermodec/common/errors.h"
 #include "thermodec/common/release_free_memory.h"
+#include "thermodec/common/side_by_side.h"
 #include "thermodec/decimation/global_ratio.h"
 #include "thermodec/reduction/area_bounds.h"
 #include "thermodec/reduction/prediction.h"
@@ -377,6 +378,34 @@ std::vector<NodeBudget> node_budgets(const std::vector<std::unique_ptr<Reduction
   return budgets;
 }
 
+// The reference of one case (appended to `refs`) and its noise floor: the same model simulated
+// with `runs` - 1 other seeds. Every run is independent of the others, so they run side by side
+// (run_side_by_side): the reference's build and a whole simulation fill each other's idle core.
+NoiseFloor reference_and_noise_floor(const ThermalModel& model, const ReductionReferenceSettings& settings, int runs,
+                                     std::vector<std::unique_ptr<ReductionReference>>& refs) {
+  std::unique_ptr<ReductionReference> ref;
+  std::vector<SimulationResult> results(runs);
+  std::vector<std::uint64_t> seeds(runs);
+  std::vector<double> run_time_s(runs - 1);
+  run_side_by_side(runs, 2, [&](int k) {
+    if (k == 0) {
+      ref = std::make_unique<ReductionReference>(model, settings);
+      return;
+    }
+    ThermalModel m = model;
+    m.radiation.seed = model.radiation.seed + static_cast<std::uint64_t>(k);
+    const auto t0 = Clock::now();
+    results[k] = simulate_model(m, settings.simulation);
+    run_time_s[k - 1] = since(t0);
+  });
+  results[0] = ref->result();
+  for (int k = 0; k < runs; ++k) seeds[k] = model.radiation.seed + static_cast<std::uint64_t>(k);
+  refs.push_back(std::move(ref));
+  NoiseFloor noise = noise_floor_of(std::move(results), std::move(seeds));
+  noise.run_time_s = std::move(run_time_s);
+  return noise;
+}
+
 }  // namespace
 
 ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& settings_in) {
@@ -426,13 +455,11 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   per_case.record_budget_bytes = record_budget_bytes(settings.reference.record_budget_bytes) / cases.size();
   for (std::size_t c = 0; c < cases.size(); ++c) {
     const std::string tag = several ? "case " + cases[c].name + ": " : "";
-    say(tag + "reference: simulating and keeping reusable rays and samples");
-    refs.push_back(std::make_unique<ReductionReference>(with_case(model, cases[c]), per_case));
+    say(tag + "reference: simulating and keeping reusable rays and samples, beside the noise floor's " +
+        std::to_string(settings.noise_runs - 1) + " run(s) with other seeds");
+    const NoiseFloor noise = reference_and_noise_floor(with_case(model, cases[c]), per_case, settings.noise_runs, refs);
     release_free_memory();  // (the reference's tracing and load sampling: every trial runs beside what is left)
     say(tag + describe_records(refs.back()->record_use()));
-    say(tag + "noise floor: simulating the reference with " + std::to_string(settings.noise_runs - 1) + " other seed(s)");
-    const NoiseFloor noise = noise_floor(refs[c]->model(), settings.noise_runs, settings.reference.simulation, &refs[c]->result());
-    release_free_memory();
     CaseResult cr;
     cr.name = cases[c].name;
     cr.noise_floor_K = noise.worst.max_abs_K;

@@ -85,15 +85,30 @@ ReductionReference::ReductionReference(const ThermalModel& model, const Reductio
     if (impl_->faces_per_node[k] == 0)
       throw InvalidInput("node '" + model.nodes[k].name + "' has no faces in the mesh");
   const RecordBudget budget = split_record_budget(record_budget_bytes(settings.record_budget_bytes));
-  impl_->radiation = std::make_unique<RadiationReference>(prepare_radiation(model, model.radiation, budget.ir_max_bytes));
-  impl_->settings.simulation.loads.ray_record_budget_bytes = budget.load_bytes(impl_->radiation->record_bytes());
+  impl_->settings.simulation.loads.ray_record_budget_bytes =
+      budget.load_bytes(ir_record_bytes_kept(model, model.radiation, budget.ir_max_bytes));
   impl_->settings.simulation.loads.earth_ray_geometry_budget_bytes = budget.earth_geometry_bytes;
   // The reference's loads, recording their samples so that trials re-sample only what a
   // change can reach; with the prepared couplings they make the reference simulation itself:
-  // simulate_model's chain (chain_loads, solve_chain) with couplings that record their rays.
+  // simulate_model's chain with couplings that record their rays. The couplings' tracing and
+  // the loads side by side (as in simulate_model), the solar reflections once both are done.
   const RayScene scene(model.mesh);
+  const ExternalLoadSettings load_settings = chain_load_settings(model, impl_->settings.simulation);
+  Loads loads;
+  Eigen::MatrixXd solar_incident_W;
+  tbb::parallel_invoke(
+      [&] {
+        impl_->radiation =
+            std::make_unique<RadiationReference>(prepare_radiation(model, model.radiation, budget.ir_max_bytes));
+      },
+      [&] {
+        loads = external_loads(model, scene, surface_sides(model), nullptr, load_settings, {}, &impl_->load_samples,
+                               nullptr, &solar_incident_W);
+      });
   const FaceViewFactors& vf = impl_->radiation->face_view_factors();
-  const Loads loads = chain_loads(model, scene, vf, impl_->settings.simulation, &impl_->load_samples);
+  if (load_settings.solar_reflections)
+    add_solar_reflections(loads, model, vf.sides, vf, solar_incident_W, nullptr, &impl_->load_samples);
+  solar_incident_W.resize(0, 0);
   RecordUse& use = impl_->records;
   use.ir_bytes = impl_->radiation->record_bytes();
   use.ir_needed_bytes = impl_->radiation->record_bytes_needed();

@@ -1,8 +1,11 @@
 #include "thermodec/reduction/statistical_verification.h"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "thermodec/common/errors.h"
+#include "thermodec/common/side_by_side.h"
 #include "thermodec/nodes/merge_nodes.h"
 #include "thermodec/reduction/merged_network.h"
 
@@ -86,30 +89,45 @@ VerificationStatistics verify_statistically(const std::vector<VerificationCase>&
   VerificationOriginals local;
   VerificationOriginals& kept = originals ? *originals : local;
   if (kept.per_case.size() < cases.size()) kept.per_case.resize(cases.size());
+  // Every run is independent of the others: the original's missing ones and the candidate's,
+  // two at a time (run_side_by_side), each into its own slot; then compared in order.
+  std::vector<std::vector<SimulationResult>> rb(cases.size(), std::vector<SimulationResult>(replicates));
+  std::vector<std::pair<std::size_t, int>> originals_to_run;  // (case, replicate)
+  for (std::size_t c = 0; c < cases.size(); ++c)
+    for (int j = static_cast<int>(kept.per_case[c].size()); j < replicates; ++j) originals_to_run.emplace_back(c, j);
+  const int n_orig = static_cast<int>(originals_to_run.size());
+  std::vector<SimulationResult> ra_new(n_orig);  // (kept only once every run succeeded)
+  const int n_cand = static_cast<int>(cases.size()) * replicates;
+  run_side_by_side(n_orig + n_cand, 2, [&](int i) {
+    if (i < n_orig) {
+      const auto [c, j] = originals_to_run[i];
+      ThermalModel a = *cases[c].original;
+      if (cases[c].through_node_map) sample_as_merged(a, *cases[c].candidate);
+      a.radiation.seed = seeds[j];
+      ra_new[i] = simulate_model(a, settings);
+      return;
+    }
+    const std::size_t c = static_cast<std::size_t>((i - n_orig) / replicates);
+    const int j = (i - n_orig) % replicates;
+    ThermalModel b = *cases[c].candidate;
+    b.radiation.seed = seeds[j];
+    rb[c][j] = simulate_model(b, settings);
+    if (cases[c].through_node_map) rb[c][j] = result_through_node_map(rb[c][j], b.node_map);
+  });
+  for (int i = 0; i < n_orig; ++i) kept.per_case[originals_to_run[i].first].push_back(std::move(ra_new[i]));
   // Each case bounded alone (cases may have other times); the max over cases of the bounds
   // bounds the max over cases, by the same argument as over nodes.
   VerificationStatistics s;
   double estimate = 0.0;
   for (std::size_t c = 0; c < cases.size(); ++c) {
-    std::vector<SimulationResult>& ra = kept.per_case[c];
+    const std::vector<SimulationResult>& ra = kept.per_case[c];
     std::vector<Eigen::MatrixXd> d;
     for (int j = 0; j < replicates; ++j) {
-      const bool mapped = cases[c].through_node_map;
-      if (static_cast<int>(ra.size()) <= j) {
-        ThermalModel a = *cases[c].original;
-        if (mapped) sample_as_merged(a, *cases[c].candidate);
-        a.radiation.seed = seeds[j];
-        ra.push_back(simulate_model(a, settings));
-      }
-      ThermalModel b = *cases[c].candidate;
-      b.radiation.seed = seeds[j];
-      SimulationResult rb = simulate_model(b, settings);
-      if (mapped) rb = result_through_node_map(rb, b.node_map);
-      compare_results(ra[j], rb);  // throws if nodes or times do not line up
-      if (ra[j].nodes != rb.nodes)
-        throw InvalidInput(mapped ? "verification: the node map lists the nodes in another order"
-                                  : "verification: the candidate's nodes are in another order");
-      d.push_back(rb.temperature_K - ra[j].temperature_K);
+      compare_results(ra[j], rb[c][j]);  // throws if nodes or times do not line up
+      if (ra[j].nodes != rb[c][j].nodes)
+        throw InvalidInput(cases[c].through_node_map ? "verification: the node map lists the nodes in another order"
+                                                     : "verification: the candidate's nodes are in another order");
+      d.push_back(rb[c][j].temperature_K - ra[j].temperature_K);
     }
     const VerificationStatistics sc = difference_upper_bound(d);
     if (!(sc.upper_bound_K <= s.upper_bound_K)) s = sc;  // NaN wins

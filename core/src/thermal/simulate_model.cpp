@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <mutex>
+#include <tbb/parallel_invoke.h>
 
 #include "thermodec/common/errors.h"
 #include "thermodec/radiation/face_view_factors.h"
@@ -22,12 +24,15 @@ double seconds_since(Clock::time_point t0) {
 
 // Progress lines stamped with the seconds since the chain started.
 struct Stamped {
+  explicit Stamped(const std::function<void(const std::string&)>& p) : progress(p) {}
   const std::function<void(const std::string&)>& progress;
   Clock::time_point t0 = Clock::now();
+  mutable std::mutex lines;  // (the couplings and the loads report side by side)
   void operator()(const std::string& what) const {
     if (!progress) return;
     char buf[32];
     std::snprintf(buf, sizeof buf, "[%7.2f s] ", seconds_since(t0));
+    std::lock_guard<std::mutex> lock(lines);
     progress(buf + what);
   }
 };
@@ -81,16 +86,37 @@ SimulationResult simulate_model(const ThermalModel& model, const ModelSimulation
   const RayScene scene(model.mesh);
   const SurfaceSides sides = surface_sides(model);
   // One set of side-to-side view factors serves both bands: IR couplings and solar reflections.
-  say("view factors (" + std::to_string(model.radiation.rays_per_face) + " rays per face side)");
-  const FaceViewFactors view_factors = face_view_factors(scene, sides, model.radiation);
-  say("IR Gebhart factors and node couplings");
-  const int num_nodes = static_cast<int>(model.nodes.size());
-  const Eigen::VectorXd eps = side_emissivity(model, sides);
-  const GebhartFactors gebhart = gebhart_factors(view_factors, eps, node_groups(sides, num_nodes), num_nodes + 1);
-  NodeCouplings couplings = aggregate_couplings(view_factors, eps, gebhart, num_nodes);
-  couplings.diagnostics.untraceable_faces = scene.num_skipped_faces();
-  say("external loads");
-  const Loads loads = loads_stamped(model, scene, view_factors, settings, nullptr, say);
+  // The IR couplings and the external loads side by side, as in a reduction's trials: each
+  // alone leaves a core idle at times (the loads' many short per-step passes). The loads need
+  // the view factors only for the solar reflections, added once both are done: the same sums
+  // in the same order as within external_loads, so the same result bit for bit.
+  const ExternalLoadSettings load_settings = chain_load_settings(model, settings);
+  FaceViewFactors view_factors;
+  NodeCouplings couplings;
+  Loads loads;
+  Eigen::MatrixXd solar_incident_W;
+  tbb::parallel_invoke(
+      [&] {
+        say("view factors (" + std::to_string(model.radiation.rays_per_face) + " rays per face side)");
+        view_factors = face_view_factors(scene, sides, model.radiation);
+        say("IR Gebhart factors and node couplings");
+        const int num_nodes = static_cast<int>(model.nodes.size());
+        const Eigen::VectorXd eps = side_emissivity(model, sides);
+        const GebhartFactors gebhart =
+            gebhart_factors(view_factors, eps, node_groups(sides, num_nodes), num_nodes + 1);
+        couplings = aggregate_couplings(view_factors, eps, gebhart, num_nodes);
+        couplings.diagnostics.untraceable_faces = scene.num_skipped_faces();
+      },
+      [&] {
+        say("external loads");
+        std::function<void(const std::string&)> sub;
+        if (settings.progress) sub = [&](const std::string& m) { say("  " + m); };
+        loads = external_loads(model, scene, sides, nullptr, load_settings, sub, nullptr, nullptr, &solar_incident_W);
+      });
+  if (load_settings.solar_reflections) {
+    say("  solar reflections");
+    add_solar_reflections(loads, model, view_factors.sides, view_factors, solar_incident_W);
+  }
   say("thermal solve");
   ModelSimulationSettings full = settings;
   full.solver.orbit_sampling_error = true;  // summary.orbit_sampling_error_K of every full simulation
@@ -269,20 +295,32 @@ void apply_bare_mesh_ray_budgets(ThermalModel& model, ModelSimulationSettings& s
 NoiseFloor noise_floor(const ThermalModel& model, int runs, const ModelSimulationSettings& settings,
                        const SimulationResult* first) {
   if (runs < 2) throw InvalidInput("noise floor needs at least 2 runs");
-  NoiseFloor out;
-  ThermalModel m = model;
+  std::vector<std::uint64_t> seeds;
   std::vector<SimulationResult> results;
+  std::vector<double> run_time_s;
+  ThermalModel m = model;
   for (int k = 0; k < runs; ++k) {
     m.radiation.seed = model.radiation.seed + static_cast<std::uint64_t>(k);
-    out.seeds.push_back(m.radiation.seed);
+    seeds.push_back(m.radiation.seed);
     if (k == 0 && first) {
       results.push_back(*first);
       continue;
     }
     const auto t0 = Clock::now();
     results.push_back(simulate_model(m, settings));
-    out.run_time_s.push_back(seconds_since(t0));
+    run_time_s.push_back(seconds_since(t0));
   }
+  NoiseFloor out = noise_floor_of(std::move(results), std::move(seeds));
+  out.run_time_s = std::move(run_time_s);
+  return out;
+}
+
+NoiseFloor noise_floor_of(std::vector<SimulationResult> results, std::vector<std::uint64_t> seeds) {
+  const int runs = static_cast<int>(results.size());
+  if (runs < 2) throw InvalidInput("noise floor needs at least 2 runs");
+  if (seeds.size() != results.size()) throw InvalidInput("noise floor: one seed per run expected");
+  NoiseFloor out;
+  out.seeds = std::move(seeds);
   for (int i = 0; i < runs; ++i)
     for (int j = i + 1; j < runs; ++j) {
       out.pairs.emplace_back(i, j);

@@ -62,6 +62,12 @@ class RadiationReference {
 RadiationReference prepare_radiation(const ThermalModel& reference, const RadiationSettings& settings,
                                      std::size_t max_record_bytes = std::size_t(7) << 28);
 
+//! What prepare_radiation(reference, settings, max_record_bytes) keeps for its ray records
+//! (RadiationReference::record_bytes()) [bytes], known before any ray is traced: a caller can
+//! size what it runs beside the tracing by it.
+std::size_t ir_record_bytes_kept(const ThermalModel& reference, const RadiationSettings& settings,
+                                 std::size_t max_record_bytes);
+
 //! What an incremental evaluation reused and re-traced.
 struct IncrementalStats {
   int changed_sides = 0;            //!< candidate sides without a twin in the reference (traced fully)

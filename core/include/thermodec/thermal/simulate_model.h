@@ -151,4 +151,9 @@ struct NoiseFloor {
 NoiseFloor noise_floor(const ThermalModel& model, int runs = 3, const ModelSimulationSettings& settings = {},
                        const SimulationResult* first = nullptr);
 
+//! The noise floor of runs already simulated: `results[k]` the model simulated with `seeds[k]`
+//! (the same model and settings otherwise); every pair compared as noise_floor does (run_time_s
+//! left empty). \throw InvalidInput if fewer than 2 runs or not one seed per run.
+NoiseFloor noise_floor_of(std::vector<SimulationResult> results, std::vector<std::uint64_t> seeds);
+
 }  // namespace thermodec
