@@ -5,6 +5,9 @@
 #include <cmath>
 #include <cstdio>
 #include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
 #include <tbb/parallel_invoke.h>
 
 #include "thermodec/common/errors.h"
@@ -22,18 +25,39 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Progress lines stamped with the seconds since the chain started.
+// Progress lines stamped with the seconds since the chain started. Lines always reach the
+// caller's callback on the thread that built the Stamped (a front end's progress bar or console
+// may only be touched there): lines from other threads (the couplings and the loads run side by
+// side) wait in `pending` until that thread reports next or calls flush().
 struct Stamped {
   explicit Stamped(const std::function<void(const std::string&)>& p) : progress(p) {}
   const std::function<void(const std::string&)>& progress;
   Clock::time_point t0 = Clock::now();
-  mutable std::mutex lines;  // (the couplings and the loads report side by side)
+  std::thread::id owner = std::this_thread::get_id();
+  mutable std::mutex lines;
+  mutable std::vector<std::string> pending;
   void operator()(const std::string& what) const {
     if (!progress) return;
     char buf[32];
     std::snprintf(buf, sizeof buf, "[%7.2f s] ", seconds_since(t0));
-    std::lock_guard<std::mutex> lock(lines);
-    progress(buf + what);
+    emit(buf + what);
+  }
+  void flush() const {
+    if (progress) emit({});
+  }
+
+ private:
+  void emit(std::string line) const {
+    std::unique_lock<std::mutex> lock(lines);
+    if (std::this_thread::get_id() != owner) {
+      if (!line.empty()) pending.push_back(std::move(line));
+      return;
+    }
+    std::vector<std::string> queued;
+    queued.swap(pending);
+    lock.unlock();
+    for (const std::string& q : queued) progress(q);
+    if (!line.empty()) progress(line);
   }
 };
 
@@ -113,6 +137,7 @@ SimulationResult simulate_model(const ThermalModel& model, const ModelSimulation
         if (settings.progress) sub = [&](const std::string& m) { say("  " + m); };
         loads = external_loads(model, scene, sides, nullptr, load_settings, sub, nullptr, nullptr, &solar_incident_W);
       });
+  say.flush();  // the lines reported from the other thread, on the caller's
   if (load_settings.solar_reflections) {
     say("  solar reflections");
     add_solar_reflections(loads, model, view_factors.sides, view_factors, solar_incident_W);
