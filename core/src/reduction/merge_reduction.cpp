@@ -32,6 +32,12 @@ struct CaseReference {
   NodeCouplings couplings;
 };
 
+// worst[i] = max(worst[i], |dT| of original node i in d); NaN wins.
+void keep_worst_per_node(const TemperatureDifference& d, Eigen::VectorXd& worst) {
+  for (std::size_t i = 0; i < d.per_node.size() && i < static_cast<std::size_t>(worst.size()); ++i)
+    if (!(d.per_node[i].max_abs_K <= worst[i])) worst[i] = d.per_node[i].max_abs_K;
+}
+
 // Per original node (the model's order), max |dT| over times and cases of the merged network
 // `map` (no tracing); NaN kept.
 Eigen::VectorXd merge_trial_K(const std::vector<CaseReference>& refs, const NodeMergeMap& map,
@@ -41,8 +47,7 @@ Eigen::VectorXd merge_trial_K(const std::vector<CaseReference>& refs, const Node
     const ThermalModel merged = merge_nodes(r.model, map);
     const SimulationResult m = simulate(merged, merge_couplings(r.couplings, map), merge_loads(r.result.loads, map), solver);
     const TemperatureDifference d = compare_results(r.result, result_through_node_map(m, merged.node_map));
-    for (std::size_t i = 0; i < d.per_node.size() && i < static_cast<std::size_t>(worst.size()); ++i)
-      if (!(d.per_node[i].max_abs_K <= worst[i])) worst[i] = d.per_node[i].max_abs_K;  // NaN wins
+    keep_worst_per_node(d, worst);
   }
   return worst;
 }
@@ -110,8 +115,7 @@ Eigen::VectorXd traced_merge_K(const std::vector<CaseReference>& refs, const Nod
     const ThermalModel merged = merge_nodes(r.model, map);
     const SimulationResult m = simulate_model(merged, simulation);
     const TemperatureDifference d = compare_results(r.result, result_through_node_map(m, merged.node_map));
-    for (std::size_t i = 0; i < d.per_node.size() && i < static_cast<std::size_t>(worst.size()); ++i)
-      if (!(d.per_node[i].max_abs_K <= worst[i])) worst[i] = d.per_node[i].max_abs_K;  // NaN wins
+    keep_worst_per_node(d, worst);
   }
   return worst;
 }
@@ -149,6 +153,8 @@ struct MergeContext {
   //! n x n (row-major): original nodes that may not share a merged node (their merge broke the
   //! traced model).
   std::vector<char> banned;
+  //! Every original node's merge budget [K] (budgets_K of small, budget_K, small_K).
+  Eigen::VectorXd budget;
 
   // Whether current nodes a and b may be joined.
   bool allowed(const std::vector<int>& labels, int a, int b) const {
@@ -210,7 +216,7 @@ void merge_cheapest_pairs_first(const MergeContext& c, const std::vector<std::pa
     const std::vector<int> l = joined(labels, a, b);
     const Eigen::VectorXd dT = merge_trial_K(c.refs, map_of_labels(l), c.solver);
     ++sum.trials;
-    if (!within_budgets(dT, budgets_K(c.small, c.budget_K, c.small_K))) continue;
+    if (!within_budgets(dT, c.budget)) continue;
     record_step(c, labels, l, a, b, pair_dT[k], largest(dT), sum);
     labels = l;
   }
@@ -260,7 +266,7 @@ void merge_best_first(const MergeContext& c, const std::vector<std::pair<int, in
       const auto [a, b] = joins[k];
       const std::vector<int> l = joined(labels, a, b);
       const Eigen::VectorXd dT = merge_trial_K(c.refs, map_of_labels(l), c.solver);
-      if (!within_budgets(dT, budgets_K(c.small, c.budget_K, c.small_K))) return;
+      if (!within_budgets(dT, c.budget)) return;
       double worst = 0.0;
       for (std::size_t i = 0; i < l.size(); ++i)
         if (l[i] == a) worst = std::max(worst, dT[static_cast<Eigen::Index>(i)]);
@@ -413,7 +419,8 @@ MergeSearch search_node_merges(const ThermalModel& model, const std::vector<Load
   sum.candidates = static_cast<int>(pairs.size());
   say(fmt("node merging: %.0f candidate pairs (network trials, budget %.4g K, ", pairs.size(), budget_K) +
       fmt("%.4g K for the %.0f small nodes)", small_K, sum.small_nodes));
-  MergeContext ctx{model, refs, simulation.solver, small, budget_K, small_K, say, std::vector<char>(std::size_t(n) * n, 0)};
+  MergeContext ctx{model, refs, simulation.solver, small, budget_K, small_K, say, std::vector<char>(std::size_t(n) * n, 0),
+                   budgets_K(small, budget_K, small_K)};
   // The merges found are traced (the merged model simulated with the reference's seed: the
   // network trials take the original's combined couplings as exact, docs/reduction.md). When
   // that exceeds the tolerance, the last merge of the worst original node's merged node (or,
