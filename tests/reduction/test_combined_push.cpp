@@ -99,6 +99,24 @@ TEST(AnchoredSuperposition, the_path_keeps_its_prediction_within_the_target_and_
   EXPECT_GT(path.faces_removed(static_cast<int>(path.steps.size())), 0.0);
 }
 
+TEST(AnchoredSuperposition, a_step_of_one_collapse_is_not_split_into_shares_of_its_field) {
+  // Node 0: 10 faces, one collapse (10 -> 8 faces at 0.25) moves the model by 1 K, as NPP_16's
+  // small nodes do; the decimator reaches a ratio between 0 and 0.25 by that same collapse or
+  // not at all. Node 1: 200 faces, a smooth curve. With 4 subdivisions node 0 may step to its
+  // sample only, node 1 anywhere on the grid.
+  SensitivityCurve small{0, {0.25}, {1.0}, {8}, {Eigen::MatrixXd::Constant(2, 1, 0.0)}};
+  small.dT_K[0](0, 0) = 1.0;
+  SensitivityCurve big{1, {0.5}, {0.2}, {100}, {Eigen::MatrixXd::Constant(2, 1, 0.0)}};
+  big.dT_K[0](1, 0) = 0.2;
+  const std::vector<const SensitivityCurve*> p{&small, &big};
+  const MeasuredCandidate unreduced{Eigen::VectorXd::Zero(2), Eigen::MatrixXd::Zero(2, 1)};
+  const AllocationPath path = anchored_path(p, unreduced, 0.5, 4, Eigen::VectorXd::Constant(2, 1.0));
+  ASSERT_FALSE(path.steps.empty());
+  for (const PathStep& s : path.steps) EXPECT_NE(s.node, 0);  // its only step costs 1 K > 0.5 K
+  EXPECT_NEAR(path.steps.back().to, 0.5, 1e-12);
+  EXPECT_EQ(path.steps.size(), 4u);  // 100 faces in 4 substeps of 25
+}
+
 TEST(CombinedPush, learns_an_interaction_the_single_node_fields_miss_and_stays_within_the_tolerance) {
   // Node 1 alone is harmless (0.02 K at 0.3), but with node 0 reduced to 0.5 it adds 0.6 r0 r1
   // to cells 0 and 1: the path from the start candidate steps it first (cheapest by its own

@@ -54,13 +54,30 @@ int farthest_within(const AllocationPath& p, const Eigen::MatrixXd& anchor, cons
   return -1;
 }
 
-std::string describe(const AllocationPath& p, const Eigen::VectorXd& from, const Eigen::VectorXd& to, int count) {
+// The trial's line: how many nodes and steps, the nodes moved (index and ratio, the first
+// few), and where a rejected trial measured its max |dT| (index of the hottest node).
+std::string describe(const AllocationPath& p, const Eigen::VectorXd& from, const Eigen::VectorXd& to, int count,
+                     const TrialResult& t, bool passed) {
+  constexpr int kListed = 6;
   int nodes = 0;
-  for (Eigen::Index k = 0; k < from.size(); ++k) nodes += std::abs(to[k] - from[k]) > 1e-9;
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "combined push: %d node(s), %d of the path's %d steps (~%.0f faces)", nodes, count,
-                static_cast<int>(p.steps.size()), p.faces_removed(count));
-  return buf;
+  std::string moved;
+  for (Eigen::Index k = 0; k < from.size(); ++k) {
+    if (!(std::abs(to[k] - from[k]) > 1e-9)) continue;
+    if (++nodes > kListed) continue;
+    char item[48];
+    std::snprintf(item, sizeof item, "%s%d -> %.3f", moved.empty() ? "" : ", ", static_cast<int>(k), to[k]);
+    moved += item;
+  }
+  if (nodes > kListed) moved += ", ...";
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "combined push: %d node(s), %d of the path's %d steps (~%.0f faces; nodes %s)", nodes,
+                count, static_cast<int>(p.steps.size()), p.faces_removed(count), moved.c_str());
+  std::string out = buf;
+  Eigen::Index hottest = -1;
+  if (!passed && t.node_max_abs_dT_K.size() > 0 && !t.node_max_abs_dT_K.hasNaN())
+    t.node_max_abs_dT_K.maxCoeff(&hottest);
+  if (hottest >= 0) out += " (max at node " + std::to_string(hottest) + ")";
+  return out;
 }
 
 }  // namespace
@@ -97,7 +114,8 @@ Eigen::VectorXd combined_push(const std::vector<const SensitivityCurve*>& curve_
       const TrialResult t = trial(r);
       ++trials;
       const bool passed = within(t, tol);
-      record(r, t, describe(path, current, r, j) + (passed ? "" : " (rejected: over the tolerance)"), predicted);
+      record(r, t, describe(path, current, r, j, t, passed) + (passed ? "" : " (rejected: over the tolerance)"),
+             predicted);
       if (passed) {
         if (b.lo_moved_last) b.error_weight *= 0.5;
         b.lo_moved_last = true;

@@ -168,17 +168,28 @@ VerificationStatistics verify_ratios(const std::vector<std::unique_ptr<Reduction
 
 // The search aims below the tolerance by a margin from the measured noise, so that the
 // statistical verification (upper bound at 97.5 %) rarely rejects: the per-cell standard
-// deviation of a seed pair's difference is taken as noise floor / 3 (the noise floor is the
-// max over ~10^3-10^4 node-times of one pair's |dT|, ~3-4 standard deviations), and the bound
-// adds t(0.975, R - 1) of its standard error over R pairs. A rejected candidate widens the margin
-// by the bound's excess over the tolerance; after the last attempt the unreduced model is kept.
+// deviation sigma of a seed pair's difference is taken as noise floor / 3 (the noise floor is
+// the max over ~10^3-10^4 node-times of one pair's |dT|, ~3-4 standard deviations). The bound
+// adds t(0.975, R - 1) sigma / sqrt(R) to the fresh seeds' mean, and the search's own estimate
+// of the candidate is one seed's, sigma off the fresh seeds' mean (and the search keeps the
+// candidates whose estimate fell under its aim: the error it keeps is the favourable one), so
+// the margin is (t / sqrt(R) + 1) sigma. (NPP_16 at 0.5 K: the search measured 0.467 K and
+// 0.461 K where 4 fresh pairs gave 0.486 +- 0.007 K and 0.482 +- 0.005 K, 1.4-1.6 sigma over;
+// with the first term alone the search aimed at 0.478 K and its first candidate was rejected.)
+// A rejected candidate widens the margin by the bound's excess over the tolerance; after the
+// last attempt the unreduced model is kept.
+double first_search_margin_K(double noise_floor_K, int R) {
+  const double sigma = noise_floor_K / 3.0;
+  return (student_t_975(R - 1) / std::sqrt(double(R)) + 1.0) * sigma;
+}
+
 void verified_search(ReductionRun& run, const Searcher& search,
                      const std::vector<std::unique_ptr<ReductionReference>>& refs, const ReduceSettings& settings,
                      std::uint64_t search_seed, const std::function<void(const std::string&)>& say) {
   const double tol = settings.tolerance_K;
   const double vtol = settings.verification_tolerance_K > 0.0 ? settings.verification_tolerance_K : tol;
   const int R = settings.verification_replicates;
-  double margin = student_t_975(R - 1) * run.noise_floor_K / 3.0 / std::sqrt(double(R));
+  double margin = first_search_margin_K(run.noise_floor_K, R);
   bool accepted = false;
   VerificationOriginals originals;  // the original's runs serve every attempt
   for (int attempt = 0; attempt < settings.verification_attempts && !accepted && margin < tol; ++attempt) {
@@ -373,7 +384,7 @@ std::vector<NodeBudget> node_budgets(const std::vector<std::unique_ptr<Reduction
   std::vector<NodeBudget> budgets;
   if (!settings.node_budget) return budgets;
   const int R = settings.verification_replicates;
-  const double s = settings.tolerance_K - student_t_975(R - 1) * noise_floor_K / 3.0 / std::sqrt(double(R));
+  const double s = settings.tolerance_K - first_search_margin_K(noise_floor_K, R);
   for (std::size_t c = 0; c < refs.size(); ++c) budgets.push_back(settings.node_budget(c, refs[c]->result(), s));
   return budgets;
 }

@@ -50,7 +50,10 @@ struct AllocationPath {
 
 //! Greedy allocation from `anchor`, ratios only rising: each node moves on a grid of
 //! `subdivisions` equal steps between consecutive samples of its curve (and from 0 to the
-//! first sample), never past its last sample nor `ceiling[k]`; each step is the one that
+//! first sample), fewer where the samples are under 4 faces apart a step (down to the samples
+//! alone: the decimator removes whole collapses, so a ratio between samples one collapse apart
+//! takes the whole step, not the interpolated share of its field), never past its last sample
+//! nor `ceiling[k]`; each step is the one that
 //! removes the most estimated faces per kelvin of anchored increase among those whose anchored
 //! max |dT| stays <= target_K, each increase counted as at least 5 % of the anchor's slack
 //! (target_K - its max |dT|): a step predicted to cost nothing is the least known, and goes by
