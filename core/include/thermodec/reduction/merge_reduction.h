@@ -59,6 +59,10 @@ struct NodeMergeSettings {
   //! node's merged node, else the first failing one by bisection) has its two sides kept apart
   //! and the search runs again, up to this many searches in all (the fewest nodes kept wins).
   int tracing_rounds = 6;
+  //! The decimation's per-node budgets know the sign of each merge's difference: a member may
+  //! move towards its original temperature by its merge's |dT| plus the tolerance, and away from
+  //! it by the tolerance less that (node_budget.h). False charges both directions alike.
+  bool signed_budgets = true;
 };
 
 //! Candidate pairs (i < j), ascending: nodes sharing a mesh edge, each node's `strongest`
