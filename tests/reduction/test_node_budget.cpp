@@ -54,7 +54,7 @@ TEST(NodeBudget, each_original_node_keeps_the_search_tolerance_less_its_merge_di
 TEST(NodeBudget, a_scaled_trial_within_the_search_tolerance_stays_within_it_against_the_original) {
   const Case k;
   const double s = 0.5;
-  const NodeBudget b = node_budget(k.original, k.merged, k.map, s);
+  const NodeBudget b = node_budget(k.original, k.merged, k.map, s, 0.05, true);
   TrialResult t;
   t.dT_K.resize(3, 2);
   t.dT_K << 0.25, -0.3,  //
@@ -97,7 +97,7 @@ TEST(NodeBudget, a_scaled_trial_within_the_search_tolerance_stays_within_it_agai
 TEST(NodeBudget, a_difference_towards_the_original_may_reach_it_and_pass_it_by_the_tolerance) {
   const Case k;
   const double s = 0.5;
-  const NodeBudget b = node_budget(k.original, k.merged, k.map, s);
+  const NodeBudget b = node_budget(k.original, k.merged, k.map, s, 0.05, true);
   // ab sits 0.2 K above a at t0: moving it down by up to s + 0.2 = 0.7 K keeps a within s of
   // its original; moving it up, only s - 0.2. b (0.2 K below ab) the other way round.
   EXPECT_NEAR(b.opposite_weight(0, 0), s / 0.7, 1e-9);
@@ -126,9 +126,11 @@ TEST(NodeBudget, a_difference_towards_the_original_may_reach_it_and_pass_it_by_t
         if (std::abs(w.dT_K(i, j)) <= s) EXPECT_LE(std::abs(against_original), s + 1e-9);
       }
   }
-  // Without signed budgets a difference either way is charged alike.
-  const NodeBudget unsigned_b = node_budget(k.original, k.merged, k.map, s, 0.05, false);
+  // Without signed budgets (the default) a difference either way is charged alike.
+  const NodeBudget unsigned_b = node_budget(k.original, k.merged, k.map, s);
   EXPECT_TRUE(unsigned_b.opposite_weight.isApprox(unsigned_b.weight, 1e-12));
+  t.dT_K(0, 0) = -0.69;
+  EXPECT_NEAR(within_node_budget(t, unsigned_b).dT_K(0, 0), -0.69 * s / 0.3, 1e-9);
 }
 
 TEST(NodeBudget, nan_fails_and_bad_shapes_are_refused) {

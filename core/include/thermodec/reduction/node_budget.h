@@ -42,10 +42,11 @@ struct NodeBudget {
 //! original node of `original`, in any order), `search_tolerance_K` S > 0, `floor_share` in
 //! (0, 1]: the least budget a node keeps, as a share of S (so weights stay <= 1 / floor_share);
 //! `signed_budgets` false charges a difference towards the original as one away from it.
+//! (reduce_with_node_merging passes NodeMergeSettings::signed_budgets, off by default.)
 //! \throw InvalidInput on mismatched sizes, an unmapped node or S <= 0.
 NodeBudget node_budget(const SimulationResult& original, const SimulationResult& merged,
                        const std::vector<std::pair<std::string, std::string>>& node_map, double search_tolerance_K,
-                       double floor_share = 0.05, bool signed_budgets = true);
+                       double floor_share = 0.05, bool signed_budgets = false);
 
 //! The trial `t` (rows: merged nodes) read per original node and scaled by `b` (each entry by
 //! the weight of its sign against the merge's difference there): dT_K has a row
