@@ -380,6 +380,8 @@ void bind_reduction(py::module_& m) {
       .def_readwrite("keep", &NodeMergeSettings::keep, "node name patterns never merged (--keep-node)")
       .def_readwrite("tolerance_share", &NodeMergeSettings::tolerance_share,
                      "share of the tolerance the merges may spend (--merge-share)")
+      .def_readwrite("signed_budgets", &NodeMergeSettings::signed_budgets,
+                     "budgets charged by the sign of each merge's difference (--merge-signed-budgets)")
       .def_readwrite("small_node_share", &NodeMergeSettings::small_node_share,
                      "share of the tolerance small nodes may take from the merges (--merge-small-share; off at <= tolerance_share)")
       .def_readwrite("strongest_exchanges", &NodeMergeSettings::strongest_exchanges)

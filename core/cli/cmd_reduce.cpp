@@ -303,6 +303,10 @@ void add_reduce(CLI::App& app) {
       ->needs(merge)
       ->capture_default_str()
       ->check(CLI::Range(0.01, 0.99));
+  sub->add_flag("--merge-signed-budgets", o->merge.signed_budgets,
+                "with --merge-nodes: a merged node's decimation may move a member towards its original "
+                "temperature by its merge's |dT| plus the tolerance (off: either way by the tolerance less it)")
+      ->needs(merge);
   sub->add_flag("--raw-mesh", o->raw_mesh,
                 "bare mesh: skip the cleanup (duplicates, open sheets two-sided, touching faces) and the "
                 "size-aware ray budgets");

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "thermodec/common/errors.h"
@@ -53,7 +54,7 @@ TEST(NodeBudget, each_original_node_keeps_the_search_tolerance_less_its_merge_di
 TEST(NodeBudget, a_scaled_trial_within_the_search_tolerance_stays_within_it_against_the_original) {
   const Case k;
   const double s = 0.5;
-  const NodeBudget b = node_budget(k.original, k.merged, k.map, s);
+  const NodeBudget b = node_budget(k.original, k.merged, k.map, s, 0.05, true);
   TrialResult t;
   t.dT_K.resize(3, 2);
   t.dT_K << 0.25, -0.3,  //
@@ -66,11 +67,16 @@ TEST(NodeBudget, a_scaled_trial_within_the_search_tolerance_stays_within_it_agai
   ASSERT_EQ(w.dT_K.rows(), 4);
   ASSERT_EQ(w.node_max_abs_dT_K.size(), 3);
   EXPECT_EQ(w.faces_after, 7);
-  // Merged node ab: members a and b both at 0.25 / 0.3 (t0) and 0.3 / 0.4 (t1).
+  // Merged node ab: e_a = +0.2 / -0.1, e_b = -0.2 / +0.1 (t0 / t1). 0.25 at t0 moves a further
+  // from its original (s - 0.2 left) and b towards its own (s + 0.2); -0.3 at t1 moves a away
+  // (s - 0.1 left) and b towards (s + 0.1).
   EXPECT_NEAR(w.dT_K(0, 0), 0.25 * s / 0.3, 1e-9);
-  EXPECT_NEAR(w.dT_K(1, 1), -0.3 * s / 0.4, 1e-9);
+  EXPECT_NEAR(w.dT_K(1, 0), 0.25 * s / 0.7, 1e-9);
+  EXPECT_NEAR(w.dT_K(0, 1), -0.3 * s / 0.4, 1e-9);
+  EXPECT_NEAR(w.dT_K(1, 1), -0.3 * s / 0.6, 1e-9);
   EXPECT_NEAR(w.node_max_abs_dT_K[0], std::max(0.25 / 0.3, 0.3 / 0.4) * s, 1e-9);
   EXPECT_NEAR(w.node_max_abs_dT_K[1], 0.45, 1e-12);  // c: no merge, weight 1
+  // d: e = +0.1 at t0, and 0.2 moves it further (s - 0.1 left); e = 0 at t1.
   EXPECT_NEAR(w.node_max_abs_dT_K[2], std::max(0.2 * s / 0.4, 0.49), 1e-9);
   EXPECT_NEAR(w.max_abs_dT_K, w.node_max_abs_dT_K.maxCoeff(), 1e-12);
   // Whatever the trial, scaled within s means every original node within s of the original.
@@ -80,12 +86,51 @@ TEST(NodeBudget, a_scaled_trial_within_the_search_tolerance_stays_within_it_agai
       const double against_original = t.dT_K(m, j) + k.merged.temperature_K(m, j) - k.original.temperature_K(i, j);
       if (std::abs(w.dT_K(i, j)) <= s) EXPECT_LE(std::abs(against_original), s + 1e-9);
     }
-  // Linear: the scaled sum of two fields is the sum of the scaled fields (superposition holds).
-  TrialResult u = t;
-  u.dT_K *= -0.5;
+  // Linear on each side of zero: fields of one sign superpose exactly.
+  TrialResult half = t;
+  half.dT_K *= 0.5;
   TrialResult sum = t;
-  sum.dT_K += u.dT_K;
-  EXPECT_TRUE(within_node_budget(sum, b).dT_K.isApprox(w.dT_K + within_node_budget(u, b).dT_K, 1e-12));
+  sum.dT_K += half.dT_K;
+  EXPECT_TRUE(within_node_budget(sum, b).dT_K.isApprox(w.dT_K + within_node_budget(half, b).dT_K, 1e-12));
+}
+
+TEST(NodeBudget, a_difference_towards_the_original_may_reach_it_and_pass_it_by_the_tolerance) {
+  const Case k;
+  const double s = 0.5;
+  const NodeBudget b = node_budget(k.original, k.merged, k.map, s, 0.05, true);
+  // ab sits 0.2 K above a at t0: moving it down by up to s + 0.2 = 0.7 K keeps a within s of
+  // its original; moving it up, only s - 0.2. b (0.2 K below ab) the other way round.
+  EXPECT_NEAR(b.opposite_weight(0, 0), s / 0.7, 1e-9);
+  EXPECT_NEAR(b.merge_dT_K(0, 0), 0.2, 1e-9);
+  TrialResult t;
+  t.dT_K = Eigen::MatrixXd::Zero(3, 2);
+  t.dT_K(0, 0) = -0.69;
+  const TrialResult down = within_node_budget(t, b);
+  EXPECT_NEAR(down.dT_K(0, 0), -0.69 * s / 0.7, 1e-9);
+  EXPECT_LE(std::abs(down.dT_K(0, 0)), s);
+  EXPECT_LE(std::abs(-0.69 + 0.2), s);    // a against its original
+  EXPECT_GT(std::abs(down.dT_K(1, 0)), s);  // b: 0.89 K below its original
+  t.dT_K(0, 0) = 0.31;                    // up: a 0.51 K from its original
+  EXPECT_GT(std::abs(within_node_budget(t, b).dT_K(0, 0)), s);
+  // Random fields: scaled within s means within s of the original, every node and time.
+  std::uint64_t x = 12345;
+  auto uniform = [&] { x = x * 6364136223846793005ULL + 1442695040888963407ULL; return double(x >> 11) * 0x1.0p-53; };
+  for (int r = 0; r < 2000; ++r) {
+    for (int m = 0; m < 3; ++m)
+      for (int j = 0; j < 2; ++j) t.dT_K(m, j) = (2.0 * uniform() - 1.0);
+    const TrialResult w = within_node_budget(t, b);
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 2; ++j) {
+        const int m = b.merged_row[i];
+        const double against_original = t.dT_K(m, j) + k.merged.temperature_K(m, j) - k.original.temperature_K(i, j);
+        if (std::abs(w.dT_K(i, j)) <= s) EXPECT_LE(std::abs(against_original), s + 1e-9);
+      }
+  }
+  // Without signed budgets (the default) a difference either way is charged alike.
+  const NodeBudget unsigned_b = node_budget(k.original, k.merged, k.map, s);
+  EXPECT_TRUE(unsigned_b.opposite_weight.isApprox(unsigned_b.weight, 1e-12));
+  t.dT_K(0, 0) = -0.69;
+  EXPECT_NEAR(within_node_budget(t, unsigned_b).dT_K(0, 0), -0.69 * s / 0.3, 1e-9);
 }
 
 TEST(NodeBudget, nan_fails_and_bad_shapes_are_refused) {

@@ -529,7 +529,8 @@ ReductionRun reduce_with_node_merging(const ThermalModel& model, const ReduceSet
   // trials are measured against the original through the map, not against the merged model
   // within the tolerance less the merges' worst |dT|.
   inner.node_budget = [&](std::size_t c, const SimulationResult& merged_reference, double search_K) {
-    NodeBudget b = node_budget(ms.references.at(c), merged_reference, merged.node_map, search_K);
+    NodeBudget b = node_budget(ms.references.at(c), merged_reference, merged.node_map, search_K, 0.05,
+                               merge.signed_budgets);
     const Eigen::VectorXd left = search_K * b.weight.cwiseInverse().rowwise().minCoeff();  // per original node
     const auto most = std::count_if(left.data(), left.data() + left.size(), [&](double x) { return x >= 0.9 * search_K; });
     say(fmt("node budgets: search %.4g K; every original node keeps at least %.4g K, ", search_K, left.minCoeff()) +

@@ -59,6 +59,14 @@ struct NodeMergeSettings {
   //! node's merged node, else the first failing one by bisection) has its two sides kept apart
   //! and the search runs again, up to this many searches in all (the fewest nodes kept wins).
   int tracing_rounds = 6;
+  //! The decimation's per-node budgets know the sign of each merge's difference: a member may
+  //! move towards its original temperature by its merge's |dT| plus the tolerance, and away from
+  //! it by the tolerance less that (node_budget.h). Off by default: NPP_16 at the defaults then
+  //! decimates to 1031-1046 faces in the search, but the verification rejects every candidate
+  //! (0.492-0.507 K: a difference cancelling the merge's at the search's seed does not under
+  //! fresh seeds) and keeps the merged model undecimated; Juno at --merge-share 0.85 gains
+  //! (25 nodes, 44.6 % of the faces verified; docs/benchmarks.md, "Merging nodes").
+  bool signed_budgets = false;
 };
 
 //! Candidate pairs (i < j), ascending: nodes sharing a mesh edge, each node's `strongest`
