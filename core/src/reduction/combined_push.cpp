@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
+
+#include <fmt/format.h>
 
 #include "thermodec/reduction/anchored_superposition.h"
 #include "thermodec/reduction/superposition.h"
@@ -64,15 +65,11 @@ std::string describe(const AllocationPath& p, const Eigen::VectorXd& from, const
   for (Eigen::Index k = 0; k < from.size(); ++k) {
     if (!(std::abs(to[k] - from[k]) > 1e-9)) continue;
     if (++nodes > kListed) continue;
-    char item[48];
-    std::snprintf(item, sizeof item, "%s%d -> %.3f", moved.empty() ? "" : ", ", static_cast<int>(k), to[k]);
-    moved += item;
+    moved += fmt::format("{}{} -> {:.3f}", moved.empty() ? "" : ", ", k, to[k]);
   }
   if (nodes > kListed) moved += ", ...";
-  char buf[200];
-  std::snprintf(buf, sizeof buf, "combined push: %d node(s), %d of the path's %d steps (~%.0f faces; nodes %s)", nodes,
-                count, static_cast<int>(p.steps.size()), p.faces_removed(count), moved.c_str());
-  std::string out = buf;
+  std::string out = fmt::format("combined push: {} node(s), {} of the path's {} steps (~{:.0f} faces; nodes {})", nodes,
+                                count, p.steps.size(), p.faces_removed(count), moved);
   Eigen::Index hottest = -1;
   if (!passed && t.node_max_abs_dT_K.size() > 0 && !t.node_max_abs_dT_K.hasNaN())
     t.node_max_abs_dT_K.maxCoeff(&hottest);
