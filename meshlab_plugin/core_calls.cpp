@@ -101,14 +101,11 @@ std::string defaults_description(const thermodec::ThermalModel& model) {
   return buf;
 }
 
-}  // namespace
-
-// The thermal model of the document (see simulate_document): model_node[i] receives the model
-// node of document node i. Shared with export_calls.cpp (document_model.h).
-thermodec::ThermalModel document_model(const thermodec::Mesh& mesh, const std::vector<int>& node_ids,
-                                       bool ids_index_model_nodes, const std::string& model_file,
-                                       int rays_per_face, std::vector<int>& model_node,
-                                       std::string& description) {
+// The document's model with the model's own seed (document_model applies the request's).
+thermodec::ThermalModel document_model_unseeded(const thermodec::Mesh& mesh, const std::vector<int>& node_ids,
+                                                bool ids_index_model_nodes, const std::string& model_file,
+                                                int rays_per_face, std::vector<int>& model_node,
+                                                std::string& description) {
   const int doc_nodes = static_cast<int>(mesh.node_names.size());
   if (doc_nodes == 0 || mesh.num_faces() == 0)
     throw thermodec::InvalidInput("no nodes: the document mesh has no faces with a node");
@@ -161,6 +158,19 @@ thermodec::ThermalModel document_model(const thermodec::Mesh& mesh, const std::v
   return model;
 }
 
+}  // namespace
+
+// The thermal model of the document (see simulate_document): model_node[i] receives the model
+// node of document node i. Shared with export_calls.cpp (document_model.h).
+thermodec::ThermalModel document_model(const DocumentModelRequest& request, std::vector<int>& model_node,
+                                       std::string& description) {
+  thermodec::ThermalModel model = document_model_unseeded(*request.mesh, request.node_ids,
+                                                          request.ids_index_model_nodes, request.model_file,
+                                                          request.rays_per_face, model_node, description);
+  if (request.seed >= 0) model.radiation.seed = static_cast<std::uint64_t>(request.seed);
+  return model;
+}
+
 namespace {
 
 #ifdef THERMODEC_FILTER_REDUCE
@@ -188,10 +198,7 @@ NodeTemperatures simulate_document(const DocumentModelRequest& request, const st
   NodeTemperatures out;
   out.nodes = mesh.node_names;
   std::vector<int> model_node;
-  thermodec::ThermalModel model = document_model(mesh, request.node_ids, request.ids_index_model_nodes,
-                                                 request.model_file, request.rays_per_face, model_node,
-                                                 out.model_description);
-  if (request.seed >= 0) model.radiation.seed = static_cast<std::uint64_t>(request.seed);
+  thermodec::ThermalModel model = document_model(request, model_node, out.model_description);
   out.model_nodes.resize(doc_nodes);
   for (int i = 0; i < doc_nodes; ++i) out.model_nodes[i] = model.nodes[model_node[i]].name;
 
@@ -236,10 +243,7 @@ DocumentReduction reduce_document(const DocumentModelRequest& request, double to
                                   const std::vector<std::string>& case_files, bool merge_nodes) {
   std::vector<int> model_node;
   std::string description;
-  thermodec::ThermalModel model =
-      document_model(*request.mesh, request.node_ids, request.ids_index_model_nodes, request.model_file,
-                     request.rays_per_face, model_node, description);
-  if (request.seed >= 0) model.radiation.seed = static_cast<std::uint64_t>(request.seed);
+  thermodec::ThermalModel model = document_model(request, model_node, description);
   const std::vector<int> doc_node = one_to_one(model_node, model);
 
   thermodec::ReduceSettings settings;
@@ -282,10 +286,7 @@ DocumentSensitivity sensitivity_document(const DocumentModelRequest& request, do
     throw thermodec::InvalidInput("tolerance_K must be finite and > 0, got " + std::to_string(tolerance_K));
   std::vector<int> model_node;
   std::string description;
-  thermodec::ThermalModel model =
-      document_model(*request.mesh, request.node_ids, request.ids_index_model_nodes, request.model_file,
-                     request.rays_per_face, model_node, description);
-  if (request.seed >= 0) model.radiation.seed = static_cast<std::uint64_t>(request.seed);
+  thermodec::ThermalModel model = document_model(request, model_node, description);
   const std::vector<int> doc_node = one_to_one(model_node, model);
 
   // Same sweep as `thermodec reduce --strategy informed` (cap = 2 x tolerance).

@@ -7,18 +7,19 @@
 
 #include "thermodec/mesh/mesh.h"
 #include "thermodec/nodes/thermal_model.h"
+#include "core_calls.h"
 
 namespace thermodec_meshlab {
 
-//! The thermal model simulate_document builds from the document's mesh (face_node set for
-//! every face) and an optional model file (empty: the core's bare-mesh defaults); see
-//! core_calls.h for how document nodes are matched to model nodes. model_node[i] receives the
-//! model node of document node i; description, one line on where the model came from.
+//! The thermal model simulate_document builds from the request: the document's mesh (face_node
+//! set for every face), an optional model file (empty: the core's bare-mesh defaults), and the
+//! request's rays_per_face and seed overrides; see core_calls.h for how document nodes are matched
+//! to model nodes. One function for every filter, so that simulate, reduce, sensitivity and export
+//! see the same model. model_node[i] receives the model node of document node i; description, one
+//! line on where the model came from.
 //! \throw thermodec::InvalidInput (a face without node, an unreadable model file, a node the
 //! model lacks), thermodec::IOError.
-thermodec::ThermalModel document_model(const thermodec::Mesh& mesh, const std::vector<int>& node_ids,
-                                       bool ids_index_model_nodes, const std::string& model_file,
-                                       int rays_per_face, std::vector<int>& model_node,
+thermodec::ThermalModel document_model(const DocumentModelRequest& request, std::vector<int>& model_node,
                                        std::string& description);
 
 }  // namespace thermodec_meshlab

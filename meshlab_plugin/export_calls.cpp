@@ -10,9 +10,7 @@ std::vector<std::string> export_document(const DocumentModelRequest& request, co
   thermodec::export_format(what.format);
   std::vector<int> model_node;
   std::string description;
-  thermodec::ThermalModel model =
-      document_model(*request.mesh, request.node_ids, request.ids_index_model_nodes, request.model_file,
-                     request.rays_per_face, model_node, description);
+  thermodec::ThermalModel model = document_model(request, model_node, description);
   thermodec::ExportSettings settings;
   settings.simulation.progress = request.progress;
   settings.noise.target_K = what.noise_target_K;
