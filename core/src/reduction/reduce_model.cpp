@@ -16,6 +16,7 @@
 #include "thermodec/reduction/prediction.h"
 #include "thermodec/reduction/record_budget.h"
 #include "thermodec/reduction/statistical_verification.h"
+#include "thermodec/reduction/verification_back_off.h"
 #include "thermodec/thermal/simulate_model.h"
 
 namespace thermodec {
@@ -192,6 +193,8 @@ void verified_search(ReductionRun& run, const Searcher& search,
   double margin = first_search_margin_K(run.noise_floor_K, R);
   bool accepted = false;
   VerificationOriginals originals;  // the original's runs serve every attempt
+  ReductionOutcome least;  // the rejected candidate of least upper bound
+  double least_bound = std::numeric_limits<double>::infinity();
   for (int attempt = 0; attempt < settings.verification_attempts && !accepted && margin < tol; ++attempt) {
     run.search_tolerance_K = tol - margin;
     try {
@@ -207,9 +210,29 @@ void verified_search(ReductionRun& run, const Searcher& search,
     say(fmt("verification: max |dT| = %.4f +- %.4f K (upper bound %.4f K at 97.5 %%)", run.verification.max_abs_dT_K,
             run.verification.standard_error_K, run.verification.upper_bound_K));
     accepted = run.verification.accepts(vtol);
+    if (!accepted && run.verification.upper_bound_K < least_bound)
+      least = run.outcome, least_bound = run.verification.upper_bound_K;
     if (!accepted) margin += std::max(run.verification.upper_bound_K - vtol, 0.0) + run.verification.standard_error_K;
   }
   if (accepted) return;
+  VerificationStatistics backed;
+  const auto tb = Clock::now();
+  const double s = back_off_scale(std::isfinite(least_bound) ? settings.back_off_verifications : 0, [&](double a) {
+    say(fmt("verification: backing off, the least rejected candidate's ratios x %.3g", a));
+    const VerificationStatistics v = verify_ratios(refs, a * least.ratio_per_node, settings, search_seed, originals);
+    say(fmt("verification: max |dT| = %.4f +- %.4f K (upper bound %.4f K at 97.5 %%)", v.max_abs_dT_K,
+            v.standard_error_K, v.upper_bound_K));
+    if (v.accepts(vtol)) backed = v;
+    return v.accepts(vtol);
+  });
+  run.seconds_verification += since(tb);
+  if (s > 0.0) {
+    run.outcome = least;
+    run.outcome.ratio_per_node = s * least.ratio_per_node;
+    run.outcome.verified = search.trial(run.outcome.ratio_per_node);
+    run.outcome.history.push_back({run.outcome.ratio_per_node, run.outcome.verified, true, fmt("back off x%.3g", s)});
+    return void(run.verification = backed);
+  }
   say("verification: no reduced candidate is bounded within the tolerance; keeping the unreduced model");
   ReductionOutcome keep;
   keep.ratio_per_node = Eigen::VectorXd::Zero(refs.front()->faces_per_node().size());

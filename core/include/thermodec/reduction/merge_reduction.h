@@ -67,7 +67,17 @@ struct NodeMergeSettings {
   //! fresh seeds) and keeps the merged model undecimated; Juno at --merge-share 0.85 gains
   //! (25 nodes, 44.6 % of the faces verified; docs/benchmarks.md, "Merging nodes").
   bool signed_budgets = false;
+  //! When every decimated candidate of the merged model is rejected, at most this many more
+  //! verifications back the least rejected one off towards the merged model undecimated
+  //! (ReduceSettings::back_off_verifications). Should the merged model still end undecimated,
+  //! the original is also decimated without merging, and the result keeping the smaller sum of
+  //! node and face shares (kept_share) is returned.
+  int back_off_verifications = 2;
 };
+
+//! What a reduced model keeps of the original: nodes_after / nodes_before + faces_after /
+//! faces_before (the two goals weighed alike; 2 = nothing reduced).
+double kept_share(int nodes_before, int nodes_after, int faces_before, int faces_after);
 
 //! Candidate pairs (i < j), ascending: nodes sharing a mesh edge, each node's `strongest`
 //! largest couplings GL_ij + 4 sigma T^3 GR_ij (T: the mean of the two nodes' mean reference
@@ -101,7 +111,8 @@ MergeSearch search_node_merges(const ThermalModel& model, const std::vector<Load
 //! tolerance_K the whole tolerance and verification against the original; run.reduced.model
 //! carries the node map. Without any accepted merge, or when the merged model cannot be
 //! verified, the original is reduced as reduce_model(model, settings) does (merging.fallback
-//! says why). \throw InvalidInput / SolverError as reduce_model.
+//! says why); likewise when the merged model verifies only undecimated and the plain
+//! decimation keeps a smaller kept_share. \throw InvalidInput / SolverError as reduce_model.
 ReductionRun reduce_with_node_merging(const ThermalModel& model, const ReduceSettings& settings,
                                       const NodeMergeSettings& merge);
 

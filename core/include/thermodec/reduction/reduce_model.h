@@ -54,6 +54,11 @@ struct ReduceSettings {
   //! Searches at most (the first aims below the tolerance by the noise margin; a rejected
   //! candidate widens the margin by the bound's excess); then the unreduced model.
   int verification_attempts = 3;
+  //! When every attempt is rejected: at most this many more verifications of the least rejected
+  //! candidate's ratios scaled towards the unreduced model (back_off_scale,
+  //! reduction/verification_back_off.h), the deepest accepted one kept; 0: the unreduced model
+  //! at once. (A merged model's decimation backs off: reduction/merge_reduction.h.)
+  int back_off_verifications = 0;
   //! Noise-targeted sampling before anything else (thermal/simulate_model.h,
   //! decide_sampling_boosts): nodes whose estimated temperature noise exceeds this fraction of
   //! the tolerance get more samples. 0 = off; models that already carry boosts keep them.
