@@ -533,3 +533,36 @@ TEST(ReduceCli, writes_loadable_model_and_report_with_required_keys) {
   EXPECT_NE(err.str().find("used twice"), std::string::npos) << err.str();
   EXPECT_FALSE(fs::exists(dir / "dup"));
 }
+
+TEST(ReduceModel, every_attempt_rejected_backs_the_least_rejected_candidate_off_towards_the_unreduced_model) {
+  // A verifier that accepts a candidate keeping at least `floor` faces: the search's candidates
+  // (reduced further) are all rejected, a half-way back-off is accepted.
+  const ThermalModel model = small_model();
+  const int before = model.mesh.num_faces();
+  ReduceSettings s = quick_settings(0.5);
+  s.verification_attempts = 1;
+  const ReductionRun plain = reduce_model(model, s);
+  ASSERT_LT(plain.faces_after, before);
+  const int floor = (before + plain.faces_after) / 2;
+  std::vector<int> asked;
+  s.verify_candidate = [&](const std::vector<const ThermalModel*>& c) {
+    asked.push_back(c.front()->mesh.num_faces());
+    VerificationStatistics v;
+    v.upper_bound_K = asked.back() >= floor ? 0.1 : 1.0;
+    return v;
+  };
+  const ReductionRun none = reduce_model(model, s);  // back_off_verifications = 0: unreduced
+  EXPECT_EQ(none.faces_after, before);
+  ASSERT_EQ(asked.size(), 2u);  // the rejected candidate, then the unreduced model
+  asked.clear();
+  s.back_off_verifications = 2;
+  const ReductionRun backed = reduce_model(model, s);
+  ASSERT_EQ(asked.size(), 3u);  // rejected, then x 1/2 and x 3/4 or x 1/4
+  EXPECT_LT(asked[0], floor);
+  EXPECT_GT(asked[1], asked[0]);
+  EXPECT_LT(backed.faces_after, before);
+  EXPECT_GE(backed.faces_after, floor);
+  EXPECT_TRUE(backed.verification.accepts(0.5));
+  EXPECT_EQ(backed.outcome.history.back().action.rfind("back off x", 0), 0u) << backed.outcome.history.back().action;
+  EXPECT_GT(backed.outcome.ratio_per_node.maxCoeff(), 0.0);
+}
