@@ -561,15 +561,18 @@ ReductionRun reduce_with_node_merging(const ThermalModel& model, const ReduceSet
   ms.summary.decimation_tolerance_K = inner.tolerance_K;
   ms.summary.node_map = merged.node_map;
   run.merging = ms.summary;
-  if (run.faces_after < run.faces_before) return run;
-  // Verified only undecimated: the plain decimation may keep less (NPP_16: 34 of 64 nodes with
-  // every face against 64 nodes with 29 % of them).
+  // Verified only undecimated or backed off: the plain decimation may keep less (NPP_16: 34 of
+  // 64 nodes with every face against 64 nodes with 29 % of them), never when the merged model
+  // keeps a share <= 1 (the plain decimation keeps every node: 1 + its faces' share).
   const int n = static_cast<int>(model.nodes.size()), m = ms.summary.nodes_after;
-  ReductionRun alone = plain(fmt("the merged model (%.0f nodes) verified only undecimated", m));
   const double merged_share = kept_share(n, m, run.faces_before, run.faces_after);
+  const bool backed_off = !run.outcome.history.empty() && run.outcome.history.back().action.rfind("back off", 0) == 0;
+  if (merged_share <= 1.0 || (run.faces_after < run.faces_before && !backed_off)) return run;
+  ReductionRun alone = plain(fmt("the merged model (%.0f nodes) verified ", m) +
+                             (backed_off ? "only backed off" : "only undecimated"));
   const double plain_share = kept_share(n, n, alone.faces_before, alone.faces_after);
-  say(fmt("node merging: kept share (nodes + faces) %.3f merged undecimated, %.3f decimated without merging",
-          merged_share, plain_share));
+  say(fmt("node merging: kept share (nodes + faces) %.3f merged, %.3f decimated without merging", merged_share,
+          plain_share));
   return plain_share < merged_share ? alone : run;
 }
 

@@ -69,9 +69,9 @@ struct NodeMergeSettings {
   bool signed_budgets = false;
   //! When every decimated candidate of the merged model is rejected, at most this many more
   //! verifications back the least rejected one off towards the merged model undecimated
-  //! (ReduceSettings::back_off_verifications). Should the merged model still end undecimated,
-  //! the original is also decimated without merging, and the result keeping the smaller sum of
-  //! node and face shares (kept_share) is returned.
+  //! (ReduceSettings::back_off_verifications). Should the merged model end undecimated or
+  //! backed off with a kept_share over 1, the original is also decimated without merging, and
+  //! the result of the smaller kept_share is returned.
   int back_off_verifications = 2;
 };
 
@@ -111,8 +111,8 @@ MergeSearch search_node_merges(const ThermalModel& model, const std::vector<Load
 //! tolerance_K the whole tolerance and verification against the original; run.reduced.model
 //! carries the node map. Without any accepted merge, or when the merged model cannot be
 //! verified, the original is reduced as reduce_model(model, settings) does (merging.fallback
-//! says why); likewise when the merged model verifies only undecimated and the plain
-//! decimation keeps a smaller kept_share. \throw InvalidInput / SolverError as reduce_model.
+//! says why); likewise when the merged model verifies only undecimated or backed off and the
+//! plain decimation keeps a smaller kept_share. \throw InvalidInput / SolverError as reduce_model.
 ReductionRun reduce_with_node_merging(const ThermalModel& model, const ReduceSettings& settings,
                                       const NodeMergeSettings& merge);
 
