@@ -2,7 +2,9 @@
 // known analytic "simulation" checks prediction, back-off, push and the verification guarantee.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "thermodec/common/errors.h"
 #include "thermodec/reduction/prediction.h"
@@ -288,6 +290,46 @@ TEST(InformedReduction, leave_one_out_is_bounded_to_the_most_suspect_nodes) {
       EXPECT_GT(calls, 1 + 3 * steps);  // every reduced node measured
     }
   }
+}
+
+TEST(InformedReduction, a_node_below_every_face_count_its_curve_measured_is_the_first_suspect) {
+  // 12 nodes swept at 0.5 and 0.9. Node 11 is insensitive alone (10 of its 100 faces at 0.9),
+  // but with any other node reduced its decimation goes one face further and moves the model by
+  // 0.6 K (as a neighbour's collapses free a node's contour vertices), seen neither by its curve
+  // nor in its own |dT|. With 3 leave-one-out trials a step, the first step must measure node 11.
+  struct Hidden : Synthetic {
+    TrialResult operator()(const Eigen::VectorXd& r) const {
+      TrialResult t = Synthetic::operator()(r);
+      bool others = false;
+      for (int k = 0; k < 11; ++k) others |= r[k] > 0;
+      if (others && r[11] >= 0.9) {
+        t.node_faces_after[11] = 9;
+        t.faces_after = t.node_faces_after.sum();
+        t.max_abs_dT_K += 0.6;
+      }
+      return t;
+    }
+  } s;
+  s.sensitivity_K = Eigen::VectorXd::Constant(12, 0.03);
+  s.sensitivity_K[11] = 0.001;
+  s.faces = Eigen::VectorXi::Constant(12, 100);
+  SensitivityOptions so;
+  so.ratios = {0.5, 0.9};
+  const auto curves = sensitivity_analysis(12, s, so);
+  ASSERT_EQ(*std::min_element(curves[11].faces_after.begin(), curves[11].faces_after.end()), 10);
+  InformedOptions io;
+  io.tolerance_K = 0.5;
+  io.push = false;
+  io.parallel = false;
+  io.max_leave_one_out = 3;
+  io.stall_fraction = 0.0;
+  const auto out = informed_reduction(curves, 12, s, s, io);
+  EXPECT_LE(out.verified.max_abs_dT_K, 0.5);
+  std::string first_back_off;
+  for (const auto& h : out.history)
+    if (first_back_off.empty() && h.action.rfind("back off", 0) == 0) first_back_off = h.action;
+  EXPECT_EQ(first_back_off.rfind("back off node 11 ", 0), 0u) << first_back_off;
+  EXPECT_LT(out.ratio_per_node[11], 0.9);  // one sample back: 0.5
 }
 
 namespace {

@@ -58,8 +58,9 @@ struct InformedOptions {
                               //!< spent while backing off, every node's share of the tolerance
                               //!< on its own curve is scaled back (bisection, 6 trials per pass)
   //! Leave-one-out trials per back-off step: when more nodes are reduced, only this many are
-  //! measured, those most suspect of the excess (largest of: the node's own curve at its
-  //! ratio, its own |dT| in the failing candidate). 0 = every reduced node (a step on a CAD
+  //! measured, those most suspect of the excess: first the nodes below the fewest faces any
+  //! of their own samples kept, then by the largest of the node's own curve at its ratio and
+  //! its own |dT| in the failing candidate. 0 = every reduced node (a step on a CAD
   //! model with 64 nodes otherwise costs 64 trials, ~45-75 min).
   int max_leave_one_out = 16;
   //! A leave-one-out step whose best back-off removes less than this share of the excess
