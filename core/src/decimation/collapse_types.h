@@ -88,6 +88,14 @@ struct Context : vcg::BaseParameterClass {
   using Projection = std::array<double, kProjectionDirections>;
   std::vector<Projection> node_projection_change;
   std::vector<VFace*> projection_faces;  // scratch for add_projection_change
+  // With a reflected-sunlight cap (reflection_cap.cpp): per face, the reflected flux its front
+  // and back carry now [W/m^2]; per node group, the reflected power the collapses so far moved
+  // between its faces and the power it reflects [W].
+  std::vector<std::array<double, 2>> face_flux;
+  std::vector<double> node_moved_reflection_W, node_reflected_W;
+  double reflection_cap_W(int node) const {
+    return opt.reflection_cap * node_area_bound[node] * node_reflected_W[node];
+  }
   //! The directions d: a Fibonacci lattice over the whole unit sphere (projected_area_cap.cpp).
   static const std::array<Vec3, kProjectionDirections>& projection_directions();
   // The cap on node `node`'s |P(d) - P0(d)| [m^2] (projected_area_cap).

@@ -219,6 +219,13 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     if (!(b >= 0 && std::isfinite(b))) throw InvalidInput("decimate: per-node area bounds must be finite and >= 0");
   if (!(options.max_fold_deg > 0 && options.max_fold_deg <= 179))
     throw InvalidInput("decimate: max_fold_deg must be in (0, 179]");
+  const auto& flux = options.face_reflected_flux_W_per_m2;
+  if (!flux.empty() && flux.size() != 2 * static_cast<size_t>(mesh.num_faces()))
+    throw InvalidInput("decimate: " + std::to_string(flux.size()) + " reflected fluxes for " +
+                       std::to_string(mesh.num_faces()) + " faces (2 per face: front, back)");
+  for (double q : flux)
+    if (!(q >= 0 && std::isfinite(q))) throw InvalidInput("decimate: reflected fluxes must be finite and >= 0");
+  if (!(options.reflection_cap >= 0)) throw InvalidInput("decimate: reflection_cap must be >= 0");
 
   const int groups = num_nodes + (has_unassigned ? 1 : 0);
   const NodeGroups group_of{mesh, num_nodes};
@@ -261,6 +268,17 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
   c.absorbed_by.assign(nf, -1);
   c.stamp.assign(nv, 0);
   if (options.projected_area_cap > 0) c.node_projection_change.assign(groups, Context::Projection{});
+  if (!options.face_reflected_flux_W_per_m2.empty()) {
+    // Reflected-sunlight cap (reflection_cap.cpp): the faces' fluxes and each node's reflected power.
+    c.face_flux.resize(nf);
+    c.node_reflected_W.assign(groups, 0.0);
+    c.node_moved_reflection_W.assign(groups, 0.0);
+    for (int f = 0; f < nf; ++f) {
+      c.face_flux[f] = {options.face_reflected_flux_W_per_m2[2 * f], options.face_reflected_flux_W_per_m2[2 * f + 1]};
+      const Vec3 p0 = work.V.row(work.F(f, 0)), p1 = work.V.row(work.F(f, 1)), p2 = work.V.row(work.F(f, 2));
+      c.node_reflected_W[group_of(f)] += 0.5 * (p1 - p0).cross(p2 - p0).norm() * (c.face_flux[f][0] + c.face_flux[f][1]);
+    }
+  }
   if (options.projected_area_cap > 0 && options.restore_node_areas) {
     c.group_faces.assign(groups, {});
     for (int f = 0; f < nf; ++f) c.group_faces[group_of(f)].push_back(f);

@@ -161,6 +161,13 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   bool projection_within_cap(Context& c, int node) const;
   // Adds this collapse's projected-area change to each node's account (Execute).
   void record_projection_change(Context& c) const;
+  // Reflected-sunlight cap (reflection_cap.cpp): the reflected power [W] the collapse moves
+  // between node `node`'s faces (their area-weighted mean flux per side into `mean`); whether
+  // every node it touches stays within its cap; the account charged and the survivors given
+  // the mean (before the collapse runs).
+  double moved_reflection_W(Context& c, int node, std::array<double, 2>& mean) const;
+  bool reflection_within_cap(Context& c) const;
+  void record_reflection_change(Context& c) const;
   struct Restoration {
     int node = -1;                                // -1: none planned
     std::vector<std::pair<VVertex*, Vec3>> moves;  // vertex -> new position [m]

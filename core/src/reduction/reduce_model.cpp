@@ -512,6 +512,14 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
     set_node_area_bounds(refs, settings.area_error_fraction * tol, area_cap, dec, say);
     run.node_max_relative_area_change = dec.node_max_relative_area_change;
   }
+  if (dec.reflection_cap > 0.0) {
+    // Reflected-sunlight cap (docs/decimation.md): the reference's reflected fluxes, mean over the cases.
+    std::vector<double> flux(refs.front()->face_reflected_flux_W_per_m2().size(), 0.0);
+    for (const auto& r : refs)
+      for (size_t i = 0; i < flux.size(); ++i) flux[i] += r->face_reflected_flux_W_per_m2()[i] / refs.size();
+    dec.face_reflected_flux_W_per_m2 = std::move(flux);
+    for (auto& r : refs) r->set_decimation_options(dec);
+  }
 
   const ReductionReference& ref = *refs.front();
   run.reference = ref.result();

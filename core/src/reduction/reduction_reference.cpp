@@ -25,6 +25,7 @@ struct ReductionReference::Impl {
   std::unique_ptr<RadiationReference> radiation;
   LoadSamples load_samples;  //!< the reference's load sampling, reused by trials
   RecordUse records;
+  std::vector<double> face_reflected_flux_W_per_m2;  //!< 2 per face (front, back), orbit mean
   mutable std::mutex cache_mutex;
   // A trial's result and the candidate's simulation (nodes x times: small), so that the
   // candidate a strategy returns is rebuilt without simulating it again.
@@ -108,6 +109,20 @@ ReductionReference::ReductionReference(const ThermalModel& model, const Reductio
   const FaceViewFactors& vf = impl_->radiation->face_view_factors();
   if (load_settings.solar_reflections)
     add_solar_reflections(loads, model, vf.sides, vf, solar_incident_W, nullptr, &impl_->load_samples);
+  {
+    // What each face side reflects per unit area, orbit mean over the load positions (the
+    // columns after them are eclipse edges): (1 - alpha) incident / area [W/m^2].
+    const SurfaceSides& sides = vf.sides;
+    const Eigen::VectorXd alpha = side_absorptivity(model, sides);
+    const Eigen::Index steps = loads.reflected_solar_W.cols();
+    auto& flux = impl_->face_reflected_flux_W_per_m2;
+    flux.assign(2 * static_cast<size_t>(model.mesh.num_faces()), 0.0);
+    if (steps > 0 && solar_incident_W.rows() == sides.size())
+      for (int s = 0; s < sides.size(); ++s)
+        if (sides.area_m2[s] > 0)
+          flux[2 * sides.face[s] + (sides.is_back[s] ? 1 : 0)] =
+              (1.0 - alpha[s]) * solar_incident_W.row(s).head(steps).mean() / sides.area_m2[s];
+  }
   solar_incident_W.resize(0, 0);
   RecordUse& use = impl_->records;
   use.ir_bytes = impl_->radiation->record_bytes();
@@ -129,6 +144,9 @@ const ThermalModel& ReductionReference::model() const { return impl_->model; }
 const SimulationResult& ReductionReference::result() const { return impl_->result; }
 const NodeCouplings& ReductionReference::couplings() const { return impl_->radiation->couplings(); }
 const Eigen::VectorXi& ReductionReference::faces_per_node() const { return impl_->faces_per_node; }
+const std::vector<double>& ReductionReference::face_reflected_flux_W_per_m2() const {
+  return impl_->face_reflected_flux_W_per_m2;
+}
 int ReductionReference::trials_evaluated() const { return impl_->evaluated; }
 const RecordUse& ReductionReference::record_use() const { return impl_->records; }
 const DecimationOptions& ReductionReference::decimation_options() const { return impl_->settings.decimation; }

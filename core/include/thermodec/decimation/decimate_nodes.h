@@ -80,6 +80,22 @@ struct DecimationOptions {
   //! kinks it allows (up to max_fold_deg, max_kinked_contour_deviation) run when the cap holds.
   //! Dimensionless, >= 0; 0 = off (the default; 10 in `reduce`).
   double projected_area_cap = 0.0;
+  //! Reflected-sunlight cap (docs/decimation.md, "Reflected-sunlight cap"): per input face, the
+  //! orbit-mean solar-band power its front and its back reflect diffusely per unit area,
+  //! (1 - alpha) x incident flux [W/m^2], 2 values per face (front, back; back 0 when
+  //! one-sided). A face reflects what lands on it uniformly over its area, so a collapse that
+  //! merges a lit face with a shadowed one moves reflected sunlight onto the part that was dark,
+  //! which may see other nodes differently (a flat plate in a neighbour's shadow then lights
+  //! that neighbour) while the node's area, projected area and absorbed power stay as they were.
+  //! Every collapse charges the nodes it touches the reflected power it moves between their
+  //! faces (sum over the changed faces of A_f |q_f - q_mean| per side, q_mean the star's
+  //! area-weighted mean [W]; the survivors then carry q_mean), and runs only if each node's
+  //! account stays within reflection_cap x its area bound x the power it reflects. That account
+  //! bounds the change of the first-bounce reflected power any other node receives. Empty = off
+  //! (the default; `reduce` passes the reference's fluxes); else 2 x #faces finite values >= 0.
+  std::vector<double> face_reflected_flux_W_per_m2;
+  //! See face_reflected_flux_W_per_m2. Dimensionless, >= 0.
+  double reflection_cap = 10.0;
   //! Node-area restoration (needs projected_area_cap > 0): a collapse that would take one node's
   //! area past its bound may still run when that node's free vertices (off every contour) bring
   //! its area back to its input value: each moves along its own area gradient by a common
@@ -195,6 +211,7 @@ enum class CollapseBlock : int {
   topology,           //!< link condition (the collapse would change the topology)
   thin_tube,          //!< an edge along a thin tube's cross-section loop (collapse_tube_sections)
   projected_area_budget,  //!< the node's steep-turn budget (projected_area_budget) is spent
+  reflected_sunlight,  //!< the node has moved its reflection_cap's worth of reflected sunlight
   none,               //!< allowed: the node stopped at its target, not against a constraint
 };
 constexpr int kCollapseBlocks = static_cast<int>(CollapseBlock::none) + 1;

@@ -23,7 +23,9 @@ namespace thermodec {
 //! and the projected-area cap with node-area restoration (each node's projected area in 64
 //! directions within 10 x its area bound; a collapse past the area bound runs when the node's
 //! free vertices restore its area: docs/decimation.md), which reach further on curved CAD parts
-//! while moving their projected areas less.
+//! while moving their projected areas less, and the reflected-sunlight cap (the reference's
+//! reflected fluxes per face: no node moves more than 10 x its area bound of the sunlight it
+//! reflects from lit faces onto dark ones, docs/decimation.md).
 inline DecimationOptions reduction_decimation_options() {
   DecimationOptions o;
   o.collapse_cost = CollapseCostKind::radiative;
@@ -31,6 +33,7 @@ inline DecimationOptions reduction_decimation_options() {
   o.release_contacts = true;
   o.projected_area_cap = 10.0;
   o.restore_node_areas = true;
+  o.reflection_cap = 10.0;  // with the reference's fluxes, passed by reduce_model
   return o;
 }
 
@@ -95,6 +98,9 @@ class ReductionReference {
   const NodeCouplings& couplings() const;
   //! Faces per node of the reference mesh.
   const Eigen::VectorXi& faces_per_node() const;
+  //! Orbit-mean solar-band power each face's front and back reflect per unit area,
+  //! (1 - alpha) x incident [W/m^2], 2 per face (DecimationOptions::face_reflected_flux_W_per_m2).
+  const std::vector<double>& face_reflected_flux_W_per_m2() const;
   //! Largest ratio each node can reach alone under the decimator's constraints.
   Eigen::VectorXd max_ratio_per_node() const;
 
