@@ -258,8 +258,8 @@ void add_reduce(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--reflection-cap", o->reflection_cap,
-                  "the decimator moves no more of a node's reflected sunlight between its faces (lit onto dark) "
-                  "than this multiple of the node's area bound times the power it reflects (0 = off; "
+                  "the decimator moves the sunlight reflected onto each node (lit faces merged with dark ones) by "
+                  "at most this multiple of the node's area bound times the power it absorbs (0 = off; "
                   "docs/decimation.md, \"Reflected-sunlight cap\")")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);

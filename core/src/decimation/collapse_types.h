@@ -92,9 +92,12 @@ struct Context : vcg::BaseParameterClass {
   // and back carry now [W/m^2]; per node group, the reflected power the collapses so far moved
   // between its faces and the power it reflects [W].
   std::vector<std::array<double, 2>> face_flux;
-  std::vector<double> node_moved_reflection_W, node_reflected_W;
+  using View = std::vector<std::pair<int, double>>;  // (node, F) of one face side
+  std::vector<std::array<View, 2>> face_view;
+  std::vector<double> node_reflection_change_W;  // per node: change of the reflected power reaching it
+  std::vector<double> reflection_scratch;        // per node, for one collapse [W]
   double reflection_cap_W(int node) const {
-    return opt.reflection_cap * node_area_bound[node] * node_reflected_W[node];
+    return opt.reflection_cap * node_area_bound[node] * opt.reflection.node_absorbed_W[node];
   }
   //! The directions d: a Fibonacci lattice over the whole unit sphere (projected_area_cap.cpp).
   static const std::array<Vec3, kProjectionDirections>& projection_directions();

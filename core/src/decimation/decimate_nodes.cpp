@@ -48,6 +48,28 @@ void check_input(const Mesh& mesh) {
   if (!mesh.V.allFinite()) throw InvalidInput("decimate: vertex coordinates contain NaN or inf");
 }
 
+// DecimationOptions::reflection: consistent sizes, finite values >= 0, views of real nodes.
+void check_reflection_data(const DecimationOptions::ReflectionData& r, int nf, int num_nodes) {
+  if (r.empty()) return;
+  const size_t sides = 2 * static_cast<size_t>(nf);
+  if (r.flux_W_per_m2.size() != sides || r.view_start.size() != sides + 1 || r.view_start.front() != 0 ||
+      r.view_node.size() != r.view_fraction.size() || static_cast<size_t>(r.view_start.back()) != r.view_node.size() ||
+      r.node_absorbed_W.size() != static_cast<size_t>(num_nodes))
+    throw InvalidInput("decimate: reflection data must have 2 fluxes and 2 view lists per face (" +
+                       std::to_string(nf) + " faces) and an absorbed power per node");
+  for (size_t s = 0; s < sides; ++s)
+    if (r.view_start[s + 1] < r.view_start[s]) throw InvalidInput("decimate: reflection view_start must not decrease");
+  auto bad = [](double x) { return !(x >= 0 && std::isfinite(x)); };
+  for (double q : r.flux_W_per_m2)
+    if (bad(q)) throw InvalidInput("decimate: reflected fluxes must be finite and >= 0");
+  for (double q : r.view_fraction)
+    if (bad(q)) throw InvalidInput("decimate: reflection view fractions must be finite and >= 0");
+  for (double q : r.node_absorbed_W)
+    if (bad(q)) throw InvalidInput("decimate: node absorbed powers must be finite and >= 0");
+  for (int g : r.view_node)
+    if (g < 0 || g >= num_nodes) throw InvalidInput("decimate: a reflection view names node " + std::to_string(g));
+}
+
 // Node face counts, targets and areas [m^2]; returns the total target face count.
 int set_node_budgets(const Mesh& mesh, const NodeGroups& group_of, int groups, int num_nodes,
                      const Eigen::VectorXd& target_ratio_per_node, const DecimationOptions& options, Context& c) {
@@ -219,12 +241,7 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     if (!(b >= 0 && std::isfinite(b))) throw InvalidInput("decimate: per-node area bounds must be finite and >= 0");
   if (!(options.max_fold_deg > 0 && options.max_fold_deg <= 179))
     throw InvalidInput("decimate: max_fold_deg must be in (0, 179]");
-  const auto& flux = options.face_reflected_flux_W_per_m2;
-  if (!flux.empty() && flux.size() != 2 * static_cast<size_t>(mesh.num_faces()))
-    throw InvalidInput("decimate: " + std::to_string(flux.size()) + " reflected fluxes for " +
-                       std::to_string(mesh.num_faces()) + " faces (2 per face: front, back)");
-  for (double q : flux)
-    if (!(q >= 0 && std::isfinite(q))) throw InvalidInput("decimate: reflected fluxes must be finite and >= 0");
+  check_reflection_data(options.reflection, mesh.num_faces(), num_nodes);
   if (!(options.reflection_cap >= 0)) throw InvalidInput("decimate: reflection_cap must be >= 0");
 
   const int groups = num_nodes + (has_unassigned ? 1 : 0);
@@ -268,16 +285,20 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
   c.absorbed_by.assign(nf, -1);
   c.stamp.assign(nv, 0);
   if (options.projected_area_cap > 0) c.node_projection_change.assign(groups, Context::Projection{});
-  if (!options.face_reflected_flux_W_per_m2.empty()) {
-    // Reflected-sunlight cap (reflection_cap.cpp): the faces' fluxes and each node's reflected power.
+  if (!options.reflection.empty()) {
+    // Reflected-sunlight cap (reflection_cap.cpp): each face side's flux and views.
+    const auto& r = options.reflection;
     c.face_flux.resize(nf);
-    c.node_reflected_W.assign(groups, 0.0);
-    c.node_moved_reflection_W.assign(groups, 0.0);
-    for (int f = 0; f < nf; ++f) {
-      c.face_flux[f] = {options.face_reflected_flux_W_per_m2[2 * f], options.face_reflected_flux_W_per_m2[2 * f + 1]};
-      const Vec3 p0 = work.V.row(work.F(f, 0)), p1 = work.V.row(work.F(f, 1)), p2 = work.V.row(work.F(f, 2));
-      c.node_reflected_W[group_of(f)] += 0.5 * (p1 - p0).cross(p2 - p0).norm() * (c.face_flux[f][0] + c.face_flux[f][1]);
-    }
+    c.face_view.resize(nf);
+    for (int f = 0; f < nf; ++f)
+      for (int k = 0; k < 2; ++k) {
+        const int s = 2 * f + k;
+        c.face_flux[f][k] = r.flux_W_per_m2[s];
+        for (int e = r.view_start[s]; e < r.view_start[s + 1]; ++e)
+          c.face_view[f][k].emplace_back(r.view_node[e], r.view_fraction[e]);
+      }
+    c.node_reflection_change_W.assign(num_nodes, 0.0);
+    c.reflection_scratch.assign(num_nodes, 0.0);
   }
   if (options.projected_area_cap > 0 && options.restore_node_areas) {
     c.group_faces.assign(groups, {});

@@ -24,8 +24,8 @@ namespace thermodec {
 //! directions within 10 x its area bound; a collapse past the area bound runs when the node's
 //! free vertices restore its area: docs/decimation.md), which reach further on curved CAD parts
 //! while moving their projected areas less, and the reflected-sunlight cap (the reference's
-//! reflected fluxes per face: no node moves more than 10 x its area bound of the sunlight it
-//! reflects from lit faces onto dark ones, docs/decimation.md).
+//! reflected fluxes and views per face: the reflected sunlight reaching a node moves by at most
+//! its area bound times what it absorbs, docs/decimation.md).
 inline DecimationOptions reduction_decimation_options() {
   DecimationOptions o;
   o.collapse_cost = CollapseCostKind::radiative;
@@ -33,7 +33,7 @@ inline DecimationOptions reduction_decimation_options() {
   o.release_contacts = true;
   o.projected_area_cap = 10.0;
   o.restore_node_areas = true;
-  o.reflection_cap = 10.0;  // with the reference's fluxes, passed by reduce_model
+  o.reflection_cap = 1.0;  // with the reference's fluxes and views, passed by reduce_model
   return o;
 }
 
@@ -98,9 +98,9 @@ class ReductionReference {
   const NodeCouplings& couplings() const;
   //! Faces per node of the reference mesh.
   const Eigen::VectorXi& faces_per_node() const;
-  //! Orbit-mean solar-band power each face's front and back reflect per unit area,
-  //! (1 - alpha) x incident [W/m^2], 2 per face (DecimationOptions::face_reflected_flux_W_per_m2).
-  const std::vector<double>& face_reflected_flux_W_per_m2() const;
+  //! The reference's reflected sunlight per face side, its views of the nodes and the nodes'
+  //! absorbed powers (DecimationOptions::reflection; empty without loads).
+  const DecimationOptions::ReflectionData& reflection() const;
   //! Largest ratio each node can reach alone under the decimator's constraints.
   Eigen::VectorXd max_ratio_per_node() const;
 
