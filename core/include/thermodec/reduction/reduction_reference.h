@@ -33,7 +33,7 @@ inline DecimationOptions reduction_decimation_options() {
   o.release_contacts = true;
   o.projected_area_cap = 10.0;
   o.restore_node_areas = true;
-  o.reflection_cap = 1.0;  // with the reference's fluxes and views, passed by reduce_model
+  o.reflection_cap = 10.0;  // as the projected-area cap; with the reference's data, passed by reduce_model
   return o;
 }
 
