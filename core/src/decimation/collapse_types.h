@@ -94,7 +94,10 @@ struct Context : vcg::BaseParameterClass {
   std::vector<std::array<double, 2>> face_flux;
   using View = std::vector<std::pair<int, double>>;  // (node, F) of one face side
   std::vector<std::array<View, 2>> face_view;
-  std::vector<double> node_reflection_change_W;  // per node: change of the reflected power reaching it
+  // Per (source group n, receiving node g), at n * #nodes + g: how far the collapses of n's
+  // faces moved the reflected power reaching g [W]. Per source, so that a node's decimation
+  // does not depend on which other nodes are decimated with it (the search superposes them).
+  std::vector<double> node_reflection_change_W;
   std::vector<double> reflection_scratch;        // per node, for one collapse [W]
   double reflection_cap_W(int node) const {
     return opt.reflection_cap * node_area_bound[node] * opt.reflection.node_absorbed_W[node];

@@ -297,7 +297,7 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
         for (int e = r.view_start[s]; e < r.view_start[s + 1]; ++e)
           c.face_view[f][k].emplace_back(r.view_node[e], r.view_fraction[e]);
       }
-    c.node_reflection_change_W.assign(num_nodes, 0.0);
+    c.node_reflection_change_W.assign(static_cast<size_t>(groups) * num_nodes, 0.0);
     c.reflection_scratch.assign(num_nodes, 0.0);
   }
   if (options.projected_area_cap > 0 && options.restore_node_areas) {

@@ -13,10 +13,11 @@
 // mean flux q_m [W/m^2] and mean views F_m,g, and the reflected power first reaching node g
 // changes by sum_f A_f (q_m - q_f) F_fg = -sum_f A_f (q_f - q_m)(F_fg - F_m,g): minus the
 // covariance of flux and view over the star, zero where either is uniform (inside a lit or a
-// dark region, on a panel that sees nothing). Each node's account sums these changes (signed:
-// opposite changes cancel in what it absorbs); a collapse that takes an account further from
-// zero past reflection_cap x the node's area bound x its absorbed power is refused, so the
-// reflected light a node receives moves by no more than the area bound lets its own emission.
+// dark region, on a panel that sees nothing). One account per (source node, receiving node)
+// sums these changes (signed: opposite changes cancel in what the receiver absorbs); a collapse
+// that takes an account further from zero past reflection_cap x the receiver's area bound x its
+// absorbed power is refused. Per source, so a node decimates the same way alone and with others
+// (accounts shared by all sources broke the search's superposition on NPP_16).
 #include <algorithm>
 #include <cmath>
 
@@ -99,7 +100,8 @@ bool NodeCollapse::reflection_within_cap(Context& c) const {
   for (const auto& d : area_delta_) {
     reflection_change(c, d.key, mean, mean_view, touched);
     for (int g : touched) {
-      const double before = c.node_reflection_change_W[g], after = before + c.reflection_scratch[g];
+      const size_t at = static_cast<size_t>(d.key) * c.reflection_scratch.size() + g;
+      const double before = c.node_reflection_change_W[at], after = before + c.reflection_scratch[g];
       if (std::abs(after) > c.reflection_cap_W(g) && std::abs(after) > std::abs(before)) ok = false;
       c.reflection_scratch[g] = 0.0;
     }
@@ -115,7 +117,8 @@ void NodeCollapse::record_reflection_change(Context& c) const {
   thread_local std::vector<int> touched;
   for (const auto& d : area_delta_) {
     reflection_change(c, d.key, mean, mean_view, touched);
-    for (int g : touched) c.node_reflection_change_W[g] += c.reflection_scratch[g], c.reflection_scratch[g] = 0.0;
+    const size_t row = static_cast<size_t>(d.key) * c.reflection_scratch.size();
+    for (int g : touched) c.node_reflection_change_W[row + g] += c.reflection_scratch[g], c.reflection_scratch[g] = 0.0;
     for (const VFace* f : c.projection_faces) {  // the changed faces just measured
       c.face_flux[c.fi(f)] = mean;
       c.face_view[c.fi(f)] = mean_view;

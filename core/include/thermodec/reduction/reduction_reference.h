@@ -23,9 +23,9 @@ namespace thermodec {
 //! and the projected-area cap with node-area restoration (each node's projected area in 64
 //! directions within 10 x its area bound; a collapse past the area bound runs when the node's
 //! free vertices restore its area: docs/decimation.md), which reach further on curved CAD parts
-//! while moving their projected areas less, and the reflected-sunlight cap (the reference's
-//! reflected fluxes and views per face: the reflected sunlight reaching a node moves by at most
-//! its area bound times what it absorbs, docs/decimation.md).
+//! while moving their projected areas less. The reflected-sunlight cap stays off
+//! (reflection_cap 0; `reduce --reflection-cap F` passes the reference's reflected fluxes and
+//! views per face: docs/decimation.md, measured on NPP_16 in docs/benchmarks.md).
 inline DecimationOptions reduction_decimation_options() {
   DecimationOptions o;
   o.collapse_cost = CollapseCostKind::radiative;
@@ -33,7 +33,7 @@ inline DecimationOptions reduction_decimation_options() {
   o.release_contacts = true;
   o.projected_area_cap = 10.0;
   o.restore_node_areas = true;
-  o.reflection_cap = 10.0;  // as the projected-area cap; with the reference's data, passed by reduce_model
+  o.reflection_cap = 0.0;  // off: not yet fewer faces on NPP_16 (docs/benchmarks.md, "Reflected sunlight")
   return o;
 }
 
