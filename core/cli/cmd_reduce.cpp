@@ -49,6 +49,7 @@ struct ReduceCliOptions {
   double projected_area_budget = reduction_decimation_options().projected_area_budget;
   double max_fold_deg = reduction_decimation_options().max_fold_deg;
   double projected_area_cap = reduction_decimation_options().projected_area_cap;
+  double reflection_cap = reduction_decimation_options().reflection_cap;
   bool fixed_node_areas = !reduction_decimation_options().restore_node_areas;
   double max_kinked_contour_deviation = reduction_decimation_options().max_kinked_contour_deviation;
   bool conforming_contacts = !reduction_decimation_options().release_contacts;
@@ -115,6 +116,7 @@ void run_reduce(const ReduceCliOptions& o) {
   s.reference.decimation.projected_area_budget = o.projected_area_budget;
   s.reference.decimation.max_fold_deg = o.max_fold_deg;
   s.reference.decimation.projected_area_cap = o.projected_area_cap;
+  s.reference.decimation.reflection_cap = o.reflection_cap;
   s.reference.decimation.restore_node_areas = !o.fixed_node_areas;
   s.reference.decimation.max_kinked_contour_deviation = o.max_kinked_contour_deviation;
   s.reference.decimation.release_contacts = !o.conforming_contacts;
@@ -253,6 +255,12 @@ void add_reduce(CLI::App& app) {
                   "the decimator keeps each node's projected area in 64 directions within this multiple of the "
                   "node's area bound times its area of its input; the budget then no longer refuses (0 = off: the "
                   "budget alone; docs/decimation.md, \"Projected-area cap\")")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--reflection-cap", o->reflection_cap,
+                  "the decimator moves the sunlight reflected onto each node (lit faces merged with dark ones) by "
+                  "at most this multiple of the node's area bound times the power it absorbs (0 = off; "
+                  "docs/decimation.md, \"Reflected-sunlight cap\")")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   sub->add_flag("--fixed-node-areas", o->fixed_node_areas,

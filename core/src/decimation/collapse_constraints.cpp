@@ -64,6 +64,7 @@ bool NodeCollapse::constraints_hold(Context& c) {
   if (capped)
     for (const auto& d : area_delta_)
       if (!projection_within_cap(c, d.key)) return refuse(CollapseBlock::projected_area_budget);
+  if (!reflection_within_cap(c)) return refuse(CollapseBlock::reflected_sunlight);
   // A section collapse checked its topology when it was evaluated (section_collapse.cpp).
   if (section_.n == 0 && !link_condition(c)) return refuse(CollapseBlock::topology);
   refused_ = CollapseBlock::none;

@@ -88,6 +88,20 @@ struct Context : vcg::BaseParameterClass {
   using Projection = std::array<double, kProjectionDirections>;
   std::vector<Projection> node_projection_change;
   std::vector<VFace*> projection_faces;  // scratch for add_projection_change
+  // With a reflected-sunlight cap (reflection_cap.cpp): per face, the reflected flux its front
+  // and back carry now [W/m^2]; per node group, the reflected power the collapses so far moved
+  // between its faces and the power it reflects [W].
+  std::vector<std::array<double, 2>> face_flux;
+  using View = std::vector<std::pair<int, double>>;  // (node, F) of one face side
+  std::vector<std::array<View, 2>> face_view;
+  // Per (source group n, receiving node g), at n * #nodes + g: how far the collapses of n's
+  // faces moved the reflected power reaching g [W]. Per source, so that a node's decimation
+  // does not depend on which other nodes are decimated with it (the search superposes them).
+  std::vector<double> node_reflection_change_W;
+  std::vector<double> reflection_scratch;        // per node, for one collapse [W]
+  double reflection_cap_W(int node) const {
+    return opt.reflection_cap * node_area_bound[node] * opt.reflection.node_absorbed_W[node];
+  }
   //! The directions d: a Fibonacci lattice over the whole unit sphere (projected_area_cap.cpp).
   static const std::array<Vec3, kProjectionDirections>& projection_directions();
   // The cap on node `node`'s |P(d) - P0(d)| [m^2] (projected_area_cap).

@@ -48,6 +48,28 @@ void check_input(const Mesh& mesh) {
   if (!mesh.V.allFinite()) throw InvalidInput("decimate: vertex coordinates contain NaN or inf");
 }
 
+// DecimationOptions::reflection: consistent sizes, finite values >= 0, views of real nodes.
+void check_reflection_data(const DecimationOptions::ReflectionData& r, int nf, int num_nodes) {
+  if (r.empty()) return;
+  const size_t sides = 2 * static_cast<size_t>(nf);
+  if (r.flux_W_per_m2.size() != sides || r.view_start.size() != sides + 1 || r.view_start.front() != 0 ||
+      r.view_node.size() != r.view_fraction.size() || static_cast<size_t>(r.view_start.back()) != r.view_node.size() ||
+      r.node_absorbed_W.size() != static_cast<size_t>(num_nodes))
+    throw InvalidInput("decimate: reflection data must have 2 fluxes and 2 view lists per face (" +
+                       std::to_string(nf) + " faces) and an absorbed power per node");
+  for (size_t s = 0; s < sides; ++s)
+    if (r.view_start[s + 1] < r.view_start[s]) throw InvalidInput("decimate: reflection view_start must not decrease");
+  auto bad = [](double x) { return !(x >= 0 && std::isfinite(x)); };
+  for (double q : r.flux_W_per_m2)
+    if (bad(q)) throw InvalidInput("decimate: reflected fluxes must be finite and >= 0");
+  for (double q : r.view_fraction)
+    if (bad(q)) throw InvalidInput("decimate: reflection view fractions must be finite and >= 0");
+  for (double q : r.node_absorbed_W)
+    if (bad(q)) throw InvalidInput("decimate: node absorbed powers must be finite and >= 0");
+  for (int g : r.view_node)
+    if (g < 0 || g >= num_nodes) throw InvalidInput("decimate: a reflection view names node " + std::to_string(g));
+}
+
 // Node face counts, targets and areas [m^2]; returns the total target face count.
 int set_node_budgets(const Mesh& mesh, const NodeGroups& group_of, int groups, int num_nodes,
                      const Eigen::VectorXd& target_ratio_per_node, const DecimationOptions& options, Context& c) {
@@ -219,6 +241,8 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     if (!(b >= 0 && std::isfinite(b))) throw InvalidInput("decimate: per-node area bounds must be finite and >= 0");
   if (!(options.max_fold_deg > 0 && options.max_fold_deg <= 179))
     throw InvalidInput("decimate: max_fold_deg must be in (0, 179]");
+  check_reflection_data(options.reflection, mesh.num_faces(), num_nodes);
+  if (!(options.reflection_cap >= 0)) throw InvalidInput("decimate: reflection_cap must be >= 0");
 
   const int groups = num_nodes + (has_unassigned ? 1 : 0);
   const NodeGroups group_of{mesh, num_nodes};
@@ -261,6 +285,21 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
   c.absorbed_by.assign(nf, -1);
   c.stamp.assign(nv, 0);
   if (options.projected_area_cap > 0) c.node_projection_change.assign(groups, Context::Projection{});
+  if (!options.reflection.empty()) {
+    // Reflected-sunlight cap (reflection_cap.cpp): each face side's flux and views.
+    const auto& r = options.reflection;
+    c.face_flux.resize(nf);
+    c.face_view.resize(nf);
+    for (int f = 0; f < nf; ++f)
+      for (int k = 0; k < 2; ++k) {
+        const int s = 2 * f + k;
+        c.face_flux[f][k] = r.flux_W_per_m2[s];
+        for (int e = r.view_start[s]; e < r.view_start[s + 1]; ++e)
+          c.face_view[f][k].emplace_back(r.view_node[e], r.view_fraction[e]);
+      }
+    c.node_reflection_change_W.assign(static_cast<size_t>(groups) * num_nodes, 0.0);
+    c.reflection_scratch.assign(num_nodes, 0.0);
+  }
   if (options.projected_area_cap > 0 && options.restore_node_areas) {
     c.group_faces.assign(groups, {});
     for (int f = 0; f < nf; ++f) c.group_faces[group_of(f)].push_back(f);

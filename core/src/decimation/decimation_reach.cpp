@@ -20,6 +20,7 @@ const char* collapse_block_name(CollapseBlock block) {
     case CollapseBlock::topology: return "topology";
     case CollapseBlock::thin_tube: return "thin_tube";
     case CollapseBlock::projected_area_budget: return "projected_area_budget";
+    case CollapseBlock::reflected_sunlight: return "reflected_sunlight";
     case CollapseBlock::none: return "none";
   }
   return "none";

@@ -75,6 +75,7 @@ void NodeCollapse::Execute(VMesh& m, vcg::BaseParameterClass* pp) {
     for (vcg::face::VFIterator<VFace> it(gone); !it.End(); ++it)
       if (it.V1() == kept || it.V2() == kept) removed_faces.push_back(c.fi(it.F()));
   record_projection_change(c);  // before the collapse: it measures the star as it was
+  record_reflection_change(c);   // likewise
   for (const auto& d : removed_per_node_) {
     const int k = static_cast<int>(d.value);
     if (c.node_faces[d.key] - k < c.node_target[d.key]) {

@@ -161,6 +161,14 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   bool projection_within_cap(Context& c, int node) const;
   // Adds this collapse's projected-area change to each node's account (Execute).
   void record_projection_change(Context& c) const;
+  // Reflected-sunlight cap (reflection_cap.cpp): what averaging node `node`'s changed faces
+  // does to the reflected power reaching each node (c.reflection_scratch at `touched`), their
+  // mean flux and views; whether every node's account stays within its cap; the accounts
+  // charged and the changed faces given the means (before the collapse runs).
+  void reflection_change(Context& c, int node, std::array<double, 2>& mean, std::array<Context::View, 2>& mean_view,
+                         std::vector<int>& touched) const;
+  bool reflection_within_cap(Context& c) const;
+  void record_reflection_change(Context& c) const;
   struct Restoration {
     int node = -1;                                // -1: none planned
     std::vector<std::pair<VVertex*, Vec3>> moves;  // vertex -> new position [m]

@@ -535,6 +535,20 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
     set_node_area_bounds(refs, settings.area_error_fraction * tol, area_cap, dec, say);
     run.node_max_relative_area_change = dec.node_max_relative_area_change;
   }
+  if (dec.reflection_cap > 0.0) {
+    // Reflected-sunlight cap (docs/decimation.md): the reference's reflected fluxes, mean over the cases.
+    // Fluxes and absorbed powers: mean over the cases (the views are the geometry's).
+    DecimationOptions::ReflectionData mean = refs.front()->reflection();
+    for (size_t k = 1; k < refs.size(); ++k) {
+      const auto& r = refs[k]->reflection();
+      for (size_t i = 0; i < mean.flux_W_per_m2.size() && i < r.flux_W_per_m2.size(); ++i) mean.flux_W_per_m2[i] += r.flux_W_per_m2[i];
+      for (size_t i = 0; i < mean.node_absorbed_W.size() && i < r.node_absorbed_W.size(); ++i) mean.node_absorbed_W[i] += r.node_absorbed_W[i];
+    }
+    for (double& q : mean.flux_W_per_m2) q /= static_cast<double>(refs.size());
+    for (double& q : mean.node_absorbed_W) q /= static_cast<double>(refs.size());
+    dec.reflection = std::move(mean);
+    for (auto& r : refs) r->set_decimation_options(dec);
+  }
 
   const ReductionReference& ref = *refs.front();
   run.reference = ref.result();

@@ -25,6 +25,7 @@ struct ReductionReference::Impl {
   std::unique_ptr<RadiationReference> radiation;
   LoadSamples load_samples;  //!< the reference's load sampling, reused by trials
   RecordUse records;
+  DecimationOptions::ReflectionData reflection;  //!< the decimator's reflected-sunlight cap data
   mutable std::mutex cache_mutex;
   // A trial's result and the candidate's simulation (nodes x times: small), so that the
   // candidate a strategy returns is rebuilt without simulating it again.
@@ -46,6 +47,41 @@ struct ReductionReference::Impl {
   std::unique_ptr<ReductionReference> base;
   Eigen::VectorXd base_ratios;
 };
+
+// The decimator's reflected-sunlight data (DecimationOptions::reflection): per face side, what
+// it reflects per unit area, orbit mean over the load positions (the columns after them are
+// eclipse edges), (1 - alpha) incident / area [W/m^2], and the nodes its rays first hit; per
+// node, its orbit-mean absorbed external power [W].
+static DecimationOptions::ReflectionData reflection_data(const ThermalModel& model, const FaceViewFactors& vf,
+                                                  const Loads& loads, const Eigen::MatrixXd& incident_W) {
+  DecimationOptions::ReflectionData r;
+  const SurfaceSides& sides = vf.sides;
+  const Eigen::Index steps = loads.reflected_solar_W.cols();
+  const int nf = model.mesh.num_faces(), nodes = static_cast<int>(model.nodes.size());
+  if (steps == 0 || incident_W.rows() != sides.size() || vf.F.rows() != sides.size()) return r;
+  const Eigen::VectorXd alpha = side_absorptivity(model, sides);
+  r.flux_W_per_m2.assign(2 * static_cast<size_t>(nf), 0.0);
+  std::vector<std::vector<std::pair<int, double>>> views(2 * static_cast<size_t>(nf));
+  std::vector<double> by_node(nodes, 0.0);
+  for (int s = 0; s < sides.size(); ++s) {
+    const size_t slot = 2 * static_cast<size_t>(sides.face[s]) + (sides.is_back[s] ? 1 : 0);
+    if (sides.area_m2[s] > 0)
+      r.flux_W_per_m2[slot] = (1.0 - alpha[s]) * incident_W.row(s).head(steps).mean() / sides.area_m2[s];
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(vf.F, s); it; ++it)
+      if (sides.node[it.col()] >= 0) by_node[sides.node[it.col()]] += it.value();
+    for (int g = 0; g < nodes; ++g)
+      if (by_node[g] > 0) views[slot].emplace_back(g, by_node[g]), by_node[g] = 0.0;
+  }
+  r.view_start.push_back(0);
+  for (const auto& v : views) {
+    for (const auto& [g, f] : v) r.view_node.push_back(g), r.view_fraction.push_back(f);
+    r.view_start.push_back(static_cast<int>(r.view_node.size()));
+  }
+  const Eigen::MatrixXd total = loads.total_W();
+  r.node_absorbed_W.resize(nodes);
+  for (int g = 0; g < nodes; ++g) r.node_absorbed_W[g] = total.row(g).mean();
+  return r;
+}
 
 TrialResult trial_result(const SimulationResult& reference, const SimulationResult& candidate,
                          const DecimationResult& decimation) {
@@ -108,6 +144,7 @@ ReductionReference::ReductionReference(const ThermalModel& model, const Reductio
   const FaceViewFactors& vf = impl_->radiation->face_view_factors();
   if (load_settings.solar_reflections)
     add_solar_reflections(loads, model, vf.sides, vf, solar_incident_W, nullptr, &impl_->load_samples);
+  impl_->reflection = reflection_data(model, vf, loads, solar_incident_W);
   solar_incident_W.resize(0, 0);
   RecordUse& use = impl_->records;
   use.ir_bytes = impl_->radiation->record_bytes();
@@ -129,6 +166,7 @@ const ThermalModel& ReductionReference::model() const { return impl_->model; }
 const SimulationResult& ReductionReference::result() const { return impl_->result; }
 const NodeCouplings& ReductionReference::couplings() const { return impl_->radiation->couplings(); }
 const Eigen::VectorXi& ReductionReference::faces_per_node() const { return impl_->faces_per_node; }
+const DecimationOptions::ReflectionData& ReductionReference::reflection() const { return impl_->reflection; }
 int ReductionReference::trials_evaluated() const { return impl_->evaluated; }
 const RecordUse& ReductionReference::record_use() const { return impl_->records; }
 const DecimationOptions& ReductionReference::decimation_options() const { return impl_->settings.decimation; }

@@ -80,6 +80,32 @@ struct DecimationOptions {
   //! kinks it allows (up to max_fold_deg, max_kinked_contour_deviation) run when the cap holds.
   //! Dimensionless, >= 0; 0 = off (the default; 10 in `reduce`).
   double projected_area_cap = 0.0;
+  //! Reflected-sunlight cap (docs/decimation.md, "Reflected-sunlight cap"). A face reflects
+  //! what lands on it uniformly over its area, so a collapse that merges a lit face with a
+  //! shadowed one reflects the lit face's light from the shadowed face's place, which may see
+  //! other nodes differently (a plate in a neighbour's shadow then lights that neighbour) while
+  //! the node's area, projected area and absorbed power stay as they were. Per input face side
+  //! (index 2 f for the front, 2 f + 1 for the back): the orbit-mean solar-band power it reflects
+  //! per unit area, (1 - alpha) x incident flux [W/m^2], and the fraction of its diffuse emission
+  //! that first hits each node (view_start[s] .. view_start[s + 1] in view_node / view_fraction).
+  //! A collapse gives the changed faces of each node it touches their area-weighted mean flux
+  //! and views; the reflected power reaching node g then changes by
+  //! sum_f A_f (q_mean - q_f) F_fg [W] (minus the covariance of flux and view over the star),
+  //! which is added to g's account; a collapse that takes an account past reflection_cap x
+  //! g's area bound x node_absorbed_W[g] (further from zero) is refused. Empty = off (the
+  //! default; `reduce` passes the reference's); else all sizes consistent, values finite >= 0.
+  struct ReflectionData {
+    std::vector<double> flux_W_per_m2;  //!< 2 x #faces
+    std::vector<int> view_start;        //!< 2 x #faces + 1
+    std::vector<int> view_node;         //!< node index of each view entry
+    std::vector<double> view_fraction;  //!< F(side, node) [-]
+    std::vector<double> node_absorbed_W;  //!< per node, orbit-mean absorbed external power [W]
+    bool empty() const { return flux_W_per_m2.empty(); }
+  } reflection;
+  //! See reflection. Dimensionless, >= 0: the reflected power reaching a node may move by this
+  //! multiple of its area bound times what it absorbs (1: as much as the area bound lets its
+  //! own emission move).
+  double reflection_cap = 1.0;
   //! Node-area restoration (needs projected_area_cap > 0): a collapse that would take one node's
   //! area past its bound may still run when that node's free vertices (off every contour) bring
   //! its area back to its input value: each moves along its own area gradient by a common
@@ -195,6 +221,7 @@ enum class CollapseBlock : int {
   topology,           //!< link condition (the collapse would change the topology)
   thin_tube,          //!< an edge along a thin tube's cross-section loop (collapse_tube_sections)
   projected_area_budget,  //!< the node's steep-turn budget (projected_area_budget) is spent
+  reflected_sunlight,  //!< the node has moved its reflection_cap's worth of reflected sunlight
   none,               //!< allowed: the node stopped at its target, not against a constraint
 };
 constexpr int kCollapseBlocks = static_cast<int>(CollapseBlock::none) + 1;

@@ -23,7 +23,9 @@ namespace thermodec {
 //! and the projected-area cap with node-area restoration (each node's projected area in 64
 //! directions within 10 x its area bound; a collapse past the area bound runs when the node's
 //! free vertices restore its area: docs/decimation.md), which reach further on curved CAD parts
-//! while moving their projected areas less.
+//! while moving their projected areas less. The reflected-sunlight cap stays off
+//! (reflection_cap 0; `reduce --reflection-cap F` passes the reference's reflected fluxes and
+//! views per face: docs/decimation.md, measured on NPP_16 in docs/benchmarks.md).
 inline DecimationOptions reduction_decimation_options() {
   DecimationOptions o;
   o.collapse_cost = CollapseCostKind::radiative;
@@ -31,6 +33,7 @@ inline DecimationOptions reduction_decimation_options() {
   o.release_contacts = true;
   o.projected_area_cap = 10.0;
   o.restore_node_areas = true;
+  o.reflection_cap = 0.0;  // off: not yet fewer faces on NPP_16 (docs/benchmarks.md, "Reflected sunlight")
   return o;
 }
 
@@ -95,6 +98,9 @@ class ReductionReference {
   const NodeCouplings& couplings() const;
   //! Faces per node of the reference mesh.
   const Eigen::VectorXi& faces_per_node() const;
+  //! The reference's reflected sunlight per face side, its views of the nodes and the nodes'
+  //! absorbed powers (DecimationOptions::reflection; empty without loads).
+  const DecimationOptions::ReflectionData& reflection() const;
   //! Largest ratio each node can reach alone under the decimator's constraints.
   Eigen::VectorXd max_ratio_per_node() const;
 
