@@ -153,6 +153,9 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   // Moves the planned vertices (after the collapse), updates the node's area, the parts'
   // volumes and the stamps of the stars that changed.
   void apply_area_restoration(Context& c);
+  // The faces around every vertex this collapse (single or section) moves or removes, sorted and
+  // unique, into c.projection_faces (projected_area_cap.cpp).
+  void gather_faces_around_moved_vertices(Context& c) const;
   // Adds to dp what this collapse (single or section) does to `node`'s projected area in each
   // direction of Context::projection_directions() [m^2] (projected_area_cap.cpp).
   void add_projection_change(Context& c, int node, Context::Projection& dp) const;

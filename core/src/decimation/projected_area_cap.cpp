@@ -29,8 +29,7 @@ void add_projection(const Vec3& n0, const Vec3& n1, Context::Projection& dp) {
     dp[k] += std::max(0.0, n1.dot(dirs[k])) - std::max(0.0, n0.dot(dirs[k]));
 }
 
-void NodeCollapse::add_projection_change(Context& c, int node, Context::Projection& dp) const {
-  // The faces around every vertex that moves or goes (removed faces collapse to zero area).
+void NodeCollapse::gather_faces_around_moved_vertices(Context& c) const {
   auto& faces = c.projection_faces;
   faces.clear();
   auto around = [&](VVertex* v) {
@@ -43,6 +42,12 @@ void NodeCollapse::add_projection_change(Context& c, int node, Context::Projecti
   }
   std::sort(faces.begin(), faces.end());
   faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+}
+
+void NodeCollapse::add_projection_change(Context& c, int node, Context::Projection& dp) const {
+  // The faces around every vertex that moves or goes (removed faces collapse to zero area).
+  gather_faces_around_moved_vertices(c);
+  const auto& faces = c.projection_faces;
   std::array<Vec3, 3> p, q;
   for (const VFace* f : faces) {
     if (c.region_node[c.face_region[c.fi(f)]] != node) continue;

@@ -30,18 +30,8 @@ namespace thermodec::collapse {
 // `touched`); their mean flux and views into `mean` / `mean_view`.
 void NodeCollapse::reflection_change(Context& c, int node, std::array<double, 2>& mean,
                                      std::array<Context::View, 2>& mean_view, std::vector<int>& touched) const {
+  gather_faces_around_moved_vertices(c);
   auto& faces = c.projection_faces;
-  faces.clear();
-  auto around = [&](VVertex* v) {
-    for (vcg::face::VFIterator<VFace> it(v); !it.End(); ++it) faces.push_back(it.F());
-  };
-  if (section_.n > 0) {
-    for (int j = 0; j < section_.n; ++j) around(section_.gone[j]), around(section_.kept[j]);
-  } else {
-    around(const_cast<VVertex*>(pos.cV(0))), around(const_cast<VVertex*>(pos.cV(1)));
-  }
-  std::sort(faces.begin(), faces.end());
-  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
   std::array<Vec3, 3> p, q;
   thread_local std::vector<double> areas;
   areas.clear();
