@@ -1,4 +1,5 @@
 #include "thermodec/reduction/merge_reduction.h"
+#include "thermodec/reduction/merge_bound.h"
 
 #include <algorithm>
 #include <chrono>
@@ -366,6 +367,32 @@ std::vector<char> small_nodes(const ThermalModel& model, double share) {
   return small;
 }
 
+// What no merge can beat, from the original's temperatures (reduction/merge_bound.h): the
+// fewest merged nodes at the budget and at the tolerance, and the least max |dT| a merge into
+// 90 ... 25 % of the nodes spends by itself.
+void merge_bounds(const std::vector<CaseReference>& refs, const std::vector<int>& excluded, double budget_K,
+                  double tolerance_K, NodeMerging& sum, const std::function<void(const std::string&)>& say) {
+  std::vector<Eigen::MatrixXd> temperatures;
+  for (const CaseReference& r : refs) temperatures.push_back(r.result.temperature_K);
+  const Eigen::MatrixXd spread = pairwise_spread_K(temperatures, excluded);
+  const int n = static_cast<int>(spread.rows());
+  sum.fewest_nodes_at_budget = static_cast<int>(nodes_pairwise_apart(spread, budget_K).size());
+  const std::vector<int> apart = nodes_pairwise_apart(spread, tolerance_K);
+  sum.fewest_nodes_at_tolerance = static_cast<int>(apart.size());
+  for (int i : apart) sum.apart_at_tolerance.push_back(refs.front().model.nodes[i].name);
+  std::string curve;
+  for (double f : {0.9, 0.75, 0.6, 0.5, 0.4, 0.3, 0.25}) {
+    const int nodes = std::max(1, static_cast<int>(std::floor(f * n)));
+    if (!sum.least_merge_dT_K.empty() && sum.least_merge_dT_K.back().first == nodes) continue;
+    sum.least_merge_dT_K.emplace_back(nodes, least_merge_dT_K(spread, nodes));
+    curve += fmt(" %.0f nodes %.3g K,", nodes, sum.least_merge_dT_K.back().second);
+  }
+  curve.pop_back();
+  say(fmt("node merging: no merge goes below %.0f nodes within the budget (%.4g K), ", sum.fewest_nodes_at_budget, budget_K) +
+      fmt("%.0f within the tolerance (%.4g K); merging alone spends at least:", sum.fewest_nodes_at_tolerance, tolerance_K) +
+      curve);
+}
+
 MergeSearch search_node_merges(const ThermalModel& model, const std::vector<LoadCase>& extra_cases,
                                const ModelSimulationSettings& simulation, const NodeMergeSettings& merge,
                                double budget_K, const std::function<void(const std::string&)>& say_in) {
@@ -399,6 +426,7 @@ MergeSearch search_node_merges(const ThermalModel& model, const std::vector<Load
     r.result = simulate_model(r.model, simulation, &r.couplings);
     refs.push_back(std::move(r));
   }
+  merge_bounds(refs, excluded, budget_K, tolerance_K, sum, say);
   std::vector<int> labels(n);
   std::vector<std::pair<int, int>> pairs =
       merge_candidates(refs.front().model, refs.front().couplings, refs.front().result, merge.strongest_exchanges, excluded);

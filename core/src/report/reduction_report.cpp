@@ -54,6 +54,13 @@ json node_merging_json(const NodeMerging& m) {
             {"traced_simulations", m.traced_simulations}, {"merges", steps}, {"node_map", map},
             {"seconds", m.seconds}};
   if (!m.fallback.empty()) j["fallback"] = m.fallback;
+  // What no merge can beat (reduction/merge_bound.h); a count no merge reaches has no finite cost.
+  json least = json::array();
+  for (const auto& [nodes, dT] : m.least_merge_dT_K)
+    least.push_back({{"nodes", nodes}, {"dT_K", std::isfinite(dT) ? json(dT) : json(nullptr)}});
+  j["bound"] = {{"fewest_nodes_at_budget", m.fewest_nodes_at_budget},
+                {"fewest_nodes_at_tolerance", m.fewest_nodes_at_tolerance},
+                {"apart_at_tolerance", m.apart_at_tolerance}, {"least_merge_dT_K", least}};
   return j;
 }
 

@@ -35,6 +35,12 @@ struct NodeMerging {
   //! |dT| against the reference through the map [K] (0: not traced), and the simulations that took.
   double traced_dT_K = 0.0;
   int traced_simulations = 0;
+  //! What no merge can beat (reduction/merge_bound.h): the fewest merged nodes at the merge
+  //! budget and at the whole tolerance (nodes pairwise farther apart than twice it, names of
+  //! the latter set), and per node count, the least max |dT| a merge into that many must spend [K].
+  int fewest_nodes_at_budget = 0, fewest_nodes_at_tolerance = 0;
+  std::vector<std::string> apart_at_tolerance;
+  std::vector<std::pair<int, double>> least_merge_dT_K;
   std::vector<NodeMergeStep> steps;     //!< accepted merges, in order
   std::vector<std::pair<std::string, std::string>> node_map;  //!< original -> merged node
   double seconds = 0.0;                 //!< reference simulations and merge trials [s]
