@@ -156,6 +156,9 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   // The faces around every vertex this collapse (single or section) moves or removes, sorted and
   // unique, into c.projection_faces (projected_area_cap.cpp).
   void gather_faces_around_moved_vertices(Context& c) const;
+  // Face f's corners before (p) and after (q) this collapse, single or section [m]
+  // (projected_area_cap.cpp).
+  void corners_before_after(const VFace* f, std::array<Vec3, 3>& p, std::array<Vec3, 3>& q) const;
   // Adds to dp what this collapse (single or section) does to `node`'s projected area in each
   // direction of Context::projection_directions() [m^2] (projected_area_cap.cpp).
   void add_projection_change(Context& c, int node, Context::Projection& dp) const;

@@ -44,6 +44,15 @@ void NodeCollapse::gather_faces_around_moved_vertices(Context& c) const {
   faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
 }
 
+void NodeCollapse::corners_before_after(const VFace* f, std::array<Vec3, 3>& p, std::array<Vec3, 3>& q) const {
+  int moved_at = -1;
+  if (section_.n > 0)
+    for (int k = 0; k < 3; ++k) q[k] = section_position(f->cV(k), section_.shift);
+  else
+    corners_after(f, x_, q, moved_at);
+  for (int k = 0; k < 3; ++k) p[k] = to_eigen(f->cP(k));
+}
+
 void NodeCollapse::add_projection_change(Context& c, int node, Context::Projection& dp) const {
   // The faces around every vertex that moves or goes (removed faces collapse to zero area).
   gather_faces_around_moved_vertices(c);
@@ -51,12 +60,7 @@ void NodeCollapse::add_projection_change(Context& c, int node, Context::Projecti
   std::array<Vec3, 3> p, q;
   for (const VFace* f : faces) {
     if (c.region_node[c.face_region[c.fi(f)]] != node) continue;
-    int moved_at = -1;
-    if (section_.n > 0)
-      for (int k = 0; k < 3; ++k) q[k] = section_position(f->cV(k), section_.shift);
-    else
-      corners_after(f, x_, q, moved_at);
-    for (int k = 0; k < 3; ++k) p[k] = to_eigen(f->cP(k));
+    corners_before_after(f, p, q);
     add_projection(0.5 * (p[1] - p[0]).cross(p[2] - p[0]), 0.5 * (q[1] - q[0]).cross(q[2] - q[0]), dp);
   }
 }

@@ -39,12 +39,7 @@ void NodeCollapse::reflection_change(Context& c, int node, std::array<double, 2>
   size_t changed = 0;
   for (VFace* f : faces) {
     if (c.region_node[c.face_region[c.fi(f)]] != node) continue;
-    int moved_at = -1;
-    if (section_.n > 0)
-      for (int k = 0; k < 3; ++k) q[k] = section_position(f->cV(k), section_.shift);
-    else
-      corners_after(f, x_, q, moved_at);
-    for (int k = 0; k < 3; ++k) p[k] = to_eigen(f->cP(k));
+    corners_before_after(f, p, q);
     if (p == q) continue;
     areas.push_back(0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm());
     area += areas.back();
