@@ -26,8 +26,7 @@ Eigen::VectorXi side_ray_counts(const SurfaceSides& sides, const RadiationSettin
 
 namespace detail {
 FaceViewFactors trace_all(const RayScene& scene, const SurfaceSides& sides, const RadiationSettings& settings,
-                          std::vector<tracing::RayRecord>* records, std::vector<std::int64_t>* record_begin,
-                          bool half_differences) {
+                          std::vector<tracing::RayRecord>* records, std::vector<std::int64_t>* record_begin) {
   if (sides.front_side.size() != scene.mesh().num_faces())
     throw InvalidInput("face_view_factors: the surface sides do not belong to the scene's mesh");
   const int S = sides.size();
@@ -37,36 +36,29 @@ FaceViewFactors trace_all(const RayScene& scene, const SurfaceSides& sides, cons
   std::vector<std::int64_t> begin = record_offsets(rays);
   if (records) records->resize(begin.back());
   const tracing::PrimTable prims = tracing::prim_table(scene.impl(), sides);
-  SideRows rows(S), halves(half_differences ? S : 0);
+  SideRows rows(S);
   tbb::enumerable_thread_specific<tracing::Counter> counters([S] { return tracing::Counter(S); });
-  tbb::enumerable_thread_specific<tracing::Counter> signed_counters([S] { return tracing::Counter(S); });
   tbb::parallel_for(tbb::blocked_range<int>(0, S, 8), [&](const tbb::blocked_range<int>& r) {
     tracing::Counter& c = counters.local();
-    tracing::Counter* d = half_differences ? &signed_counters.local() : nullptr;
     for (int s = r.begin(); s != r.end(); ++s) {
       const sampling::Emitter e = tracing::side_emitter(scene.mesh(), sides, s, settings.seed);
       std::int64_t back = 0;
       tracing::RayRecord* rec = records ? records->data() + begin[s] : nullptr;
-      const int half = rays[s] >= 2 ? rays[s] / 2 : -1;  // a one-ray side has no halves: no difference
       tracing::trace_emitter(scene.impl(), prims, e, sobol, rays[s], tracing::AllRays{}, [&](int i, int hit, bool back_hit, float t) {
         c.add(hit, 1);
-        if (d && half > 0) d->add(hit, i < half ? 1 : -1);
         back += back_hit;
         if (rec) rec[i] = tracing::RayRecord::of(hit, back_hit, t);
       });
       rows.take(s, c, back);
-      if (d) halves.take(s, *d, 0);
     }
   });
   if (record_begin) *record_begin = std::move(begin);
-  FaceViewFactors vf = assemble(sides, rows, settings.rays_per_face, rays);
-  if (half_differences) assemble_half_differences(halves, rays, vf);
-  return vf;
+  return assemble(sides, rows, settings.rays_per_face, rays);
 }
 }  // namespace detail
 
 FaceViewFactors face_view_factors(const RayScene& scene, const SurfaceSides& sides, const RadiationSettings& settings) {
-  return detail::trace_all(scene, sides, settings, nullptr, nullptr, true);
+  return detail::trace_all(scene, sides, settings, nullptr, nullptr);
 }
 
 FaceViewFactors face_view_factors(const RayScene& scene, const RadiationSettings& settings) {

@@ -138,32 +138,6 @@ void restore_closure(const FaceViewFactors& vf, const RowMatrixXd& Y, const RowM
   }
 }
 
-// Per side s and column j, the variance of side s's Gebhart row as its own scrambled net
-// sampled it: (sum_t D_st Y(t, j) + D_s,space [j = space])^2, D the half differences
-// (FaceViewFactors::half_difference: the first half of the side's rays against the second).
-// One degree of freedom per side; summed over a node's sides it is a usable estimate. A side
-// without halves (one ray) keeps its binomial row of `binomial`.
-RowMatrixXd half_difference_variance(const FaceViewFactors& vf, const RowMatrixXd& Y, const RowMatrixXd& binomial) {
-  const int S = vf.sides.size(), C = static_cast<int>(Y.cols()), SP = C - 1;
-  RowMatrixXd out(S, C);
-  tbb::parallel_for(tbb::blocked_range<int>(0, S, 64), [&](const tbb::blocked_range<int>& r) {
-    Eigen::RowVectorXd d(C);
-    for (int s = r.begin(); s != r.end(); ++s) {
-      const int rays = vf.side_rays.size() ? vf.side_rays[s] : vf.rays_per_side;
-      if (rays < 2) {
-        out.row(s) = binomial.row(s);
-        continue;
-      }
-      d.setZero();
-      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(vf.half_difference, s); it; ++it)
-        d.noalias() += it.value() * Y.row(it.col());
-      d[SP] += vf.to_space_half_difference[s];
-      out.row(s) = d.cwiseAbs2();
-    }
-  });
-  return out;
-}
-
 }  // namespace
 
 NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::VectorXd& emissivity,
@@ -267,13 +241,6 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
   for (int s = 0; s < S; ++s)
     for (int i = 0; i < N; ++i) W(s, i) = A[s] * A[s] * Y(s, i) * Y(s, i);
   const Eigen::MatrixXd VG = W.transpose() * V;  // N x C (V already per side's ray count)
-  // The same with each side's variance as its scrambled net achieved it (half differences):
-  // what weighs a pair's two directions. The binomial VG stays the reported error.
-  // Shrunk towards the binomial VG by their geometric mean: each side's half difference has one
-  // degree of freedom, and a pair seen by few sides would otherwise get a noisy weight.
-  const Eigen::MatrixXd VG_net = vf.half_difference.rows() == S
-                                     ? Eigen::MatrixXd((W.transpose() * half_difference_variance(vf, Y, V)).cwiseProduct(VG).cwiseSqrt())
-                                     : VG;
   Eigen::MatrixXd GR = Eigen::MatrixXd::Zero(N, C);
   Eigen::VectorXd emit = Eigen::VectorXd::Zero(N), floor_gr = Eigen::VectorXd::Zero(N);
   for (int s = 0; s < S; ++s) {
@@ -301,13 +268,8 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
         v_dir(i, j) = VG(i, j) + floor_gr[i] * ymax[j] * ymax[j];
         v_dir(j, i) = VG(j, i) + floor_gr[j] * ymax[i] * ymax[i];
         v = combine(GR(i, j), v_dir(i, j), GR(j, i), v_dir(j, i), x, sig);
-        // The value: the two directions weighed by their variances as sampled (VG_net).
-        const double net_ij = VG_net(i, j) + floor_gr[i] * ymax[j] * ymax[j];
-        const double net_ji = VG_net(j, i) + floor_gr[j] * ymax[i] * ymax[i];
-        double unused_sigma = 0.0;
-        combine(GR(i, j), net_ij, GR(j, i), net_ji, x, unused_sigma);
-        const double vs = net_ij + net_ji;
-        lambda(i, j) = vs > 0.0 ? net_ji / vs : 0.5;
+        const double vs = v_dir(i, j) + v_dir(j, i);
+        lambda(i, j) = vs > 0.0 ? v_dir(j, i) / vs : 0.5;
         lambda(j, i) = 1.0 - lambda(i, j);
         dg.coupling_asymmetry_sigma = std::max(dg.coupling_asymmetry_sigma, sig);
         const double big = std::max(GR(i, j), GR(j, i));

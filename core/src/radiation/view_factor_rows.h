@@ -105,28 +105,9 @@ inline FaceViewFactors assemble(const SurfaceSides& sides, const SideRows& rows,
   return vf;
 }
 
-//! The half differences of `rows` (signed counts: first half of a side's rays minus second
-//! half) into vf.half_difference and vf.to_space_half_difference (FaceViewFactors).
-inline void assemble_half_differences(const SideRows& rows, const Eigen::VectorXi& rays, FaceViewFactors& vf) {
-  const int S = static_cast<int>(rows.hits.size());
-  vf.half_difference.resize(S, S);
-  Eigen::VectorXi nnz(S);
-  for (int s = 0; s < S; ++s) nnz[s] = static_cast<int>(rows.hits[s].size());
-  vf.half_difference.reserve(nnz);
-  vf.to_space_half_difference.resize(S);
-  for (int s = 0; s < S; ++s) {
-    const double inv = 1.0 / rays[s];
-    for (const auto& [t, n] : rows.hits[s]) vf.half_difference.insert(s, t) = n * inv;
-    vf.to_space_half_difference[s] = rows.space[s] * inv;
-  }
-  vf.half_difference.makeCompressed();
-}
-
 //! All rays of all sides (the full computation); `records`, if non-null, receives every ray's
 //! hit, in side-major ray order, side s starting at (*record_begin)[s] (record_offsets).
-//! `half_differences`: also fill FaceViewFactors::half_difference.
 FaceViewFactors trace_all(const RayScene& scene, const SurfaceSides& sides, const RadiationSettings& settings,
-                          std::vector<tracing::RayRecord>* records, std::vector<std::int64_t>* record_begin,
-                          bool half_differences = false);
+                          std::vector<tracing::RayRecord>* records, std::vector<std::int64_t>* record_begin);
 
 }  // namespace thermodec::detail

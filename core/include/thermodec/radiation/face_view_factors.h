@@ -24,14 +24,6 @@ struct FaceViewFactors {
   int rays_per_side = 0;      //!< RadiationSettings::rays_per_face (side_rays: the counts emitted)
   //! #S rays emitted by each side; empty = rays_per_side for all (hand-built results).
   Eigen::VectorXi side_rays;
-  //! Empty, or #S x #S: (hits of t by the first half of side s's rays - hits by the second
-  //! half) / side_rays[s] [-], and to_space_half_difference the same for escaping rays. Each
-  //! half of a power-of-two count is a complete Sobol net, so D_st^2 estimates the seed-to-seed
-  //! variance of F_st as the scrambled net achieves it, not the binomial one (an upper
-  //! estimate: the two halves of one scramble are negatively correlated). Filled by
-  //! face_view_factors(); aggregate_couplings weighs a pair's two directions with it.
-  Eigen::SparseMatrix<double, Eigen::RowMajor> half_difference;
-  Eigen::VectorXd to_space_half_difference;
   std::int64_t rays_traced = 0;
   std::int64_t back_hits_on_one_sided = 0;  //!< rays that passed through the back of a one-sided face
   Eigen::VectorXi back_hits_per_side;        //!< #S the same, per emitting side
