@@ -12,6 +12,7 @@
 //   BENCH_BOOST="dish=64/16,..."  Node::sampling_boost per node, IR/loads (the boosts `simulate`
 //                            decides: its result's `sampling.sampling_boost`)
 //   BENCH_IR_ONLY=1          the IR couplings' floor only (one loads evaluation)
+//   BENCH_ATTRIBUTE="dish:5-8"  (with BENCH_IR_ONLY) the attribution for that node and seed pair
 //   BENCH_BY_EMITTER=1       the IR floor when only one node's rays change seed (its sides' rows
 //                            of F from seed k, every other row from the first seed)
 //   BENCH_SPLIT_NODE=dish    the same for that node's front and back sides apart, IR couplings
@@ -278,7 +279,17 @@ int main(int argc, char** argv) {
   if (std::getenv("BENCH_IR_ONLY")) {
     std::vector<SimulationResult> r(st.K);
     for (int k = 0; k < st.K; ++k) r[k] = simulate(st.model, st.nc[k], st.loads0);
-    print_floor("IR couplings only", floor_of(r, st.seeds), st.model);
+    const Floor f = floor_of(r, st.seeds);
+    print_floor("IR couplings only", f, st.model);
+    if (const char* spec = std::getenv("BENCH_ATTRIBUTE")) {  // "dish:5-8"
+      const std::string a = spec;
+      const std::size_t colon = a.find(':'), d = a.find('-', colon);
+      Floor g = f;
+      g.node = a.substr(0, colon);
+      g.a = std::stoi(a.substr(colon + 1, d - colon - 1));
+      g.b = std::stoi(a.substr(d + 1));
+      attribute(st, g, r);
+    }
   } else {
     Floor ir;
     const std::vector<SimulationResult> r_ir = components(st, ir);
