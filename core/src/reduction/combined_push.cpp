@@ -105,6 +105,10 @@ double split_failed_step(const PathStep& s, Eigen::MatrixXd field_lo, Eigen::Mat
     const bool passed = within(t, tol);
     std::string action = fmt::format("combined push: node {} to {:.4f}, half of its failed step to {:.4f} (~{:.0f} faces)",
                                      s.node, mid, hi, faces_per_ratio * (mid - s.from));
+    Eigen::Index hottest = -1;
+    if (!passed && t.node_max_abs_dT_K.size() > 0 && !t.node_max_abs_dT_K.hasNaN())
+      t.node_max_abs_dT_K.maxCoeff(&hottest);
+    if (hottest >= 0) action += " (max at node " + std::to_string(hottest) + ")";
     record(r, t, action + (passed ? "" : " (rejected: over the tolerance)"), predicted);
     if (passed) {
       lo = mid;
