@@ -170,3 +170,49 @@ TEST(CombinedPush, reduces_further_than_the_one_node_push_on_interacting_nodes) 
   }
   EXPECT_LT(faces[1], faces[0]);
 }
+
+TEST(CombinedPush, splits_a_step_that_fails_on_its_own_before_capping_its_node) {
+  // Node 0: 400 faces, alone 0.1 K at 0.5 and 0.2 K at 0.8 on its own cell; beside the rest of
+  // the model, past ratio 0.7 it adds 0.5 K to cell 1 (a neighbour its single-node trials never
+  // moved). The grid steps of 30 faces between 0.5 and 0.8 put 0.7 inside the step from 0.65 to
+  // 0.725, which fails alone; its halves are measured down to the grid's resolution, so the node
+  // stops between 0.65 and 0.7 instead of at 0.65.
+  SensitivityCurve c{0, {0.5, 0.8}, {0.1, 0.2}, {200, 80}, {Eigen::MatrixXd::Zero(2, 1), Eigen::MatrixXd::Zero(2, 1)}};
+  c.dT_K[0](0, 0) = 0.1;
+  c.dT_K[1](0, 0) = 0.2;
+  const std::vector<const SensitivityCurve*> p{&c, nullptr};
+  int trials = 0;
+  auto trial = [&](const Eigen::VectorXd& r) {
+    ++trials;
+    TrialResult t;
+    t.dT_K = Eigen::MatrixXd::Zero(2, 1);
+    t.dT_K(0, 0) = r[0] <= 0.5 ? 0.2 * r[0] : 0.1 + (r[0] - 0.5) / 3.0;
+    if (r[0] > 0.7) t.dT_K(1, 0) = 0.5;
+    t.node_max_abs_dT_K = t.dT_K.col(0).cwiseAbs();
+    t.max_abs_dT_K = t.node_max_abs_dT_K.maxCoeff();
+    t.node_faces_after = Eigen::VectorXi::Constant(2, 10);
+    t.node_faces_after[0] = static_cast<int>(std::lround(400.0 * (1.0 - r[0])));
+    t.faces_after = t.node_faces_after.sum();
+    return t;
+  };
+  Eigen::VectorXd start(2);
+  start << 0.5, 0.0;
+  TrialResult res = trial(start);
+  std::vector<std::string> actions;
+  auto record = [&](const Eigen::VectorXd&, const TrialResult&, const std::string& a, double) { actions.push_back(a); };
+  CombinedPushOptions o;
+  o.tolerance_K = 0.3;
+  o.max_trials = 8;
+  trials = 0;
+  std::vector<bool> capped;
+  const Eigen::VectorXd out = combined_push(p, trial, o, record, start, res, &capped);
+  EXPECT_LE(trials, o.max_trials);
+  EXPECT_TRUE(capped[0]);
+  EXPECT_GT(out[0], 0.65 + 1e-9) << "the failed step's passing half was not taken";
+  EXPECT_LE(out[0], 0.7);
+  EXPECT_LE(res.max_abs_dT_K, o.tolerance_K);
+  EXPECT_EQ(res.max_abs_dT_K, trial(out).max_abs_dT_K);
+  int halves = 0;
+  for (const auto& a : actions) halves += a.find("half of its failed step") != std::string::npos;
+  EXPECT_GE(halves, 1);
+}

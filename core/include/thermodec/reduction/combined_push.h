@@ -15,7 +15,8 @@
 //! and the farthest j the model keeps within the tolerance is measured next (E halved each time
 //! lo moves again while hi stays, the Illinois rule, so it does not creep). Where no point is
 //! predicted within it, the first step beyond lo alone is measured; a first step that fails alone
-//! caps its node where it is. A passing point becomes c, and a round ends where the path has
+//! is bisected on its node's ratio down to parts of two edge collapses (4 faces; within
+//! max_trials), and its node capped at the last passing ratio. A passing point becomes c, and a round ends where the path has
 //! nothing left between lo and hi; the next round plans again from c (its measured field holds
 //! every interaction met so far).
 #include <Eigen/Core>
