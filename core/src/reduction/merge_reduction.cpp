@@ -370,11 +370,9 @@ std::vector<char> small_nodes(const ThermalModel& model, double share) {
 // What no merge can beat, from the original's temperatures (reduction/merge_bound.h): the
 // fewest merged nodes at the budget and at the tolerance, and the least max |dT| a merge into
 // 90 ... 25 % of the nodes spends by itself.
-void merge_bounds(const std::vector<CaseReference>& refs, const std::vector<int>& excluded, double budget_K,
+// `spread`: pairwise_spread_K of the references, kept and fixed nodes apart from all.
+void merge_bounds(const std::vector<CaseReference>& refs, const Eigen::MatrixXd& spread, double budget_K,
                   double tolerance_K, NodeMerging& sum, const std::function<void(const std::string&)>& say) {
-  std::vector<Eigen::MatrixXd> temperatures;
-  for (const CaseReference& r : refs) temperatures.push_back(r.result.temperature_K);
-  const Eigen::MatrixXd spread = pairwise_spread_K(temperatures, excluded);
   const int n = static_cast<int>(spread.rows());
   sum.fewest_nodes_at_budget = static_cast<int>(nodes_pairwise_apart(spread, budget_K).size());
   const std::vector<int> apart = nodes_pairwise_apart(spread, tolerance_K);
@@ -426,22 +424,19 @@ MergeSearch search_node_merges(const ThermalModel& model, const std::vector<Load
     r.result = simulate_model(r.model, simulation, &r.couplings);
     refs.push_back(std::move(r));
   }
-  merge_bounds(refs, excluded, budget_K, tolerance_K, sum, say);
+  // Per pair of nodes, the max over cases and times of |T_i - T_j| (kept and fixed nodes: infinite).
+  std::vector<Eigen::MatrixXd> temperatures;
+  for (const CaseReference& r : refs) temperatures.push_back(r.result.temperature_K);
+  const Eigen::MatrixXd spread = pairwise_spread_K(temperatures, excluded);
+  merge_bounds(refs, spread, budget_K, tolerance_K, sum, say);
   std::vector<int> labels(n);
   std::vector<std::pair<int, int>> pairs =
       merge_candidates(refs.front().model, refs.front().couplings, refs.front().result, merge.strongest_exchanges, excluded);
   // Every two nodes whose reference temperatures stay within twice the larger budget of each
   // other in every case (near-isothermal wherever they are: what a merge can afford).
-  std::vector<char> out_of_play(n, 0);
-  for (int i : excluded) out_of_play[i] = 1;
   for (int i = 0; i < n; ++i)
-    for (int j = i + 1; j < n; ++j) {
-      if (out_of_play[i] || out_of_play[j]) continue;
-      double spread = 0.0;
-      for (const CaseReference& r : refs)
-        spread = std::max(spread, (r.result.temperature_K.row(i) - r.result.temperature_K.row(j)).cwiseAbs().maxCoeff());
-      if (spread <= 2.0 * small_K) pairs.emplace_back(i, j);
-    }
+    for (int j = i + 1; j < n; ++j)
+      if (spread(i, j) <= 2.0 * small_K) pairs.emplace_back(i, j);
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   sum.candidates = static_cast<int>(pairs.size());
