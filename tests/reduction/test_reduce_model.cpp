@@ -566,3 +566,35 @@ TEST(ReduceModel, every_attempt_rejected_backs_the_least_rejected_candidate_off_
   EXPECT_EQ(backed.outcome.history.back().action.rfind("back off x", 0), 0u) << backed.outcome.history.back().action;
   EXPECT_GT(backed.outcome.ratio_per_node.maxCoeff(), 0.0);
 }
+
+TEST(ReductionReference, decimation_that_drops_only_unused_vertices_is_the_reference) {
+  // A vertex no face uses (a cleaned mesh can keep some: Juno's dropped degenerate faces). A
+  // decimation that collapses nothing leaves it out, so the vertex table differs while every
+  // face keeps its corners: the same surface, whose trial is the reference itself, not a new
+  // simulation (on Juno such a trial sampled every load again).
+  ThermalModel model = small_model();
+  const Eigen::Index nv = model.mesh.V.rows();
+  model.mesh.V.conservativeResize(nv + 1, 3);
+  model.mesh.V.row(nv) << 5.0, 5.0, 5.0;
+  ReductionReferenceSettings rs;
+  rs.simulation.loads.earth_rays_per_face = 16;
+  rs.simulation.loads.sun_rays_per_face = 256;
+  ReductionReference ref(model, rs);
+  const Eigen::VectorXd none = Eigen::VectorXd::Zero(7);
+  const DecimationResult d = decimate_nodes(model.mesh, none, rs.decimation);
+  ASSERT_EQ(d.mesh.V.rows(), nv);  // the unused vertex is gone ...
+  ASSERT_EQ(d.mesh.F, model.mesh.F);  // ... and the faces are the same
+  const TrialResult t = ref.trial(none);
+  EXPECT_EQ(t.max_abs_dT_K, 0.0);
+  EXPECT_EQ(t.redone_fraction, 0.0);
+  EXPECT_EQ(t.timing.couplings_s, 0.0);  // nothing traced or sampled again
+  EXPECT_EQ(t.timing.loads_s, 0.0);
+  EXPECT_EQ(t.timing.solve_s, 0.0);
+  EXPECT_EQ(ref.verify(none).max_abs_dT_K, 0.0);  // what a full simulation of it gives
+  // A decimated node is a change, traced as one.
+  Eigen::VectorXd one = none;
+  one[6] = 0.8;
+  const TrialResult moved = ref.trial(one);
+  EXPECT_GT(moved.redone_fraction, 0.0);
+  EXPECT_GT(moved.timing.loads_s + moved.timing.couplings_s, 0.0);
+}

@@ -273,6 +273,26 @@ std::uint64_t mesh_key(const Mesh& m) {
   return hash_bytes(h, m.face_back_material);
 }
 
+// True if `m1` has the faces of `m0`: in the same order, corner for corner at the same
+// coordinates, with the same nodes and materials. The vertex numbering may differ: a
+// decimation that collapsed nothing still leaves out the vertices no face uses (Juno's
+// cleaned mesh keeps some), and every face side, ray and sample of a simulation follows from
+// the faces' corners (their side keys and emitters), not from the vertex table.
+bool same_surface(const Mesh& m0, const Mesh& m1) {
+  if (m1.F.rows() != m0.F.rows() || m1.face_node.size() != m0.face_node.size() ||
+      m1.face_material.size() != m0.face_material.size() ||
+      m1.face_back_material.size() != m0.face_back_material.size())
+    return false;
+  if (m1.face_node != m0.face_node || m1.face_material != m0.face_material ||
+      m1.face_back_material != m0.face_back_material)
+    return false;
+  if (m1.V.rows() == m0.V.rows() && m1.V == m0.V && m1.F == m0.F) return true;
+  for (Eigen::Index f = 0; f < m0.F.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (m1.V.row(m1.F(f, k)) != m0.V.row(m0.F(f, k))) return false;
+  return true;
+}
+
 // The candidate mesh of `ratios` (one per node of `model`) and the seconds it took.
 DecimationResult decimate_candidate(const ThermalModel& model, const DecimationOptions& options,
                                     const Eigen::VectorXd& ratios, double& seconds) {
@@ -336,11 +356,7 @@ Candidate ReductionReference::candidate_of(DecimationResult decimation, double d
   // A decimation that changed nothing against the reused state (a node already at its fewest
   // faces, common on CAD meshes: two-triangle panels) is that state's model itself, face for
   // face and sample for sample: its trial is that model's result, without re-sampling the loads.
-  const Mesh& m0 = v.model.mesh;
-  const Mesh& m1 = cand.mesh;
-  const bool unchanged = !full && m1.V.rows() == m0.V.rows() && m1.F.rows() == m0.F.rows() && m1.V == m0.V &&
-                         m1.F == m0.F && m1.face_node == m0.face_node && m1.face_material == m0.face_material &&
-                         m1.face_back_material == m0.face_back_material;
+  const bool unchanged = !full && same_surface(v.model.mesh, cand.mesh);
   TrialResult::Timing timing;
   timing.decimation_s = decimation_s;
   double redone = unchanged ? 0.0 : 1.0;
