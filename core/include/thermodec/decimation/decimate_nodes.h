@@ -156,7 +156,7 @@ struct DecimationOptions {
   //! the node's area and projected area, and both stay tracked against their bounds; the
   //! relative cap guards the shape of outlines that matter against their node's budget, not
   //! of small parts on a large node (fittings on a solar array's panel). Dimensionless, >= 0;
-  //! 0 = off (the default; `reduce` uses 0.1).
+  //! 0 = off (the default, also in `reduce`: `reduce --wide-kink F`).
   double wide_kink_area_fraction = 0.0;
   //! Weight of the triangle-shape term relative to the volume terms in the collapse cost.
   double shape_weight = 1e-3;

@@ -23,11 +23,11 @@ namespace thermodec {
 //! and the projected-area cap with node-area restoration (each node's projected area in 64
 //! directions within 10 x its area bound; a collapse past the area bound runs when the node's
 //! free vertices restore its area: docs/decimation.md), which reach further on curved CAD parts
-//! while moving their projected areas less, and wide kinks (a contour vertex past the relative
-//! kink cap goes where the outline it sweeps is at most a tenth of what its node's area may move:
-//! docs/decimation.md, "Wide kinks"). The reflected-sunlight cap stays off (reflection_cap 0;
-//! `reduce --reflection-cap F` passes the reference's reflected fluxes and views per face:
-//! docs/decimation.md, measured on NPP_16 in docs/benchmarks.md).
+//! while moving their projected areas less. The reflected-sunlight cap stays off
+//! (reflection_cap 0; `reduce --reflection-cap F` passes the reference's reflected fluxes and
+//! views per face: docs/decimation.md, measured on NPP_16 in docs/benchmarks.md), and so do wide
+//! kinks (wide_kink_area_fraction 0; `reduce --wide-kink F`: docs/decimation.md, "Wide kinks",
+//! measured on NPP_16 in docs/benchmarks.md).
 inline DecimationOptions reduction_decimation_options() {
   DecimationOptions o;
   o.collapse_cost = CollapseCostKind::radiative;
@@ -35,7 +35,6 @@ inline DecimationOptions reduction_decimation_options() {
   o.release_contacts = true;
   o.projected_area_cap = 10.0;
   o.restore_node_areas = true;
-  o.wide_kink_area_fraction = 0.1;  // small parts of a large node: docs/decimation.md, "Wide kinks"
   o.reflection_cap = 0.0;  // off: not yet fewer faces on NPP_16 (docs/benchmarks.md, "Reflected sunlight")
   return o;
 }
