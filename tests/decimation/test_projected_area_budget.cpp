@@ -104,7 +104,8 @@ TEST(ProjectedAreaBudget, a_small_rim_kink_goes_when_its_node_pays_for_the_swept
 // Under the projected-area cap with wide_kink_area_fraction 0.1 it goes where that is at most a
 // tenth of what the node's area may move: not on the panel alone (0.1 x 0.2 x 1.2 m^2 =
 // 0.024 m^2), but when the same node also holds a 10 m x 10 m plate elsewhere (0.1 x 0.2 x
-// 101 m^2 = 2 m^2), as fittings on a solar array's node do.
+// 101 m^2 = 2 m^2), as fittings on a solar array's node do; with wide_kink_part_fraction only
+// where the panel is at most that fraction of the node.
 TEST(ProjectedAreaBudget, a_wide_kink_goes_where_its_swept_outline_is_small_against_the_node) {
   auto panel = [](bool with_plate) {
     test::MeshBuilder b;
@@ -130,6 +131,12 @@ TEST(ProjectedAreaBudget, a_wide_kink_goes_where_its_swept_outline_is_small_agai
   const DecimationResult plate = decimate_nodes(panel(true), ratio, wide);
   EXPECT_FALSE(kink_kept(plate.mesh));
   EXPECT_LT(plate.mesh.num_faces(), decimate_nodes(panel(true), ratio, capped).mesh.num_faces());
+  // ... and only on a part small against its node: the 1.2 m^2 panel is 1.2 % of the node's 101 m^2
+  wide.wide_kink_part_fraction = 0.03;
+  EXPECT_FALSE(kink_kept(decimate_nodes(panel(true), ratio, wide).mesh));
+  wide.wide_kink_part_fraction = 0.01;
+  EXPECT_TRUE(kink_kept(decimate_nodes(panel(true), ratio, wide).mesh));
+  wide.wide_kink_part_fraction = 1.0;
   wide.projected_area_cap = 0;  // without the cap nothing tracks the node's projected area
   EXPECT_TRUE(kink_kept(decimate_nodes(panel(true), ratio, wide).mesh));
   wide.wide_kink_area_fraction = -1;

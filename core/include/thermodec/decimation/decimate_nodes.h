@@ -158,6 +158,11 @@ struct DecimationOptions {
   //! of small parts on a large node (fittings on a solar array's panel). Dimensionless, >= 0;
   //! 0 = off (the default, also in `reduce`: `reduce --wide-kink F`).
   double wide_kink_area_fraction = 0.0;
+  //! With wide_kink_area_fraction > 0: a wide kink only on a part (faces connected across
+  //! manifold edges) whose input area is at most this fraction of each paying node's input area
+  //! (the fittings on a large panel's node, not the node's own outline). Dimensionless; 1 = any
+  //! part of the node.
+  double wide_kink_part_fraction = 1.0;
   //! Weight of the triangle-shape term relative to the volume terms in the collapse cost.
   double shape_weight = 1e-3;
   //! Ratio (fraction of faces removed) for faces whose node is -1 (e.g. a bare STL).
