@@ -5,7 +5,7 @@
 // in brackets the nodes each reason stops most), the largest and median change of a node's
 // projected area over 200 directions relative to its area, and CPU time. Never a pass/fail.
 // Usage:
-//   bench_decimation_reach [--normal DEG] [--contour D] [--budget B] [--fold DEG] [--kink D] [--area A]
+//   bench_decimation_reach [--normal DEG] [--contour D] [--budget B] [--fold DEG] [--kink D] [--wide-kink F] [--wide-kink-part F] [--area A]
 //                          [--node-areas REPORT.json] [--geometric] [--conforming] [--passes N] [--ratio R]
 //                          [--cap F] [--fixed-areas] [--per-node] [MODEL ...]
 //   --cap F: DecimationOptions::projected_area_cap (0 = off); --fixed-areas: restore_node_areas off
@@ -55,6 +55,8 @@ int main(int argc, char** argv) {
     else if (a == "--contour") o.max_contour_deviation = value();
     else if (a == "--budget") o.projected_area_budget = value();
     else if (a == "--kink") o.max_kinked_contour_deviation = value();
+    else if (a == "--wide-kink") o.wide_kink_area_fraction = value();
+    else if (a == "--wide-kink-part") o.wide_kink_part_fraction = value();
     else if (a == "--fold") o.max_fold_deg = value();
     else if (a == "--area") o.max_relative_area_change = value();
     else if (a == "--geometric") o.collapse_cost = CollapseCostKind::geometric;

@@ -52,6 +52,8 @@ struct ReduceCliOptions {
   double reflection_cap = reduction_decimation_options().reflection_cap;
   bool fixed_node_areas = !reduction_decimation_options().restore_node_areas;
   double max_kinked_contour_deviation = reduction_decimation_options().max_kinked_contour_deviation;
+  double wide_kink_area_fraction = reduction_decimation_options().wide_kink_area_fraction;
+  double wide_kink_part_fraction = reduction_decimation_options().wide_kink_part_fraction;
   bool conforming_contacts = !reduction_decimation_options().release_contacts;
   bool merge_nodes = false;      // reduction/merge_reduction.h
   NodeMergeSettings merge;
@@ -119,6 +121,8 @@ void run_reduce(const ReduceCliOptions& o) {
   s.reference.decimation.reflection_cap = o.reflection_cap;
   s.reference.decimation.restore_node_areas = !o.fixed_node_areas;
   s.reference.decimation.max_kinked_contour_deviation = o.max_kinked_contour_deviation;
+  s.reference.decimation.wide_kink_area_fraction = o.wide_kink_area_fraction;
+  s.reference.decimation.wide_kink_part_fraction = o.wide_kink_part_fraction;
   s.reference.decimation.release_contacts = !o.conforming_contacts;
   if (o.record_memory_GiB > 0.0) s.reference.record_budget_bytes = static_cast<std::size_t>(o.record_memory_GiB * 1073741824.0);
   // Load cases read (and checked) before any simulation.
@@ -273,6 +277,15 @@ void add_reduce(CLI::App& app) {
   sub->add_option("--max-kink", o->max_kinked_contour_deviation,
                   "with --projected-area-budget: a contour vertex up to this deviation (relative to the new segment) "
                   "may go when its nodes pay the outline's swept area from the budget")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--wide-kink", o->wide_kink_area_fraction,
+                  "with --projected-area-cap: a contour vertex past --max-kink may go when the outline's swept "
+                  "triangle is at most this fraction of each node's area bound x its area (0 = off)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--wide-kink-part", o->wide_kink_part_fraction,
+                  "with --wide-kink: only on parts whose area is at most this fraction of the node's area")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   sub->add_option("--contour-deviation", o->max_contour_deviation,

@@ -98,6 +98,51 @@ TEST(ProjectedAreaBudget, a_small_rim_kink_goes_when_its_node_pays_for_the_swept
   EXPECT_LT(after.mesh.num_faces(), before.mesh.num_faces());
 }
 
+// The same 1 m panel with its rim vertex at (0.5, -0.4): the rim vertices beside it go as kinks
+// within the relative cap (0.16 of their segments), the vertex itself would then be 0.4 of the
+// 1 m segment from (0, 0) to (1, 0), past the cap of 0.2, and its outline would sweep 0.2 m^2.
+// Under the projected-area cap with wide_kink_area_fraction 0.1 it goes where that is at most a
+// tenth of what the node's area may move: not on the panel alone (0.1 x 0.2 x 1.2 m^2 =
+// 0.024 m^2), but when the same node also holds a 10 m x 10 m plate elsewhere (0.1 x 0.2 x
+// 101 m^2 = 2 m^2), as fittings on a solar array's node do; with wide_kink_part_fraction only
+// where the panel is at most that fraction of the node.
+TEST(ProjectedAreaBudget, a_wide_kink_goes_where_its_swept_outline_is_small_against_the_node) {
+  auto panel = [](bool with_plate) {
+    test::MeshBuilder b;
+    b.grid(Vector3d(0, 0, 0), Vector3d(1, 0, 0), Vector3d(0, 1, 0), 4, 0);
+    b.v[b.vertex(Vector3d(0.5, 0, 0))] = Vector3d(0.5, -0.4, 0);
+    if (with_plate) b.grid(Vector3d(-20, 0, 5), Vector3d(10, 0, 0), Vector3d(0, 10, 0), 1, 0);
+    return b.build(1);
+  };
+  auto kink_kept = [](const Mesh& m) {
+    for (int v = 0; v < m.num_vertices(); ++v)
+      if (m.V(v, 1) < -0.3) return true;
+    return false;
+  };
+  DecimationOptions capped;
+  capped.max_relative_area_change = 0.2;  // the kink's 17 % of the panel's area is not what is tested
+  capped.projected_area_budget = 1.0;
+  capped.projected_area_cap = 10.0;
+  const Eigen::VectorXd ratio = Eigen::VectorXd::Constant(1, 0.95);
+  EXPECT_TRUE(kink_kept(decimate_nodes(panel(true), ratio, capped).mesh));  // relative cap alone
+  DecimationOptions wide = capped;
+  wide.wide_kink_area_fraction = 0.1;
+  EXPECT_TRUE(kink_kept(decimate_nodes(panel(false), ratio, wide).mesh));
+  const DecimationResult plate = decimate_nodes(panel(true), ratio, wide);
+  EXPECT_FALSE(kink_kept(plate.mesh));
+  EXPECT_LT(plate.mesh.num_faces(), decimate_nodes(panel(true), ratio, capped).mesh.num_faces());
+  // ... and only on a part small against its node: the 1.2 m^2 panel is 1.2 % of the node's 101 m^2
+  wide.wide_kink_part_fraction = 0.03;
+  EXPECT_FALSE(kink_kept(decimate_nodes(panel(true), ratio, wide).mesh));
+  wide.wide_kink_part_fraction = 0.01;
+  EXPECT_TRUE(kink_kept(decimate_nodes(panel(true), ratio, wide).mesh));
+  wide.wide_kink_part_fraction = 1.0;
+  wide.projected_area_cap = 0;  // without the cap nothing tracks the node's projected area
+  EXPECT_TRUE(kink_kept(decimate_nodes(panel(true), ratio, wide).mesh));
+  wide.wide_kink_area_fraction = -1;
+  EXPECT_THROW(decimate_nodes(panel(true), ratio, wide), InvalidInput);
+}
+
 TEST(ProjectedAreaBudget, bad_fold_limit_is_refused_before_any_work) {
   const Mesh fan = rim_fan({{1, 0, 0}, {0, -0.4, 0}, {-1, 0, 0}});
   DecimationOptions o;

@@ -48,6 +48,7 @@ void NodeCollapse::reset(VVertex* gone, VVertex* kept) {
   volume_delta_.clear();
   sharp_delta_.clear();
   kink_m2_ = 0;
+  wide_kink_ = false;
   exact_per_node_.clear();
   restore_ = Restoration();
 }
@@ -89,6 +90,10 @@ void NodeCollapse::evaluate(Context& c, VVertex* gone, VVertex* kept, bool optim
     if (has_gone && kink_m2_ > 0 &&
         std::find(kink_paid.begin(), kink_paid.begin() + nkink_paid, node) == kink_paid.begin() + nkink_paid) {
       if (nkink_paid == 4) return set_refused(CollapseBlock::topology);
+      // A wide kink: small against what the node's area may move, on a part small against the node.
+      if (wide_kink_ && (kink_m2_ > c.opt.wide_kink_area_fraction * c.node_area_bound[node] * c.node_area0[node] ||
+                         c.comp_area0[c.face_component[fidx]] > c.opt.wide_kink_part_fraction * c.node_area0[node]))
+        return set_refused(CollapseBlock::contour_deviation);
       kink_paid[nkink_paid++] = node;
       sharp_delta_.add(node, kink_m2_);
     }

@@ -79,6 +79,7 @@ struct Context : vcg::BaseParameterClass {
   std::vector<double> node_sharp;  // projected-area budget spent: steep turns and kinks run [m^2]
   std::vector<double> comp_volume, comp_volume0;
   std::vector<char> comp_closed;
+  std::vector<double> comp_area0;  // per component: its input area [m^2] (wide kinks)
   std::vector<int> absorbed_by;  // removed face -> face that took over its area (provenance)
   std::vector<std::vector<int>> group_faces;  // input faces of each node group (restore_node_areas)
   std::vector<int> restore_slot;              // per vertex: its slot in a restoration plan, or -1

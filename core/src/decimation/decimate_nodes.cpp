@@ -229,7 +229,9 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
   if (!(options.max_relative_area_change >= 0) || !(options.max_relative_volume_change >= 0) ||
       !(options.max_contour_deviation >= 0) || !(options.exact_contour_tolerance >= 0) ||
       !(options.radiative_cost_weight >= 0) || !(options.projected_area_budget >= 0) ||
-      !(options.max_kinked_contour_deviation >= 0) || !(options.projected_area_cap >= 0) ||
+      !(options.max_kinked_contour_deviation >= 0) || !(options.wide_kink_area_fraction >= 0) ||
+      !(options.wide_kink_part_fraction >= 0) ||
+      !(options.projected_area_cap >= 0) ||
       !(options.max_restoring_offset > 0) ||
       options.min_faces_per_node < 1 || options.passes < 1)
     throw InvalidInput("decimate: tolerances must be >= 0, min_faces_per_node and passes >= 1");

@@ -139,10 +139,12 @@ int classify_mesh(const Mesh& mesh, const NodeGroups& group_of, Context& c) {
   }
   c.comp_closed.assign(ncomp, 1);
   c.comp_volume0.assign(ncomp, 0.0);
+  c.comp_area0.assign(ncomp, 0.0);
   for (int f = 0; f < nf; ++f) {
     if (face_on_open_edge[f]) c.comp_closed[c.face_component[f]] = 0;
     const Vec3 p0 = mesh.V.row(mesh.F(f, 0)), p1 = mesh.V.row(mesh.F(f, 1)), p2 = mesh.V.row(mesh.F(f, 2));
     c.comp_volume0[c.face_component[f]] += p0.dot(p1.cross(p2)) / 6.0;
+    c.comp_area0[c.face_component[f]] += 0.5 * (p1 - p0).cross(p2 - p0).norm();
   }
   c.comp_volume = c.comp_volume0;
   return ncomp;

@@ -197,6 +197,7 @@ class NodeCollapse : public vcg::tri::TriEdgeCollapse<VMesh, VPair, NodeCollapse
   Vec3 x_ = Vec3::Zero();
   Deltas removed_per_node_, removed_per_region_, area_delta_, volume_delta_;
   double kink_m2_ = 0;     // outline area a kinked contour removal sweeps [m^2] (projected_area_budget)
+  bool wide_kink_ = false;  // the kink is past max_kinked_contour_deviation (wide_kink_area_fraction)
   Deltas sharp_delta_;    // node -> cost of its steep turns and kink [m^2] (projected_area_budget)
   Deltas exact_per_node_;  // node -> 1 if this collapse leaves its geometry unchanged
 };

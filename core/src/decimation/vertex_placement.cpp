@@ -59,9 +59,15 @@ bool NodeCollapse::place(Context& c, VVertex* gone, VVertex* kept, bool optimal,
       const double dev = (pg - (pk + t * seg)).norm();
       if (dev > c.opt.max_contour_deviation * std::sqrt(len2)) {
         // A kink: allowed up to max_kinked_contour_deviation when the nodes on the contour pay
-        // for the outline's move (the triangle it sweeps) from their projected-area budget.
-        if (!(c.opt.projected_area_budget > 0) || dev > c.opt.max_kinked_contour_deviation * std::sqrt(len2))
-          return set_refused(CollapseBlock::contour_deviation), false;
+        // for the outline's move (the triangle it sweeps) from their projected-area budget;
+        // beyond it under the projected-area cap when that triangle is small against the area
+        // each node may move (wide_kink_area_fraction, checked per node in evaluate()).
+        if (!(c.opt.projected_area_budget > 0)) return set_refused(CollapseBlock::contour_deviation), false;
+        if (dev > c.opt.max_kinked_contour_deviation * std::sqrt(len2)) {
+          if (!(c.opt.wide_kink_area_fraction > 0) || c.node_projection_change.empty())
+            return set_refused(CollapseBlock::contour_deviation), false;
+          wide_kink_ = true;
+        }
         kink_m2_ = 0.5 * (pg - pk).cross(pw - pk).norm();
       }
       straight = c.opt.free_exact_contour_collapses && dev <= c.opt.exact_contour_tolerance * std::sqrt(len2);

@@ -149,6 +149,20 @@ struct DecimationOptions {
   //! may still go when every node on the contour pays the triangle the outline sweeps from the
   //! same budget.
   double max_kinked_contour_deviation = 0.2;
+  //! With projected_area_budget > 0 and projected_area_cap > 0: a contour vertex deviating by
+  //! more than max_kinked_contour_deviation may still go when, for every node on the contour,
+  //! the triangle the outline sweeps is at most this fraction of the area the node's area may
+  //! move (its area bound x its input area [m^2]). The swept triangle is what the kink does to
+  //! the node's area and projected area, and both stay tracked against their bounds; the
+  //! relative cap guards the shape of outlines that matter against their node's budget, not
+  //! of small parts on a large node (fittings on a solar array's panel). Dimensionless, >= 0;
+  //! 0 = off (the default, also in `reduce`: `reduce --wide-kink F`).
+  double wide_kink_area_fraction = 0.0;
+  //! With wide_kink_area_fraction > 0: a wide kink only on a part (faces connected across
+  //! manifold edges) whose input area is at most this fraction of each paying node's input area
+  //! (the fittings on a large panel's node, not the node's own outline). Dimensionless; 1 = any
+  //! part of the node.
+  double wide_kink_part_fraction = 1.0;
   //! Weight of the triangle-shape term relative to the volume terms in the collapse cost.
   double shape_weight = 1e-3;
   //! Ratio (fraction of faces removed) for faces whose node is -1 (e.g. a bare STL).

@@ -25,7 +25,9 @@ namespace thermodec {
 //! free vertices restore its area: docs/decimation.md), which reach further on curved CAD parts
 //! while moving their projected areas less. The reflected-sunlight cap stays off
 //! (reflection_cap 0; `reduce --reflection-cap F` passes the reference's reflected fluxes and
-//! views per face: docs/decimation.md, measured on NPP_16 in docs/benchmarks.md).
+//! views per face: docs/decimation.md, measured on NPP_16 in docs/benchmarks.md), and so do wide
+//! kinks (wide_kink_area_fraction 0; `reduce --wide-kink F`: docs/decimation.md, "Wide kinks",
+//! measured on NPP_16 in docs/benchmarks.md).
 inline DecimationOptions reduction_decimation_options() {
   DecimationOptions o;
   o.collapse_cost = CollapseCostKind::radiative;
