@@ -274,3 +274,122 @@ TEST(Gebhart, a_closed_part_with_a_plate_inside_radiates_into_its_cavity_and_eve
   EXPECT_GT(se, 0.0);
   EXPECT_NEAR(c.radiative_couplings_m2(0, 1), 2.0, 4.0 * se + 1e-12);
 }
+
+namespace {
+
+// A strip of n sides, each seeing its neighbours up to 3 places away (a sparse F, as on a
+// large craft where a side sees a few dozen of thousands), in 4 groups.
+FaceViewFactors strip(int n) {
+  FaceViewFactors vf;
+  vf.sides.face = Eigen::VectorXi::LinSpaced(n, 0, n - 1);
+  vf.sides.is_back = Eigen::VectorXi::Zero(n);
+  vf.sides.node = Eigen::VectorXi::LinSpaced(n, 0, n - 1).unaryExpr([n](int s) { return 4 * s / n; });
+  vf.sides.material = Eigen::VectorXi::Zero(n);
+  vf.sides.area_m2 = Eigen::VectorXd::Ones(n);
+  for (int s = 0; s < n; ++s) vf.sides.key.push_back(static_cast<std::uint64_t>(s + 1));
+  vf.F.resize(n, n);
+  vf.to_space = Eigen::VectorXd::Ones(n);
+  for (int s = 0; s < n; ++s)
+    for (int d = -3; d <= 3; ++d)
+      if (d != 0 && s + d >= 0 && s + d < n) {
+        const double f = 0.04 / std::abs(d) + 0.001 * ((s * 7 + d) % 5);
+        vf.F.insert(s, s + d) = f;
+        vf.to_space[s] -= f;
+      }
+  vf.F.makeCompressed();
+  vf.rays_per_side = 1000000;
+  return vf;
+}
+
+// The rounds as gebhart_factors documents them, every row of F scanned in every round
+// (no Krylov start: max rho <= 0.6 here).
+RowMatrixXd rounds_scanning_every_row(const FaceViewFactors& vf, const Eigen::VectorXd& a, const Eigen::VectorXi& group,
+                                      int G, const RowMatrixXd& start, double tolerance) {
+  const int S = vf.sides.size(), C = G + 1;
+  const Eigen::VectorXd rho = (1.0 - a.array()).matrix();
+  RowMatrixXd E = RowMatrixXd::Zero(S, C);
+  for (int s = 0; s < S; ++s) {
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(vf.F, s); it; ++it)
+      E(s, group[it.col()]) += it.value() * a[it.col()];
+    E(s, G) = vf.to_space[s];
+  }
+  const double threshold = tolerance * std::max(1e-3, 1.0 - rho.maxCoeff());
+  RowMatrixXd X = start, R(S, C);
+  Eigen::VectorXd row_max(S);
+  auto residual = [&] {
+    for (int s = 0; s < S; ++s) {
+      R.row(s) = E.row(s) - X.row(s);
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(vf.F, s); it; ++it) {
+        const double w = it.value() * rho[it.col()];
+        if (w != 0.0)
+          for (int c = 0; c < C; ++c) R(s, c) += w * X(it.col(), c);
+      }
+      row_max[s] = R.row(s).cwiseAbs().maxCoeff();
+    }
+  };
+  residual();
+  bool fresh = true;
+  for (;;) {
+    if (row_max.maxCoeff() <= threshold && !fresh) {
+      residual();
+      fresh = true;
+    }
+    if (row_max.maxCoeff() <= threshold) break;
+    std::vector<int> slot(S, -1);
+    RowMatrixXd P(S, C);
+    int n = 0;
+    for (int s = 0; s < S; ++s)
+      if (row_max[s] > threshold) {
+        P.row(n) = R.row(s);
+        X.row(s) += P.row(n);
+        R.row(s).setZero();
+        row_max[s] = 0.0;
+        slot[s] = n++;
+      }
+    for (int t = 0; t < S; ++t) {
+      bool taken = false;
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(vf.F, t); it; ++it) {
+        const int k = slot[it.col()];
+        if (k < 0) continue;
+        taken = true;
+        const double w = it.value() * rho[it.col()];
+        if (w != 0.0)
+          for (int c = 0; c < C; ++c) R(t, c) += w * P(k, c);
+      }
+      if (taken) row_max[t] = R.row(t).cwiseAbs().maxCoeff();
+    }
+    fresh = false;
+  }
+  return X;
+}
+
+}  // namespace
+
+TEST(Gebhart, a_warm_start_pushing_a_few_rows_gives_the_bits_of_rounds_over_every_row) {
+  // A trial's solve: the reference's solution with a few rows off (a change near sides
+  // 100-105); the rounds gather only the rows that see a pushed side, and must give the same
+  // bits as rounds that scan every row of F.
+  const int n = 400;
+  const FaceViewFactors vf = strip(n);
+  Eigen::VectorXd a(n);
+  for (int s = 0; s < n; ++s) a[s] = 0.45 + 0.1 * ((s * 13) % 7) / 7.0;
+  const Eigen::VectorXi group = node_groups(vf.sides, 4);
+  const GebhartFactors exact = gebhart_factors(vf, a, group, 4);
+  RowMatrixXd near = exact.B;
+  for (int s = 100; s < 106; ++s) near.row(s) *= 1.02;
+  const GebhartFactors warm = gebhart_factors(vf, a, group, 4, {}, &near);
+  const RowMatrixXd scanned = rounds_scanning_every_row(vf, a, group, 4, near, GebhartSettings{}.tolerance);
+  EXPECT_GT(warm.iterations, 1);
+  EXPECT_EQ(warm.B.rows(), scanned.rows());
+  EXPECT_TRUE((warm.B.array() == scanned.array()).all()) << (warm.B - scanned).cwiseAbs().maxCoeff();
+  EXPECT_LT((warm.B - exact.B).cwiseAbs().maxCoeff(), 1e-9);
+  // From scratch (every row pushed at first) too.
+  const RowMatrixXd direct = gebhart_factors(vf, a, group, 4, {}, nullptr).B;
+  RowMatrixXd E = RowMatrixXd::Zero(n, 5);
+  for (int s = 0; s < n; ++s) {
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(vf.F, s); it; ++it)
+      E(s, group[it.col()]) += it.value() * a[it.col()];
+    E(s, 4) = vf.to_space[s];
+  }
+  EXPECT_TRUE((direct.array() == rounds_scanning_every_row(vf, a, group, 4, E, GebhartSettings{}.tolerance).array()).all());
+}

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "analytic.h"
 #include "test_meshes.h"
@@ -261,4 +263,115 @@ TEST(ReciprocalViewFactors, exchange_areas_are_symmetric_and_every_row_still_clo
   EXPECT_GT(asym_raw, 0.1);
   const double exact = perpendicular_rectangles(1, 1, 1);
   EXPECT_NEAR(wall / floor_area, exact, 5.0 * std::sqrt(exact * (1.0 - exact) / floor_rays));
+}
+
+namespace {
+
+// reciprocal_view_factors as first written: F_ts by a binary search in row t for every entry,
+// the pairs seen from t alone sorted by (s, t) with std::sort. Returns the rows' entries in
+// order (column, value) and the escaping shares in `to_space`.
+std::vector<std::vector<std::pair<int, double>>> reciprocal_by_binary_search(const FaceViewFactors& vf,
+                                                                             Eigen::VectorXd& to_space) {
+  using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+  const int S = vf.sides.size();
+  const RowSparse& F = vf.F;
+  auto entry = [&](int s, int t) {
+    const int* cols = F.innerIndexPtr();
+    const int* end = cols + F.outerIndexPtr()[s + 1];
+    const int* it = std::lower_bound(cols + F.outerIndexPtr()[s], end, t);
+    return it != end && *it == t ? F.valuePtr()[it - cols] : 0.0;
+  };
+  const Eigen::VectorXd& A = vf.sides.area_m2;
+  auto rays_of = [&](int s) -> double { return vf.side_rays.size() == S ? vf.side_rays[s] : vf.rays_per_side; };
+  auto usable = [&](int s) { return A[s] > 0.0 && rays_of(s) > 0.0; };
+  std::vector<std::tuple<int, int, double>> seen;
+  for (int t = 0; t < S; ++t)
+    for (RowSparse::InnerIterator it(F, t); it; ++it) {
+      const int s = static_cast<int>(it.col());
+      if (s != t && it.value() != 0.0 && usable(s) && usable(t) && entry(s, t) == 0.0) seen.emplace_back(s, t, it.value());
+    }
+  std::sort(seen.begin(), seen.end());
+  std::vector<std::vector<std::pair<int, double>>> rows(S);
+  to_space = vf.to_space;
+  std::size_t next = 0;
+  for (int s = 0; s < S; ++s) {
+    double before = 0.0, after = 0.0;
+    std::vector<std::pair<int, double>>& row = rows[s];
+    auto add = [&](int t, double f_st, double f_ts) {
+      before += f_st;
+      double f = f_st;
+      if (t != s && usable(s) && usable(t)) {
+        const double ds = rays_of(s) / A[s], dt = rays_of(t) / A[t];
+        f = (rays_of(s) * f_st + rays_of(t) * f_ts) / (ds + dt) / A[s];
+      }
+      after += f;
+      row.emplace_back(t, f);
+    };
+    RowSparse::InnerIterator it(F, s);
+    while (it || (next < seen.size() && std::get<0>(seen[next]) == s)) {
+      const bool from_t = next < seen.size() && std::get<0>(seen[next]) == s && (!it || std::get<1>(seen[next]) < it.col());
+      if (from_t) {
+        add(std::get<1>(seen[next]), 0.0, std::get<2>(seen[next]));
+        ++next;
+      } else {
+        const int t = static_cast<int>(it.col());
+        add(t, it.value(), t == s ? 0.0 : entry(t, s));
+        ++it;
+      }
+    }
+    const double total = before + vf.to_space[s];
+    if (after > total && after > 0.0) {
+      for (auto& e : row) e.second *= total / after;
+      to_space[s] = 0.0;
+    } else {
+      to_space[s] = total - after;
+    }
+  }
+  return rows;
+}
+
+}  // namespace
+
+TEST(ReciprocalViewFactors, equals_a_binary_search_for_every_entry_bit_for_bit) {
+  // A random sparse F over 3000 sides: pairs seen from both ends, from one end only, stored
+  // zeros, a side without rays; read in blocks of rows by several threads, each F_ts found by
+  // a cursor must be the entry a binary search finds.
+  const int S = 3000;
+  FaceViewFactors vf;
+  vf.sides.face = Eigen::VectorXi::LinSpaced(S, 0, S - 1);
+  vf.sides.is_back = Eigen::VectorXi::Zero(S);
+  vf.sides.node = Eigen::VectorXi::Zero(S);
+  vf.sides.material = Eigen::VectorXi::Zero(S);
+  vf.sides.area_m2 = Eigen::VectorXd::Ones(S);
+  vf.side_rays = Eigen::VectorXi::Constant(S, 1000);
+  vf.side_rays[17] = 0;
+  for (int s = 0; s < S; ++s) vf.sides.area_m2[s] = 0.5 + (s % 11) * 0.1;
+  std::uint64_t state = 12345;
+  auto next = [&] { return (state = state * 6364136223846793005ull + 1442695040888963407ull) >> 33; };
+  std::vector<Eigen::Triplet<double>> trip;
+  for (int s = 0; s < S; ++s)
+    for (int k = 0; k < 40; ++k) {
+      const int t = static_cast<int>(next() % S);
+      const double f = (next() % 7 == 0) ? 0.0 : 1e-4 * double(1 + next() % 97);
+      trip.emplace_back(s, t, f);
+    }
+  vf.F.resize(S, S);
+  vf.F.setFromTriplets(trip.begin(), trip.end(), [](double a, double) { return a; });
+  vf.F.makeCompressed();
+  vf.to_space = Eigen::VectorXd::Zero(S);
+  for (int s = 0; s < S; ++s) vf.to_space[s] = std::max(0.0, 1.0 - vf.F.row(s).sum());
+  const FaceViewFactors fast = reciprocal_view_factors(vf);
+  Eigen::VectorXd to_space;
+  const auto rows = reciprocal_by_binary_search(vf, to_space);
+  EXPECT_TRUE((fast.to_space.array() == to_space.array()).all());
+  int differing = 0, one_ended = 0;
+  for (int s = 0; s < S; ++s) {
+    std::vector<std::pair<int, double>> got;
+    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(fast.F, s); it; ++it)
+      got.emplace_back(static_cast<int>(it.col()), it.value());
+    differing += got != rows[s];
+    for (const auto& [t, f] : rows[s]) one_ended += vf.F.coeff(s, t) == 0.0 && f > 0.0;
+  }
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(one_ended, 1000);  // (the case the pairs seen from t alone cover)
 }

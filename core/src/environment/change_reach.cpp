@@ -10,8 +10,35 @@
 
 namespace thermodec::load_rays {
 
+namespace {
+
+double bounding_sphere(const Side& g, Eigen::Vector3d& c) {
+  c = (g.a + g.b + g.c) / 3.0;
+  return std::max({(g.a - c).norm(), (g.b - c).norm(), (g.c - c).norm()}) + 2.0 * g.offset + 1e-9;
+}
+
+// The side's rays all leave forwards (n . d > 0) from within its bounding sphere (centre c,
+// radius rho), so they stay in the half-space n . x >= n . c - rho: a region wholly behind it
+// is out of reach.
+bool region_behind(const Side& g, const Eigen::Vector3d& c, double rho, const Eigen::AlignedBox3d& box) {
+  const Eigen::Vector3d& n = g.normal;
+  const double support = n.dot(box.center()) + n.cwiseAbs().dot(0.5 * box.diagonal());
+  return support < n.dot(c) - rho - 1e-9 * (1.0 + box.diagonal().norm() + c.norm());
+}
+
+}  // namespace
+
 ChangeReach::ChangeReach(const std::vector<Side>& geo_in, const LoadReuse* reuse) : geo(geo_in) {
   if (!reuse || !reuse->reference) return;
+  const int ns = static_cast<int>(geo.size());
+  side_centre.resize(ns);
+  side_radius.resize(ns);
+  behind.assign(ns, 0);
+  for (int s = 0; s < ns; ++s) {
+    side_radius[s] = bounding_sphere(geo[s], side_centre[s]);
+    if (!reuse->changed_region.isEmpty())
+      behind[s] = region_behind(geo[s], side_centre[s], side_radius[s], reuse->changed_region);
+  }
   changed_region = reuse->changed_region;
   if (!reuse->changed_region.isEmpty()) {
     change_centre = reuse->changed_region.center();
@@ -38,21 +65,6 @@ ChangeReach::ChangeReach(const std::vector<Side>& geo_in, const LoadReuse* reuse
     changed_tree = blockers::sphere_tree(members, changed_centre, changed_radius,
                                          [&](int f, int k) -> const Eigen::Vector3d& { return corners[f][k]; });
   }
-}
-
-double ChangeReach::side_sphere(int s, Eigen::Vector3d& c) const {
-  const Side& g = geo[s];
-  c = (g.a + g.b + g.c) / 3.0;
-  return std::max({(g.a - c).norm(), (g.b - c).norm(), (g.c - c).norm()}) + 2.0 * g.offset + 1e-9;
-}
-
-bool ChangeReach::change_behind(int s) const {
-  Eigen::Vector3d c;
-  const double rho = side_sphere(s, c);
-  const Eigen::Vector3d& n = geo[s].normal;
-  const Eigen::AlignedBox3d& box = changed_region;
-  const double support = n.dot(box.center()) + n.cwiseAbs().dot(0.5 * box.diagonal());
-  return support < n.dot(c) - rho - 1e-9 * (1.0 + box.diagonal().norm() + c.norm());
 }
 
 bool ChangeReach::clear_along(int s, const Eigen::Vector3d& d) const {  // half-line family c + t d

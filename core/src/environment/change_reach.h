@@ -27,15 +27,23 @@ struct ChangeReach {
   std::vector<Eigen::Vector3d> changed_centre;
   std::vector<double> changed_radius;
   blockers::SphereTree changed_tree;
+  // Per side, computed once for every pass of the trial: its bounding sphere (side_sphere) and
+  // whether the change lies behind it (change_behind).
+  std::vector<Eigen::Vector3d> side_centre;
+  std::vector<double> side_radius;
+  std::vector<char> behind;
 
   //! For a trial with reuse->reference set: the change of `reuse` seen from the sides `geo`.
   ChangeReach(const std::vector<Side>& geo, const LoadReuse* reuse);
 
   //! Bounding sphere of side s (plus its ray lift): centre `c`, returns the radius [m].
-  double side_sphere(int s, Eigen::Vector3d& c) const;
+  double side_sphere(int s, Eigen::Vector3d& c) const {
+    c = side_centre[s];
+    return side_radius[s];
+  }
   //! The side's rays all leave forwards (n . d > 0) from within its bounding sphere, so they
   //! stay in the half-space n . x >= n . c - rho: a region wholly behind it is out of reach.
-  bool change_behind(int s) const;
+  bool change_behind(int s) const { return behind[s] != 0; }
   //! The rays of side s along the unit direction d (the sun's) cannot reach the change.
   bool clear_along(int s, const Eigen::Vector3d& d) const;
   //! The rays of side s inside the cone (unit axis, half-angle [rad]) cannot reach the change.

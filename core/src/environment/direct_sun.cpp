@@ -133,11 +133,14 @@ void direct_sun_loads(LoadRun& run) {
     if (st.in_shadow || flux == 0.0) continue;
     if (lit.size() == 0 || !same_direction(st.sun_direction_body, last_dir)) {
       int reused_here = 0;
-      if (ref)
-        for (int s = 0; s < ns; ++s) {
-          todo[s] = !(run.same_counts(s) && run.reach->clear_along(s, st.sun_direction_body));
-          reused_here += !todo[s];
-        }
+      if (ref) {
+        // (each side's test alone: in parallel, the same flags)
+        tbb::parallel_for(tbb::blocked_range<int>(0, ns, 256), [&](const tbb::blocked_range<int>& range) {
+          for (int s = range.begin(); s < range.end(); ++s)
+            todo[s] = !(run.same_counts(s) && run.reach->clear_along(s, st.sun_direction_body));
+        });
+        for (int s = 0; s < ns; ++s) reused_here += !todo[s];
+      }
       if (reuse) {
         reuse->reused_sun += reused_here;
         reuse->total_sun += ns;

@@ -7,8 +7,9 @@
 // the binomial rate, but alike at both ends, so the weights keep their ratio.
 //
 // Memory: F can be the largest object of a run (1.4 GB on a 100k-face model), so no transpose
-// is formed: F_ts is found by binary search in row t, and only the pairs seen from t alone
-// (rarely many) are collected apart. The result is built in place of the copy's F.
+// is formed: F_ts is found in row t by a cursor that a block of rows s, read in order, moves
+// forwards (EntryLookup), and only the pairs seen from t alone (rarely many) are collected
+// apart. The result is built in place of the copy's F.
 #include "thermodec/radiation/reciprocal_view_factors.h"
 
 #include <Eigen/SparseCore>
@@ -24,14 +25,32 @@ namespace {
 
 using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
-// F(s, t), 0 if absent (rows of a compressed row-major matrix hold sorted column indices).
-double entry(const RowSparse& F, int s, int t) {
-  const int* cols = F.innerIndexPtr();
-  const int* begin = cols + F.outerIndexPtr()[s];
-  const int* end = cols + F.outerIndexPtr()[s + 1];
-  const int* it = std::lower_bound(begin, end, t);
-  return it != end && *it == t ? F.valuePtr()[it - cols] : 0.0;
-}
+// F(s, t), 0 if absent (rows of a compressed row-major matrix hold sorted column indices),
+// for a run of look-ups whose columns t never decrease (one block of rows, in order): each row
+// s keeps a cursor, placed by a binary search at its first look-up in the run and moved on
+// from there, so a run costs about one search per row it reads, not one per look-up. The
+// cursor stops where the search would (the first column >= t): the same entry.
+class EntryLookup {
+ public:
+  explicit EntryLookup(int rows) : cursor_(rows, 0), run_of_(rows, -1) {}
+  void start_run(int run) { run_ = run; }
+  double operator()(const RowSparse& F, int s, int t) {
+    const int* cols = F.innerIndexPtr();
+    const int end = F.outerIndexPtr()[s + 1];
+    int& k = cursor_[s];
+    if (run_of_[s] != run_) {
+      run_of_[s] = run_;
+      k = static_cast<int>(std::lower_bound(cols + F.outerIndexPtr()[s], cols + end, t) - cols);
+    } else {
+      while (k < end && cols[k] < t) ++k;
+    }
+    return k != end && cols[k] == t ? F.valuePtr()[k] : 0.0;
+  }
+
+ private:
+  std::vector<int> cursor_, run_of_;
+  int run_ = -1;
+};
 
 }  // namespace
 
@@ -61,8 +80,11 @@ FaceViewFactors reciprocal_view_factors(const FaceViewFactors& vf) {
   // Pairs (s, t) with F_ts > 0 but no F_st: (s, t, F_ts), sorted by row s then t (unique
   // pairs: one order whatever the threads found them in).
   tbb::enumerable_thread_specific<std::vector<std::tuple<int, int, double>>> found;
+  tbb::enumerable_thread_specific<EntryLookup> lookups([S] { return EntryLookup(S); });
   tbb::parallel_for(tbb::blocked_range<int>(0, S, 256), [&](const tbb::blocked_range<int>& r) {
     auto& mine = found.local();
+    EntryLookup& entry = lookups.local();
+    entry.start_run(r.begin());
     for (int t = r.begin(); t != r.end(); ++t)
       for (RowSparse::InnerIterator it(F, t); it; ++it) {
         const int s = static_cast<int>(it.col());
@@ -70,14 +92,25 @@ FaceViewFactors reciprocal_view_factors(const FaceViewFactors& vf) {
           mine.emplace_back(s, t, it.value());
       }
   });
-  std::vector<std::tuple<int, int, double>> seen_from_t;
-  for (const auto& v : found) seen_from_t.insert(seen_from_t.end(), v.begin(), v.end());
-  std::sort(seen_from_t.begin(), seen_from_t.end());
+  // Sorted by row s then t (the pairs are unique): counted into rows, then each row's few
+  // pairs sorted by t.
+  std::vector<std::size_t> seen_begin(S + 1, 0);  // row s's pairs: [seen_begin[s], seen_begin[s + 1])
+  for (const auto& v : found)
+    for (const auto& p : v) ++seen_begin[std::get<0>(p) + 1];
+  for (int s = 0; s < S; ++s) seen_begin[s + 1] += seen_begin[s];
+  std::vector<std::tuple<int, int, double>> seen_from_t(seen_begin[S]);
+  {
+    std::vector<std::size_t> next(seen_begin.begin(), seen_begin.end() - 1);
+    for (const auto& v : found)
+      for (const auto& p : v) seen_from_t[next[std::get<0>(p)]++] = p;
+  }
+  tbb::parallel_for(tbb::blocked_range<int>(0, S, 1024), [&](const tbb::blocked_range<int>& r) {
+    for (int s = r.begin(); s != r.end(); ++s)
+      std::sort(seen_from_t.begin() + static_cast<std::ptrdiff_t>(seen_begin[s]),
+                seen_from_t.begin() + static_cast<std::ptrdiff_t>(seen_begin[s + 1]));
+  });
   // Rows are independent (each sums its own entries in column order): laid out first, then
   // filled in parallel, each by the same sequence of operations as one row after another.
-  std::vector<std::size_t> seen_begin(S + 1, 0);  // row s's pairs: [seen_begin[s], seen_begin[s + 1])
-  for (const auto& p : seen_from_t) ++seen_begin[std::get<0>(p) + 1];
-  for (int s = 0; s < S; ++s) seen_begin[s + 1] += seen_begin[s];
   RowSparse G(S, S);
   G.makeCompressed();
   G.resizeNonZeros(F.nonZeros() + static_cast<Eigen::Index>(seen_from_t.size()));
@@ -89,6 +122,8 @@ FaceViewFactors reciprocal_view_factors(const FaceViewFactors& vf) {
   int* inner = G.innerIndexPtr();
   double* value = G.valuePtr();
   tbb::parallel_for(tbb::blocked_range<int>(0, S, 64), [&](const tbb::blocked_range<int>& r) {
+    EntryLookup& entry = lookups.local();
+    entry.start_run(S + r.begin());  // (the runs above were numbered 0 .. S - 1)
     for (int s = r.begin(); s != r.end(); ++s) {
       double before = 0.0, after = 0.0;
       int k = outer[s];

@@ -12,8 +12,9 @@ namespace thermodec {
 //! areas only, not on the estimates, so the combination stays unbiased. Each row's escaping
 //! share takes what the row's entries gave up or gained (closure, rows sum to 1 as before; a row
 //! whose entries would exceed 1 is scaled back to 1). Sides without area or rays keep their
-//! own row, F(s, s) (a side seeing itself) is kept. Cost: one pass over the non-zeros with a
-//! binary search each; memory: the result (~ the size of F), no transpose.
+//! own row, F(s, s) (a side seeing itself) is kept. Cost: two passes over the non-zeros, F_ts read
+//! from a cursor per row t (one binary search per row and block of rows); memory: the result
+//! (~ the size of F), no transpose.
 //! Variance: where both ends draw equal ray densities, each exchange area's variance halves; where
 //! one end is sampled k times more densely, it falls ~(k + 1)-fold for the sparse end's rows.
 //! \return the same sides, ray counts and diagnostics with F and to_space replaced.
