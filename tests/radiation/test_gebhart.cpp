@@ -367,8 +367,8 @@ RowMatrixXd rounds_scanning_every_row(const FaceViewFactors& vf, const Eigen::Ve
 
 TEST(Gebhart, a_warm_start_pushing_a_few_rows_gives_the_bits_of_rounds_over_every_row) {
   // A trial's solve: the reference's solution with a few rows off (a change near sides
-  // 100-105); the rounds gather only the rows that see a pushed side, and must give the same
-  // bits as rounds that scan every row of F.
+  // 100-105); the rounds push only the rows over the threshold, and must give the bits of the
+  // rounds as documented, written out plainly (every row of F scanned per round).
   const int n = 400;
   const FaceViewFactors vf = strip(n);
   Eigen::VectorXd a(n);

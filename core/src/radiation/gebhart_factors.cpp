@@ -142,19 +142,6 @@ struct RowsOfF {
   int nnz(int t) const { return outer[t + 1] - outer[t]; }
 };
 
-// F's columns as lists of the rows holding an entry there (F's pattern transposed, each list
-// in increasing row order): which rows a round's pushed sides reach.
-struct ColumnsOfF {
-  std::vector<int> begin, rows;  // column s: rows[begin[s] .. begin[s + 1])
-  ColumnsOfF(const RowsOfF& f, int S) : begin(S + 1, 0), rows(static_cast<std::size_t>(f.outer[S])) {
-    for (int e = 0; e < f.outer[S]; ++e) ++begin[f.cols[e] + 1];
-    for (int s = 0; s < S; ++s) begin[s + 1] += begin[s];
-    std::vector<int> next(begin.begin(), begin.end() - 1);
-    for (int t = 0; t < S; ++t)
-      for (int e = f.outer[t]; e < f.outer[t + 1]; ++e) rows[next[f.cols[e]]++] = t;
-  }
-};
-
 // Residual R = E + F diag(rho) X - X, row by row (rows are independent: any schedule gives
 // the same bits), and each row's largest |entry| in `row_max`.
 void residual(const RowsOfF& f, const Eigen::VectorXd& rho, const RowMatrixXd& E, const RowMatrixXd& X,
@@ -173,13 +160,10 @@ void residual(const RowsOfF& f, const Eigen::VectorXd& rho, const RowMatrixXd& E
 // reflection of what it has not yet passed on), and the residual follows exactly,
 // R_t += sum_s F(t, s) rho_s P_s over the pushed rows P. With the reference's solution as
 // the start, only the few percent of the rows near a trial's change carry a residual above
-// the threshold (Juno: 300-1600 of 24 000 at first), so a round gathers only the rows t that
-// hold an entry in a pushed column (found from F's columns, `fc`), not every row of F: the
-// other rows would take nothing. Each gathered row sums its entries in F's order, as a scan of
-// every row did: the same bits. Rows are updated independently: deterministic.
-void push_round(const RowsOfF& f, const ColumnsOfF& fc, const Eigen::VectorXd& rho, double threshold, RowMatrixXd& X,
-                RowMatrixXd& R, Eigen::VectorXd& row_max, std::vector<int>& slot, std::vector<char>& reached,
-                RowMatrixXd& P) {
+// the threshold (Juno: 300-1600 of 24 000 at first), so a round costs a scan of F's indices
+// plus the pushed entries, not a full sweep. Rows are updated independently: deterministic.
+void push_round(const RowsOfF& f, const Eigen::VectorXd& rho, double threshold, RowMatrixXd& X, RowMatrixXd& R,
+               Eigen::VectorXd& row_max, std::vector<int>& slot, RowMatrixXd& P) {
   const int S = X.rows(), C = X.cols();
   std::vector<int> pushed;
   for (int s = 0; s < S; ++s)
@@ -194,15 +178,11 @@ void push_round(const RowsOfF& f, const ColumnsOfF& fc, const Eigen::VectorXd& r
     R.row(s).setZero();
     row_max[s] = 0.0;
     slot[s] = k;
-    for (int e = fc.begin[s]; e < fc.begin[s + 1]; ++e) reached[fc.rows[e]] = 1;
   }
   tbb::parallel_for(tbb::blocked_range<int>(0, S, 64), [&](const tbb::blocked_range<int>& r) {
-    for (int t = r.begin(); t != r.end(); ++t) {
-      if (!reached[t]) continue;
-      reached[t] = 0;
+    for (int t = r.begin(); t != r.end(); ++t)
       if (gather_row(f.cols + f.outer[t], f.vals + f.outer[t], f.nnz(t), rho.data(), slot.data(), P.data(), C, &R(t, 0)))
         row_max[t] = R.row(t).cwiseAbs().maxCoeff();
-    }
   });
   for (int s : pushed) slot[s] = -1;
 }
@@ -228,9 +208,7 @@ GebhartFactors gebhart_factors(const FaceViewFactors& vf, const Eigen::VectorXd&
   RowMatrixXd R(S, C), P;
   Eigen::VectorXd row_max(S);
   std::vector<int> slot(S, -1);
-  std::vector<char> reached(S, 0);
   const RowsOfF f(vf.F);
-  const ColumnsOfF fc(f, S);
   residual(f, rho, E, X, R, row_max);
   bool fresh = true;  // R computed afresh since the last round
   for (int round = 0;; ++round) {
@@ -243,7 +221,7 @@ GebhartFactors gebhart_factors(const FaceViewFactors& vf, const Eigen::VectorXd&
       out.max_change = S ? row_max.maxCoeff() : 0.0;
     }
     if (out.max_change <= threshold || round == settings.max_iterations) break;
-    push_round(f, fc, rho, threshold, X, R, row_max, slot, reached, P);
+    push_round(f, rho, threshold, X, R, row_max, slot, P);
     fresh = false;
   }
   if (out.max_change > threshold)
