@@ -113,6 +113,38 @@ TEST(Sensitivity, a_node_beyond_the_threshold_at_the_first_ratio_is_tried_at_hal
   EXPECT_DOUBLE_EQ(d[2].ratios[1], 0.25);
 }
 
+TEST(Sensitivity, a_node_that_reached_the_grid_end_face_count_is_swept_on) {
+  // The coarse bare-mesh sweep ends at 0.93. Node 0 reaches every ratio's face count and goes on
+  // to 0.96 and 0.98; node 1's decimator stops at 40 faces (0.93 asks 21): no further trial;
+  // node 2 ends at the cap as before.
+  const Synthetic base = three_nodes(0.0);
+  auto s = [&](const Eigen::VectorXd& r) {
+    TrialResult t = base(r);
+    t.node_faces_after[1] = std::max(t.node_faces_after[1], 40);
+    t.faces_after = t.node_faces_after.sum();
+    return t;
+  };
+  SensitivityOptions o;
+  o.ratios = {0.5, 0.8, 0.93};
+  o.cap_K = 1.0;
+  o.parallel = false;
+  int calls = 0;
+  const TrialFunction counted = [&](const Eigen::VectorXd& r) { ++calls; return s(r); };
+  const auto plain = sensitivity_analysis(3, counted, o);
+  const int plain_calls = calls;
+  o.ratios_beyond = {0.96, 0.98};
+  o.node_faces_before = {400, 300, 300};
+  calls = 0;
+  const auto c = sensitivity_analysis(3, counted, o);
+  EXPECT_EQ(c[0].ratios, (std::vector<double>{0.5, 0.8, 0.93, 0.96, 0.98}));
+  EXPECT_EQ(c[0].faces_after.back(), 8);
+  EXPECT_EQ(c[1].ratios, plain[1].ratios);
+  EXPECT_EQ(c[2].ratios, plain[2].ratios);
+  EXPECT_EQ(calls, plain_calls + 2);
+  o.node_faces_before = {400, 300};
+  EXPECT_THROW(sensitivity_analysis(3, counted, o), InvalidInput);
+}
+
 TEST(Sensitivity, rejects_bad_ratios) {
   SensitivityOptions o;
   o.ratios = {0.5, 0.4};
