@@ -33,7 +33,8 @@ struct SensitivityOptions {
   double refine_first_above_K = std::numeric_limits<double>::infinity();
   int halvings_below_first = 2;
   //! Ratios past the last of `ratios`, tried only while the node's previous sample reached its
-  //! face count, lround(faces_before (1 - ratio)) (or fewer), within the cap: a node that the
+  //! face count, lround(faces_before (1 - ratio)) + 1 or fewer (a collapse removes two faces),
+  //! within the cap: a node that the
   //! grid's end stopped, not the decimator nor the temperatures, is swept on (a coarse sweep
   //! ends at 0.93 where the fine one goes on to 0.96, 0.98). Needs `node_faces_before`.
   std::vector<double> ratios_beyond;
