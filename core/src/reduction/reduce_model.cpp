@@ -50,6 +50,7 @@ void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& setti
   apply_bare_mesh_ray_budgets(model, settings.reference.simulation);
   if (model.mesh.num_faces() > kBareMeshCoarseSweepFaces) {
     settings.sensitivity.ratios = {0.5, 0.8, 0.93};
+    settings.sensitivity.ratios_beyond = {0.96, 0.98};  // where 0.93 reached its face count
     settings.informed.max_evaluations = std::min(settings.informed.max_evaluations, 20);
     settings.informed.max_leave_one_out = 8;  // two back-off steps fit in the 20 trials
     settings.informed.max_push_trials = 6;    // each about a full simulation (strategies.h)
@@ -90,6 +91,7 @@ struct Searcher {
     so.cap_K = settings.sensitivity_cap_factor * tol;
     // A node beyond the tolerance at the first ratio is tried at smaller ones (halvings).
     so.refine_first_above_K = std::min(so.refine_first_above_K, tol);
+    if (!so.ratios_beyond.empty()) so.node_faces_before.assign(faces.data(), faces.data() + faces.size());
     const auto ts = Clock::now();
     so.progress = [&](int done, int total) {
       // Time left, extrapolated from the nodes swept so far (rough: sweeps differ in length).

@@ -201,7 +201,8 @@ struct ReductionRun {
 //! Bounded run time for bare meshes (ThermalModel::mesh_cleanup set; no-op otherwise): the
 //! simulation ray budgets of apply_bare_mesh_ray_budgets, and above
 //! kBareMeshCoarseSweepFaces faces a coarse sensitivity sweep (ratios 0.5, 0.8, 0.93: at most
-//! 3 trials per node instead of 11), at most 20 trials after the prediction, 8 leave-one-out
+//! 3 trials per node instead of 11; then 0.96, 0.98 only while a node's last sample reached its
+//! face count, SensitivityOptions::ratios_beyond), at most 20 trials after the prediction, 8 leave-one-out
 //! trials per back-off step, 6 push trials, and no extra predicted-vs-real trials. Measured
 //! effect in docs/benchmarks.md ("Reduction: NASA meshes").
 void apply_bare_mesh_reduction_budget(ThermalModel& model, ReduceSettings& settings);

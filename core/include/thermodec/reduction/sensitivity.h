@@ -32,6 +32,14 @@ struct SensitivityOptions {
   //! a sensitive node would otherwise be left unreduced. Off (+inf) by default.
   double refine_first_above_K = std::numeric_limits<double>::infinity();
   int halvings_below_first = 2;
+  //! Ratios past the last of `ratios`, tried only while the node's previous sample reached its
+  //! face count, lround(faces_before (1 - ratio)) + 1 or fewer (a collapse removes two faces),
+  //! within the cap: a node that the
+  //! grid's end stopped, not the decimator nor the temperatures, is swept on (a coarse sweep
+  //! ends at 0.93 where the fine one goes on to 0.96, 0.98). Needs `node_faces_before`.
+  std::vector<double> ratios_beyond;
+  //! Faces of each node before decimation (by node index), for `ratios_beyond`; empty: off.
+  std::vector<int> node_faces_before;
   bool parallel = true;    //!< nodes swept concurrently (TBB); results independent of it
   //! Called after each node's sweep: (nodes done, nodes total). Thread-safe calls.
   std::function<void(int, int)> progress;

@@ -92,7 +92,9 @@ struct InformedOptions {
   //! back-off brings it within the tolerance: re-allocate every node by superposition, the
   //! target scaled by tolerance / measured and corrected as above (max_corrections), instead
   //! of leave-one-out steps and the scale-back. Once per reduction; what still fails backs
-  //! off as below.
+  //! off as below. A first re-allocation that removes under stall_fraction of the failing
+  //! candidate's excess refutes the superposition there (effects that do not add): the search
+  //! returns to that candidate, uncorrected, for leave-one-out steps (no foreseen stall).
   bool reallocate_by_superposition = true;
   //! Skip the push and scale-back trials the superposition rules out: predicted max |dT|
   //! still over the tolerance after the most favourable error measured so far in the search,
