@@ -5,9 +5,14 @@
 // floor (each node's samples redrawn in turn).
 //   bench_reduction [MODEL] [trials (default: number of nodes)] [--sweep] [--no-trial-noise] [--incremental-only]
 //                   [--reduce-sampling] [--gaps] [--candidate REPORT.json]
+//                   [--dump-pair REPORT.json NODE RATIO DIR]
 // --candidate times one combined candidate instead: every node at the ratio a `reduce` report
 // asked for (its nodes' "requested_ratio", decimated under its "max_relative_area_change"), incremental
 // against the reference and then simulated from scratch, with the incremental trial's phases.
+// --dump-pair writes that candidate (under the report's per-node area bounds too) and the same
+// with NODE at RATIO, both simulated from scratch, as DIR/a.json and DIR/b.json with their max
+// |dT| printed: the two models to compare with `simulate --json`, `viewfactors --json` and
+// bench/node_difference_sources.py (what one step of one node moves, and through what).
 // --reduce-sampling first multiplies the noisy nodes' samples as `reduce` does (its noise
 // target, decide_sampling_boosts), so the trials cost what they cost inside `reduce`.
 // MODEL is a model.json or a bare mesh; a bare mesh gets `reduce`'s size-aware ray budgets
@@ -59,6 +64,33 @@ static ReportCandidate read_candidate(const std::string& report_path, const Ther
   return c;
 }
 
+// --dump-pair REPORT NODE RATIO DIR: the report's candidate (its per-node area bounds too) and the
+// same with NODE at RATIO, both simulated from scratch, written as DIR/a.json and DIR/b.json.
+static int dump_pair(ReductionReference& ref, const ReportCandidate& c, const std::string& report_path,
+                     const std::string& node, double ratio, const std::string& dir) {
+  std::ifstream in(report_path);
+  const nlohmann::json report = nlohmann::json::parse(in);
+  DecimationOptions dec = ref.decimation_options();
+  dec.max_relative_area_change = c.max_relative_area_change;
+  if (report.contains("node_max_relative_area_change"))
+    dec.node_max_relative_area_change = report.at("node_max_relative_area_change").get<std::vector<double>>();
+  ref.set_decimation_options(dec);
+  Eigen::VectorXd rb = c.ratios;
+  int k = -1;
+  for (std::size_t i = 0; i < ref.model().nodes.size(); ++i)
+    if (ref.model().nodes[i].name == node) k = static_cast<int>(i);
+  if (k < 0) return 1;
+  rb[k] = ratio;
+  for (int pass = 0; pass < 2; ++pass) {
+    const Candidate cand = ref.candidate(pass == 0 ? c.ratios : rb, true);
+    std::printf("%s: %d faces, max|dT| %.4f K at %s\n", pass == 0 ? "a" : "b", cand.model.mesh.num_faces(),
+                cand.difference.max_abs_K, cand.difference.node.c_str());
+    const std::string nm = pass == 0 ? "a" : "b";
+    save_model(cand.model, dir + "/" + nm + ".json", dir + "/" + nm + ".obj");
+  }
+  return 0;
+}
+
 // --candidate: that candidate, incremental against the reference, then from scratch.
 static int time_candidate(ReductionReference& ref, const ReportCandidate& c, const std::string& report_path) {
   DecimationOptions dec = ref.decimation_options();
@@ -80,7 +112,8 @@ static int time_candidate(ReductionReference& ref, const ReportCandidate& c, con
 
 int main(int argc, char** argv) {
   std::vector<std::string> args;
-  std::string candidate_report;
+  std::string candidate_report, dump_node, dump_dir;
+  double dump_ratio = 0.0;
   bool sweep = false, trial_noise = true, incremental_only = false, reduce_sampling = false, show_gaps = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -90,6 +123,12 @@ int main(int argc, char** argv) {
     else if (a == "--reduce-sampling") reduce_sampling = true;
     else if (a == "--gaps") show_gaps = true;
     else if (a == "--candidate" && i + 1 < argc) candidate_report = argv[++i];
+    else if (a == "--dump-pair" && i + 4 < argc) {
+      candidate_report = argv[++i];
+      dump_node = argv[++i];
+      dump_ratio = std::stod(argv[++i]);
+      dump_dir = argv[++i];
+    }
     else args.push_back(a);
   }
   const std::string path = args.size() > 0 ? args[0] : THERMODEC_SOURCE_DIR "/sample_models/satellite/model.json";
@@ -119,6 +158,7 @@ int main(int argc, char** argv) {
   const double t_ref = std::chrono::duration<double>(Clock::now() - t0).count();
   std::printf("%s: %d faces, %d nodes; reference simulation + reusable state %.2f s\n", path.c_str(),
               model.mesh.num_faces(), n, t_ref);
+  if (!dump_node.empty()) return dump_pair(ref, candidate, candidate_report, dump_node, dump_ratio, dump_dir);
   if (!candidate_report.empty()) return time_candidate(ref, candidate, candidate_report);
   if (trial_noise) {
     t0 = Clock::now();

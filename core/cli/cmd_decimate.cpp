@@ -210,6 +210,12 @@ void add_decimate(CLI::App& app) {
                "at a point) drops the contact's vertices and may go down to its outline's triangles; the touching "
                "part keeps them, so the output is no longer conforming there (`reduce` does this; "
                "docs/decimation.md)");
+  sub->add_option("--near-contact", args->options.near_contact_fraction,
+                  "freeze a vertex lying within this fraction of its shortest edge of a nearly parallel face of another "
+                  "node (a hinge end in the plane of its wall, a bracket millimetres off a panel): the exchange across such a gap "
+                  "is decided at the gap's scale (0 = off, as in `reduce`; docs/decimation.md, \"Near contacts\")")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--max-kink", args->options.max_kinked_contour_deviation,
                   "with --projected-area-budget: a contour vertex up to this deviation (relative to the new segment) "
                   "may go when its nodes pay the outline's swept area from the budget")

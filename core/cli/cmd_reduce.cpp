@@ -55,6 +55,7 @@ struct ReduceCliOptions {
   double wide_kink_area_fraction = reduction_decimation_options().wide_kink_area_fraction;
   double wide_kink_part_fraction = reduction_decimation_options().wide_kink_part_fraction;
   bool conforming_contacts = !reduction_decimation_options().release_contacts;
+  double near_contact_fraction = reduction_decimation_options().near_contact_fraction;
   bool merge_nodes = false;      // reduction/merge_reduction.h
   NodeMergeSettings merge;
 };
@@ -124,6 +125,7 @@ void run_reduce(const ReduceCliOptions& o) {
   s.reference.decimation.wide_kink_area_fraction = o.wide_kink_area_fraction;
   s.reference.decimation.wide_kink_part_fraction = o.wide_kink_part_fraction;
   s.reference.decimation.release_contacts = !o.conforming_contacts;
+  s.reference.decimation.near_contact_fraction = o.near_contact_fraction;
   if (o.record_memory_GiB > 0.0) s.reference.record_budget_bytes = static_cast<std::size_t>(o.record_memory_GiB * 1073741824.0);
   // Load cases read (and checked) before any simulation.
   for (const auto& f : o.case_files) s.extra_cases.push_back(load_case(f, model));
@@ -274,6 +276,12 @@ void add_reduce(CLI::App& app) {
                "the decimator keeps every contact vertex (a sheet standing on a panel, a part touching a flat "
                "face at a point) in the flat region too, so the output stays conforming there (default: the "
                "flat region drops them; docs/decimation.md, \"Released contacts\")");
+  sub->add_option("--near-contact", o->near_contact_fraction,
+                  "freeze a vertex lying within this fraction of its shortest edge of a nearly parallel face of another "
+                  "node (a hinge end in the plane of its wall, a bracket millimetres off a panel): the exchange across such a gap "
+                  "is decided at the gap's scale (0 = off; docs/decimation.md, \"Near contacts\")")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--max-kink", o->max_kinked_contour_deviation,
                   "with --projected-area-budget: a contour vertex up to this deviation (relative to the new segment) "
                   "may go when its nodes pay the outline's swept area from the budget")

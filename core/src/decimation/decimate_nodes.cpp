@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "contact_release.h"
+#include "near_contacts.h"
 #include "node_collapse.h"
 #include "thermodec/common/errors.h"
 #include "thermodec/decimation/global_ratio.h"
@@ -245,6 +246,8 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
     throw InvalidInput("decimate: max_fold_deg must be in (0, 179]");
   check_reflection_data(options.reflection, mesh.num_faces(), num_nodes);
   if (!(options.reflection_cap >= 0)) throw InvalidInput("decimate: reflection_cap must be >= 0");
+  if (!(options.near_contact_fraction >= 0 && std::isfinite(options.near_contact_fraction)))
+    throw InvalidInput("decimate: near_contact_fraction must be finite and >= 0");
 
   const int groups = num_nodes + (has_unassigned ? 1 : 0);
   const NodeGroups group_of{mesh, num_nodes};
@@ -265,6 +268,14 @@ DecimationResult decimate_nodes(const Mesh& mesh, const Eigen::VectorXd& target_
   }
   const Mesh& work = rel.released > 0 ? rel.mesh : mesh;
   const int nv = work.num_vertices();
+  if (options.near_contact_fraction > 0) {  // found on the input, frozen on every copy of the vertex
+    const std::vector<char> near = near_contact_vertices(mesh, options.near_contact_fraction);
+    c.contact_frozen.resize(static_cast<size_t>(nv), 0);
+    for (int v = 0; v < nv; ++v) {
+      const int in = rel.released > 0 ? rel.input_vertex[static_cast<size_t>(v)] : v;
+      c.contact_frozen[static_cast<size_t>(v)] |= near[static_cast<size_t>(in)];
+    }
+  }
   const int ncomp = classify_mesh(work, group_of, c);
   const int total_target = set_node_budgets(work, group_of, groups, num_nodes, target_ratio_per_node, options, c);
 

@@ -193,6 +193,15 @@ struct DecimationOptions {
   //! unmoved are joined back). Off by default (`decimate`'s output stays conforming), on in
   //! `reduce` (reduction_decimation_options).
   bool release_contacts = false;
+  //! Near contacts of two nodes: a vertex within this fraction of its shortest edge (and 1e-4
+  //! of the bounding-box diagonal) of a nearly parallel face of another node that does not
+  //! contain it (a hinge's end disc in the plane of the wall it is fixed to, a bracket
+  //! millimetres off a panel) is frozen. Across such a gap what each side
+  //! sees of the other is decided at the gap's scale, far below the edges', so moving the vertex
+  //! by a fraction of an edge moves the two nodes' radiative coupling at first order (NPP_16:
+  //! three collapses of a hinge 2-7 mm off a box wall, +1.08 m^2 of coupling, +0.16 K;
+  //! docs/decimation.md, "Near contacts"). 0 = off (the default here and in `reduce`).
+  double near_contact_fraction = 0.0;
   //! Passes over the mesh: a collapse refused when it comes off the heap (a neighbour had no
   //! budget left, a node's area had drifted to its bound) is queued again only when its star
   //! changes, so the first pass can end while allowed collapses remain (NodeDecimationStats
