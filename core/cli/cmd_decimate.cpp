@@ -213,7 +213,7 @@ void add_decimate(CLI::App& app) {
   sub->add_option("--near-contact", args->options.near_contact_fraction,
                   "freeze a vertex lying within this fraction of its shortest edge of a nearly parallel face of another "
                   "node (a hinge end in the plane of its wall, a bracket millimetres off a panel): the exchange across such a gap "
-                  "is decided at the gap's scale (0 = off, as in `reduce`; docs/decimation.md, \"Near contacts\")")
+                  "is decided at the gap's scale (0 = off; `reduce` uses 0.05; docs/decimation.md, \"Near contacts\")")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--max-kink", args->options.max_kinked_contour_deviation,

@@ -200,7 +200,7 @@ struct DecimationOptions {
   //! sees of the other is decided at the gap's scale, far below the edges', so moving the vertex
   //! by a fraction of an edge moves the two nodes' radiative coupling at first order (NPP_16:
   //! three collapses of a hinge 2-7 mm off a box wall, +1.08 m^2 of coupling, +0.16 K;
-  //! docs/decimation.md, "Near contacts"). 0 = off (the default here and in `reduce`).
+  //! docs/decimation.md, "Near contacts"). 0 = off (the default here; `reduce` uses 0.05).
   double near_contact_fraction = 0.0;
   //! Passes over the mesh: a collapse refused when it comes off the heap (a neighbour had no
   //! budget left, a node's area had drifted to its bound) is queued again only when its star
