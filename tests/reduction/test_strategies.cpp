@@ -518,3 +518,34 @@ TEST(InformedReduction, pushes_the_superposition_rules_out_are_not_tried) {
   for (const auto& o : out) EXPECT_LE(o.verified.max_abs_dT_K, 0.5);
   EXPECT_EQ(out[1].verified.faces_after, out[0].verified.faces_after);  // the same model, 8 -> 5 trials here
 }
+
+TEST(InformedReduction, a_node_stalled_alone_is_pushed_past_the_stall_where_its_neighbours_free_it) {
+  // Node 1 alone stops at 40 of its 300 faces (its interface with node 0 holds it: 0.9 and 0.93
+  // both keep 40); with node 0 decimated as well it reaches its count. Both are insensitive.
+  WithField base;
+  static_cast<Synthetic&>(base) = three_nodes(0.0);
+  base.sensitivity_K = Eigen::Vector3d(0.05, 0.05, 20.0);
+  auto s = [&](const Eigen::VectorXd& r) {
+    TrialResult t = base(r);
+    if (r[0] == 0.0) t.node_faces_after[1] = std::max(t.node_faces_after[1], 40);
+    t.faces_after = t.node_faces_after.sum();
+    return t;
+  };
+  SensitivityOptions so;
+  so.parallel = false;
+  const auto curves = sensitivity_analysis(3, s, so);
+  EXPECT_DOUBLE_EQ(curves[1].ratios.back(), 0.9);
+  EXPECT_DOUBLE_EQ(curves[1].stalled_ratio, 0.93);
+  EXPECT_TRUE(std::isnan(curves[0].stalled_ratio));
+  for (bool faces_known : {false, true}) {
+    InformedOptions io;
+    io.tolerance_K = 0.5;
+    io.parallel = false;
+    io.max_combined_push_trials = 0;
+    if (faces_known) io.node_faces = [&](const Eigen::VectorXd& r) { return s(r).node_faces_after; };
+    const auto out = informed_reduction(curves, 3, s, s, io);
+    EXPECT_DOUBLE_EQ(out.ratio_per_node[1], faces_known ? 0.93 : 0.9);
+    EXPECT_EQ(out.verified.node_faces_after[1], faces_known ? 21 : 30);
+    EXPECT_LE(out.verified.max_abs_dT_K, 0.5);
+  }
+}

@@ -14,14 +14,15 @@ namespace thermodec {
 namespace {
 bool g_started = false;
 
-// One rank's curves as doubles (node, sample count, ratios, differences, faces, then per
-// sample the difference field as rows, columns, values): NaN differences and face counts
-// (< 2^53) travel exactly.
+// One rank's curves as doubles (node, sample count, stalled ratio, ratios, differences, faces,
+// then per sample the difference field as rows, columns, values): NaN differences and face
+// counts (< 2^53) travel exactly.
 std::vector<double> pack(const std::vector<SensitivityCurve>& curves, int trials, long long peak_bytes) {
   std::vector<double> b{static_cast<double>(trials), static_cast<double>(peak_bytes)};
   for (const auto& c : curves) {
     b.push_back(c.node);
     b.push_back(static_cast<double>(c.ratios.size()));
+    b.push_back(c.stalled_ratio);
     b.insert(b.end(), c.ratios.begin(), c.ratios.end());
     b.insert(b.end(), c.max_abs_dT_K.begin(), c.max_abs_dT_K.end());
     for (int f : c.faces_after) b.push_back(f);
@@ -42,11 +43,12 @@ int unpack(const double* p, const double* end, std::vector<SensitivityCurve>& cu
   for (p += 2; p < end;) {
     const int node = static_cast<int>(p[0]);
     const std::size_t m = static_cast<std::size_t>(p[1]);
-    if (node < 0 || node >= static_cast<int>(curves_by_node.size()) || curves_by_node[node].node >= 0 || p + 2 + 3 * m > end)
+    if (node < 0 || node >= static_cast<int>(curves_by_node.size()) || curves_by_node[node].node >= 0 || p + 3 + 3 * m > end)
       throw SolverError("internal: malformed sensitivity curves gathered from an MPI rank");
     SensitivityCurve& c = curves_by_node[node];
     c.node = node;
-    p += 2;
+    c.stalled_ratio = p[2];
+    p += 3;
     c.ratios.assign(p, p + m);
     c.max_abs_dT_K.assign(p + m, p + 2 * m);
     for (std::size_t i = 0; i < m; ++i) c.faces_after.push_back(static_cast<int>(p[2 * m + i]));

@@ -11,6 +11,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/common/release_free_memory.h"
 #include "thermodec/common/side_by_side.h"
+#include "thermodec/decimation/decimate_nodes.h"
 #include "thermodec/decimation/global_ratio.h"
 #include "thermodec/reduction/area_bounds.h"
 #include "thermodec/reduction/prediction.h"
@@ -128,6 +129,14 @@ struct Searcher {
     io.log = log;
     io.node_names = node_names;
     io.before_push = before_push;
+    io.node_faces = [this](const Eigen::VectorXd& r) {  // decimation only (ms to 0.1 s on NPP_16)
+      const ReductionReference& ref = *refs.front();
+      const DecimationResult d = decimate_nodes(ref.model().mesh, r, ref.decimation_options());
+      Eigen::VectorXi faces_k = Eigen::VectorXi::Zero(r.size());
+      for (Eigen::Index k = 0; k < r.size() && k < static_cast<Eigen::Index>(d.nodes.size()); ++k)
+        faces_k[k] = d.nodes[k].faces_after;
+      return faces_k;
+    };
     say("prediction and reduction aiming at " + fmt("%.4g K", search_tol));
     return informed_reduction(run.curves, n, trial, trial, io);
   }

@@ -75,7 +75,10 @@ std::vector<SensitivityCurve> sensitivity_analysis(int num_nodes, const TrialFun
       if (k >= grid && !reached(all_ratios[k - 1], c.faces_after.back())) break;
       const TrialResult res = k == 0 ? at_first : run(r);
       const int faces = faces_of(res);
-      if (faces >= 0 && faces == last_faces) break;  // the decimator cannot go further
+      if (faces >= 0 && faces == last_faces) {  // the decimator cannot go further alone
+        c.stalled_ratio = r;
+        break;
+      }
       c.ratios.push_back(r);
       c.max_abs_dT_K.push_back(res.max_abs_dT_K);
       c.faces_after.push_back(faces);

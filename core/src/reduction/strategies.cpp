@@ -144,6 +144,44 @@ std::string node_name(const InformedOptions& o, int k) {
   return k >= 0 && k < static_cast<int>(o.node_names.size()) ? o.node_names[k] : "node " + std::to_string(k);
 }
 
+// Per node, the faces its curve's stalled ratio (SensitivityCurve::stalled_ratio) removes
+// beyond `start` with the other nodes as in `start`, where that is at least 2 and the node sits
+// at its curve's last sample; 0 elsewhere. One decimation of every such node at once, and one
+// of `start` (both cheap beside a trial: NPP_16 0.1 s).
+Eigen::VectorXi faces_past_single_node_stalls(const std::vector<const SensitivityCurve*>& curve_of,
+                                              const InformedOptions& o, const Eigen::VectorXd& start) {
+  const Eigen::Index n = start.size();
+  Eigen::VectorXi gain = Eigen::VectorXi::Zero(n);
+  if (!o.node_faces) return gain;
+  Eigen::VectorXd past = start;
+  bool any = false;
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const SensitivityCurve* c = curve_of[k];
+    if (!c || c->ratios.empty() || !(c->stalled_ratio > start[k])) continue;
+    if (std::abs(start[k] - c->ratios.back()) > 1e-9) continue;  // not at the curve's end
+    past[k] = c->stalled_ratio;
+    any = true;
+  }
+  if (!any) return gain;
+  const Eigen::VectorXi before = o.node_faces(start), after = o.node_faces(past);
+  for (Eigen::Index k = 0; k < n; ++k)
+    if (past[k] != start[k] && before[k] - after[k] >= 2) gain[k] = before[k] - after[k];
+  return gain;
+}
+
+// A curve's last measured increase per face removed [K/face]: its last segment's, or its first
+// sample's against the unreduced node (0 K) when it has one sample; 0 where unknown.
+double last_slope_per_face_K(const SensitivityCurve& c) {
+  const std::size_t m = c.ratios.size();
+  if (m == 0 || !std::isfinite(c.max_abs_dT_K[m - 1])) return 0.0;
+  if (m == 1) {
+    const double before = c.ratios[0] < 1.0 ? c.faces_after[0] / (1.0 - c.ratios[0]) : 0.0;
+    return c.max_abs_dT_K[0] / std::max(1.0, before - c.faces_after[0]);
+  }
+  const double rise = c.max_abs_dT_K[m - 1] - c.max_abs_dT_K[m - 2];
+  return std::max(0.0, rise) / std::max(1, c.faces_after[m - 2] - c.faces_after[m - 1]);
+}
+
 // Push: spend remaining slack one step at a time, cheapest predicted increase per face
 // first. A step that fails is halved once towards the last good ratio (bisection), since
 // the curves are sampled coarsely. Returns the last candidate whose trial passed (`start` if
@@ -161,10 +199,12 @@ Eigen::VectorXd push_remaining_slack(const std::vector<const SensitivityCurve*>&
   lowest_failed = Eigen::VectorXd::Constant(num_nodes, std::numeric_limits<double>::infinity());
   std::vector<bool> saturated(num_nodes, false);
   Eigen::VectorXd failed_at = Eigen::VectorXd::Constant(num_nodes, -1.0);
+  const Eigen::VectorXi stalled_gain = faces_past_single_node_stalls(curve_of, o, start);
   auto step_for = [&](int k) {
     const auto& c = *curve_of[k];
-    if (failed_at[k] < 0) return next_ratio(c, current[k]);
-    return 0.5 * (current[k] + failed_at[k]);
+    if (failed_at[k] >= 0) return 0.5 * (current[k] + failed_at[k]);
+    const double nxt = next_ratio(c, current[k]);
+    return nxt <= current[k] + 1e-3 && stalled_gain[k] > 0 ? c.stalled_ratio : nxt;
   };
   // The push trials to expect from here: one per node whose next step, or the step halfway
   // to it (tried after a failure), the superposition does not rule out now; within the bounds.
@@ -185,6 +225,31 @@ Eigen::VectorXd push_remaining_slack(const std::vector<const SensitivityCurve*>&
     return std::min({open, o.max_push_trials, o.max_evaluations - evaluations});
   };
   int pushes = 0;
+  auto past_stall = [&](int k, double r) { return stalled_gain[k] > 0 && r == curve_of[k]->stalled_ratio; };
+  // Every node past its single-node stall at once, first: alone each kept its faces there, so
+  // its curve predicts no change, and one trial usually takes them all (NPP_16: node_040 and
+  // four small plates, 20 faces for 0.01 K). Those a failing group leaves go one by one below.
+  {
+    Eigen::VectorXd cand = current;
+    int group = 0;
+    for (int k = 0; k < num_nodes; ++k)
+      if (stalled_gain[k] > 0) cand[k] = curve_of[k]->stalled_ratio, ++group;
+    if (group > 1 && evaluations < o.max_evaluations && pushes < o.max_push_trials &&
+        screen.rules_out(cand, tol).empty()) {
+      if (o.before_push) o.before_push(current, start_result, expected_trials());
+      const TrialResult r = trial(cand);
+      ++evaluations;
+      ++pushes;
+      const bool passed = within(r, tol);
+      record(cand, r, "push " + std::to_string(group) + " nodes past their single-node stalls (~" +
+                          std::to_string(stalled_gain.sum()) + " faces)" + (passed ? "" : " (rejected: over the tolerance)"));
+      if (passed) {
+        current = cand;
+        end_result = r;
+        for (int k = 0; k < num_nodes; ++k) saturated[k] = saturated[k] || stalled_gain[k] > 0;
+      }
+    }
+  }
   while (evaluations < o.max_evaluations && pushes < o.max_push_trials) {
     int pick = -1;
     double pick_score = std::numeric_limits<double>::infinity();
@@ -193,18 +258,31 @@ Eigen::VectorXd push_remaining_slack(const std::vector<const SensitivityCurve*>&
       const auto& c = *curve_of[k];
       const double nxt = step_for(k);
       if (!(nxt > current[k] + 1e-3)) { saturated[k] = true; continue; }
-      const double inc = predicted_difference_K(c, nxt) - predicted_difference_K(c, current[k]);
-      double saved = 1.0;
-      for (size_t i = 1; i < c.ratios.size(); ++i)
-        if (std::abs(c.ratios[i] - next_ratio(c, current[k])) < 1e-12)
-          saved = std::max(1, c.faces_after[i - 1] - c.faces_after[i]);
-      const double score = std::max(inc, 0.0) / saved;
+      double score = 0.0;
+      if (past_stall(k, nxt)) {
+        score = last_slope_per_face_K(c);  // (the gain in faces cancels)
+      } else {
+        const double inc = predicted_difference_K(c, nxt) - predicted_difference_K(c, current[k]);
+        double saved = 1.0;
+        for (size_t i = 1; i < c.ratios.size(); ++i)
+          if (std::abs(c.ratios[i] - next_ratio(c, current[k])) < 1e-12)
+            saved = std::max(1, c.faces_after[i - 1] - c.faces_after[i]);
+        score = std::max(inc, 0.0) / saved;
+      }
       if (score < pick_score) { pick_score = score; pick = k; }
     }
     if (pick < 0) break;
     Eigen::VectorXd cand = current;
     cand[pick] = step_for(pick);
     const std::string name = "push " + node_name(o, pick) + " to " + fmt_ratio(cand[pick]);
+    if (past_stall(pick, cand[pick])) {  // (earlier pushes may have taken its gain: decimation only)
+      const int gain = o.node_faces(current).sum() - o.node_faces(cand).sum();
+      if (gain < 2) {
+        log(name + ": skipped, it removes " + std::to_string(gain) + " face(s) from this candidate");
+        saturated[pick] = true;
+        continue;
+      }
+    }
     const std::string ruled_out = screen.rules_out(cand, tol);
     bool passed = false;  // a step the superposition rules out counts as failed, without a trial
     if (ruled_out.empty()) {
@@ -223,7 +301,7 @@ Eigen::VectorXd push_remaining_slack(const std::vector<const SensitivityCurve*>&
     if (passed) {
       current = cand;
       if (failed_at[pick] >= 0) saturated[pick] = true;  // bisected once: good enough
-    } else if (failed_at[pick] < 0) {
+    } else if (failed_at[pick] < 0 && !past_stall(pick, cand[pick])) {
       failed_at[pick] = cand[pick];
     } else {
       saturated[pick] = true;

@@ -18,13 +18,16 @@ using nlohmann::json;
 namespace {
 
 json curve_json(const SensitivityCurve& c, const ReductionRun& run) {
-  return {{"node", run.nodes[c.node].name},
+  json j = {{"node", run.nodes[c.node].name},
           {"faces_before", run.nodes[c.node].faces_before},
           {"ratios", c.ratios},
           {"max_abs_dT_K", c.max_abs_dT_K},
           {"faces_after", c.faces_after},
           {"chosen_ratio", run.nodes[c.node].requested_ratio},
           {"predicted_ratio", run.nodes[c.node].predicted_ratio}};
+  // (the ratio past the last sample where the node alone kept its faces; absent: none)
+  if (std::isfinite(c.stalled_ratio)) j["stalled_alone_at_ratio"] = c.stalled_ratio;
+  return j;
 }
 
 json mesh_panel(const Mesh& m, const std::string& title, const Eigen::VectorXd* value, const std::string& label) {

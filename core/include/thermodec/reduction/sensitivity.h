@@ -20,6 +20,11 @@ struct SensitivityCurve {
   std::vector<int> faces_after;        //!< faces the node kept
   //! Per sample, the trial's signed difference field (TrialResult::dT_K), or empty.
   std::vector<Eigen::MatrixXd> dT_K;
+  //! The ratio past the last sample whose trial kept the same faces (NaN if none): alone, the
+  //! node could not go further, because its interfaces with undecimated neighbours hold it.
+  //! With those neighbours decimated too it may (NPP_16's node_040: 19 faces at 0.8 and 0.93
+  //! alone, 9 at 0.93 in the reduced model); the push tries it there (strategies.h).
+  double stalled_ratio = std::numeric_limits<double>::quiet_NaN();
 };
 
 struct SensitivityOptions {
