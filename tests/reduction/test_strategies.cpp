@@ -549,3 +549,40 @@ TEST(InformedReduction, a_node_stalled_alone_is_pushed_past_the_stall_where_its_
     EXPECT_LE(out.verified.max_abs_dT_K, 0.5);
   }
 }
+
+TEST(InformedReduction, nodes_stalled_alone_go_past_their_stalls_together_and_a_failing_group_tries_the_largest) {
+  // Nodes 0 and 1 each stop at 40 faces alone and are freed by the other's decimation. With
+  // node 1's freed collapses costing 1 K, the group fails and node 0 (12 faces) goes alone.
+  for (bool costly : {false, true}) {
+    WithField base;
+    static_cast<Synthetic&>(base) = three_nodes(0.0);
+    base.sensitivity_K = Eigen::Vector3d(0.05, 0.05, 20.0);
+    auto s = [&](const Eigen::VectorXd& r) {
+      WithField b = base;
+      TrialResult t = b(r);
+      if (r[1] == 0.0) t.node_faces_after[0] = std::max(t.node_faces_after[0], 40);
+      if (r[0] == 0.0) t.node_faces_after[1] = std::max(t.node_faces_after[1], 40);
+      if (costly && r[1] > 0.92) t.max_abs_dT_K += 1.0, t.dT_K.array() += 1.0;
+      t.faces_after = t.node_faces_after.sum();
+      return t;
+    };
+    SensitivityOptions so;
+    so.parallel = false;
+    const auto curves = sensitivity_analysis(3, s, so);
+    InformedOptions io;
+    io.tolerance_K = 0.5;
+    io.parallel = false;
+    io.node_faces = [&](const Eigen::VectorXd& r) { return s(r).node_faces_after; };
+    const auto out = informed_reduction(curves, 3, s, s, io);
+    int group = 0, alone = 0;
+    for (const auto& h : out.history) {
+      group += h.action.find("stalls: node 0, node 1") != std::string::npos;
+      alone += h.action.find("stalls: node 0 (") != std::string::npos;
+    }
+    EXPECT_EQ(group, 1);
+    EXPECT_EQ(alone, costly ? 1 : 0);
+    EXPECT_DOUBLE_EQ(out.ratio_per_node[0], 0.93);
+    EXPECT_DOUBLE_EQ(out.ratio_per_node[1], costly ? 0.9 : 0.93);
+    EXPECT_LE(out.verified.max_abs_dT_K, 0.5);
+  }
+}

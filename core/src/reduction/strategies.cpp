@@ -169,17 +169,44 @@ Eigen::VectorXi faces_past_single_node_stalls(const std::vector<const Sensitivit
   return gain;
 }
 
-// A curve's last measured increase per face removed [K/face]: its last segment's, or its first
-// sample's against the unreduced node (0 K) when it has one sample; 0 where unknown.
-double last_slope_per_face_K(const SensitivityCurve& c) {
-  const std::size_t m = c.ratios.size();
-  if (m == 0 || !std::isfinite(c.max_abs_dT_K[m - 1])) return 0.0;
-  if (m == 1) {
-    const double before = c.ratios[0] < 1.0 ? c.faces_after[0] / (1.0 - c.ratios[0]) : 0.0;
-    return c.max_abs_dT_K[0] / std::max(1.0, before - c.faces_after[0]);
-  }
-  const double rise = c.max_abs_dT_K[m - 1] - c.max_abs_dT_K[m - 2];
-  return std::max(0.0, rise) / std::max(1, c.faces_after[m - 2] - c.faces_after[m - 1]);
+// The last push: the nodes at their curves' ends whose single-node stalls the candidate's
+// decimated neighbours free (faces_past_single_node_stalls) go past them, all in one trial;
+// if that fails, the one that frees the most faces alone. Alone each kept its faces there, so
+// its curve predicts no change; the trial measures what the freed collapses do. Last, so that
+// the steps the curves price are planned as without it. At most two trials, within
+// max_evaluations; returns `start` or the candidate that passed (its trial in `result`).
+Eigen::VectorXd push_past_single_node_stalls(const std::vector<const SensitivityCurve*>& curve_of,
+                                             const TrialFunction& trial, const InformedOptions& o, int& evaluations,
+                                             const RecordFn& record, const Eigen::VectorXd& start, TrialResult& result) {
+  const Eigen::VectorXi gain = faces_past_single_node_stalls(curve_of, o, start);
+  std::vector<int> nodes;
+  for (int k = 0; k < gain.size(); ++k)
+    if (gain[k] > 0) nodes.push_back(k);
+  std::stable_sort(nodes.begin(), nodes.end(), [&](int a, int b) { return gain[a] > gain[b]; });
+  Eigen::VectorXd current = start;
+  auto attempt = [&](const std::vector<int>& which) {
+    if (which.empty() || evaluations >= o.max_evaluations) return false;
+    Eigen::VectorXd cand = start;
+    std::string names;
+    int faces = 0;
+    for (int k : which) {
+      cand[k] = curve_of[k]->stalled_ratio;
+      names += (names.empty() ? "" : ", ") + node_name(o, k);
+      faces += gain[k];
+    }
+    const TrialResult r = trial(cand);
+    ++evaluations;
+    const bool passed = within(r, o.tolerance_K);
+    record(cand, r, "push past single-node stalls: " + names + " (~" + std::to_string(faces) + " faces)" +
+                        (passed ? "" : " (rejected: over the tolerance)"));
+    if (passed) {
+      current = cand;
+      result = r;
+    }
+    return passed;
+  };
+  if (!attempt(nodes) && nodes.size() > 1) attempt({nodes.front()});
+  return current;
 }
 
 // Push: spend remaining slack one step at a time, cheapest predicted increase per face
@@ -199,12 +226,10 @@ Eigen::VectorXd push_remaining_slack(const std::vector<const SensitivityCurve*>&
   lowest_failed = Eigen::VectorXd::Constant(num_nodes, std::numeric_limits<double>::infinity());
   std::vector<bool> saturated(num_nodes, false);
   Eigen::VectorXd failed_at = Eigen::VectorXd::Constant(num_nodes, -1.0);
-  const Eigen::VectorXi stalled_gain = faces_past_single_node_stalls(curve_of, o, start);
   auto step_for = [&](int k) {
     const auto& c = *curve_of[k];
-    if (failed_at[k] >= 0) return 0.5 * (current[k] + failed_at[k]);
-    const double nxt = next_ratio(c, current[k]);
-    return nxt <= current[k] + 1e-3 && stalled_gain[k] > 0 ? c.stalled_ratio : nxt;
+    if (failed_at[k] < 0) return next_ratio(c, current[k]);
+    return 0.5 * (current[k] + failed_at[k]);
   };
   // The push trials to expect from here: one per node whose next step, or the step halfway
   // to it (tried after a failure), the superposition does not rule out now; within the bounds.
@@ -225,31 +250,6 @@ Eigen::VectorXd push_remaining_slack(const std::vector<const SensitivityCurve*>&
     return std::min({open, o.max_push_trials, o.max_evaluations - evaluations});
   };
   int pushes = 0;
-  auto past_stall = [&](int k, double r) { return stalled_gain[k] > 0 && r == curve_of[k]->stalled_ratio; };
-  // Every node past its single-node stall at once, first: alone each kept its faces there, so
-  // its curve predicts no change, and one trial usually takes them all (NPP_16: node_040 and
-  // four small plates, 20 faces for 0.01 K). Those a failing group leaves go one by one below.
-  {
-    Eigen::VectorXd cand = current;
-    int group = 0;
-    for (int k = 0; k < num_nodes; ++k)
-      if (stalled_gain[k] > 0) cand[k] = curve_of[k]->stalled_ratio, ++group;
-    if (group > 1 && evaluations < o.max_evaluations && pushes < o.max_push_trials &&
-        screen.rules_out(cand, tol).empty()) {
-      if (o.before_push) o.before_push(current, start_result, expected_trials());
-      const TrialResult r = trial(cand);
-      ++evaluations;
-      ++pushes;
-      const bool passed = within(r, tol);
-      record(cand, r, "push " + std::to_string(group) + " nodes past their single-node stalls (~" +
-                          std::to_string(stalled_gain.sum()) + " faces)" + (passed ? "" : " (rejected: over the tolerance)"));
-      if (passed) {
-        current = cand;
-        end_result = r;
-        for (int k = 0; k < num_nodes; ++k) saturated[k] = saturated[k] || stalled_gain[k] > 0;
-      }
-    }
-  }
   while (evaluations < o.max_evaluations && pushes < o.max_push_trials) {
     int pick = -1;
     double pick_score = std::numeric_limits<double>::infinity();
@@ -258,31 +258,18 @@ Eigen::VectorXd push_remaining_slack(const std::vector<const SensitivityCurve*>&
       const auto& c = *curve_of[k];
       const double nxt = step_for(k);
       if (!(nxt > current[k] + 1e-3)) { saturated[k] = true; continue; }
-      double score = 0.0;
-      if (past_stall(k, nxt)) {
-        score = last_slope_per_face_K(c);  // (the gain in faces cancels)
-      } else {
-        const double inc = predicted_difference_K(c, nxt) - predicted_difference_K(c, current[k]);
-        double saved = 1.0;
-        for (size_t i = 1; i < c.ratios.size(); ++i)
-          if (std::abs(c.ratios[i] - next_ratio(c, current[k])) < 1e-12)
-            saved = std::max(1, c.faces_after[i - 1] - c.faces_after[i]);
-        score = std::max(inc, 0.0) / saved;
-      }
+      const double inc = predicted_difference_K(c, nxt) - predicted_difference_K(c, current[k]);
+      double saved = 1.0;
+      for (size_t i = 1; i < c.ratios.size(); ++i)
+        if (std::abs(c.ratios[i] - next_ratio(c, current[k])) < 1e-12)
+          saved = std::max(1, c.faces_after[i - 1] - c.faces_after[i]);
+      const double score = std::max(inc, 0.0) / saved;
       if (score < pick_score) { pick_score = score; pick = k; }
     }
     if (pick < 0) break;
     Eigen::VectorXd cand = current;
     cand[pick] = step_for(pick);
     const std::string name = "push " + node_name(o, pick) + " to " + fmt_ratio(cand[pick]);
-    if (past_stall(pick, cand[pick])) {  // (earlier pushes may have taken its gain: decimation only)
-      const int gain = o.node_faces(current).sum() - o.node_faces(cand).sum();
-      if (gain < 2) {
-        log(name + ": skipped, it removes " + std::to_string(gain) + " face(s) from this candidate");
-        saturated[pick] = true;
-        continue;
-      }
-    }
     const std::string ruled_out = screen.rules_out(cand, tol);
     bool passed = false;  // a step the superposition rules out counts as failed, without a trial
     if (ruled_out.empty()) {
@@ -301,7 +288,7 @@ Eigen::VectorXd push_remaining_slack(const std::vector<const SensitivityCurve*>&
     if (passed) {
       current = cand;
       if (failed_at[pick] >= 0) saturated[pick] = true;  // bisected once: good enough
-    } else if (failed_at[pick] < 0 && !past_stall(pick, cand[pick])) {
+    } else if (failed_at[pick] < 0) {
       failed_at[pick] = cand[pick];
     } else {
       saturated[pick] = true;
@@ -619,6 +606,7 @@ ReductionOutcome informed_reduction(const std::vector<SensitivityCurve>& curves,
         co.before_first_trial = [&](int left) { po.before_push(pushed, pushed_res, left); };
         pushed = combined_push(curve_of, trial, co, record_predicted, pushed, pushed_res);
       }
+      pushed = push_past_single_node_stalls(curve_of, trial, o, evaluations, record, pushed, pushed_res);
       if (pushed != ratios) {
         verified(pushed);
         if (have_best) break;

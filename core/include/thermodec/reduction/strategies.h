@@ -108,10 +108,10 @@ struct InformedOptions {
   //! candidate (ReductionReference::rebase). Trials must give the same results after it.
   std::function<void(const Eigen::VectorXd& start, const TrialResult& start_result, int trials_left)> before_push;
   //! Faces per node the decimator leaves for the given ratios (decimation only, no simulation).
-  //! With it the push also offers each node at the end of its curve whose sweep stalled alone
-  //! (SensitivityCurve::stalled_ratio) the stalled ratio, when in the push's start candidate,
-  //! with its neighbours decimated, that ratio removes at least 2 more of its faces; its
-  //! predicted cost is its curve's last slope per face times those faces. Empty: no such steps.
+  //! With it, after the combined push, the nodes at their curves' ends whose sweep stalled
+  //! alone (SensitivityCurve::stalled_ratio) and whose stalled ratio removes at least 2 more of
+  //! their faces in the pushed candidate (neighbours decimated) go there in one trial; if it
+  //! fails, the one freeing the most faces alone (at most 2 trials). Empty: not tried.
   std::function<Eigen::VectorXi(const Eigen::VectorXd& ratios)> node_faces;
   std::function<void(const std::string&)> log;
   //! Node names for progress lines and history actions ("push antenna_dish to 0.6"); nodes
