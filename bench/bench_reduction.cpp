@@ -74,6 +74,7 @@ static int dump_pair(ReductionReference& ref, const ReportCandidate& c, const st
   dec.max_relative_area_change = c.max_relative_area_change;
   if (report.contains("node_max_relative_area_change"))
     dec.node_max_relative_area_change = report.at("node_max_relative_area_change").get<std::vector<double>>();
+  if (dec.reflection_cap > 0.0) dec.reflection = ref.reflection();  // as reduce_model (one case)
   ref.set_decimation_options(dec);
   Eigen::VectorXd rb = c.ratios;
   int k = -1;
