@@ -145,11 +145,12 @@ std::string node_name(const InformedOptions& o, int k) {
 }
 
 // Per node, the faces its curve's stalled ratio (SensitivityCurve::stalled_ratio) removes
-// beyond `start` with the other nodes as in `start`, where that is at least 2 and the node sits
-// at its curve's last sample; 0 elsewhere. One decimation of every such node at once, and one
-// of `start` (both cheap beside a trial: NPP_16 0.1 s).
+// beyond `start` (whose trial is `start_result`) with the other nodes as in `start`, where that
+// is at least 2 and the node sits at its curve's last sample; 0 elsewhere. One decimation of
+// every such node at once (cheap beside a trial: NPP_16 0.1 s); `start`'s faces are its trial's.
 Eigen::VectorXi faces_past_single_node_stalls(const std::vector<const SensitivityCurve*>& curve_of,
-                                              const InformedOptions& o, const Eigen::VectorXd& start) {
+                                              const InformedOptions& o, const Eigen::VectorXd& start,
+                                              const TrialResult& start_result) {
   const Eigen::Index n = start.size();
   Eigen::VectorXi gain = Eigen::VectorXi::Zero(n);
   if (!o.node_faces) return gain;
@@ -163,7 +164,9 @@ Eigen::VectorXi faces_past_single_node_stalls(const std::vector<const Sensitivit
     any = true;
   }
   if (!any) return gain;
-  const Eigen::VectorXi before = o.node_faces(start), after = o.node_faces(past);
+  const Eigen::VectorXi before =
+      start_result.node_faces_after.size() == n ? start_result.node_faces_after : o.node_faces(start);
+  const Eigen::VectorXi after = o.node_faces(past);
   for (Eigen::Index k = 0; k < n; ++k)
     if (past[k] != start[k] && before[k] - after[k] >= 2) gain[k] = before[k] - after[k];
   return gain;
@@ -174,11 +177,12 @@ Eigen::VectorXi faces_past_single_node_stalls(const std::vector<const Sensitivit
 // if that fails, the one that frees the most faces alone. Alone each kept its faces there, so
 // its curve predicts no change; the trial measures what the freed collapses do. Last, so that
 // the steps the curves price are planned as without it. At most two trials, within
-// max_evaluations; returns `start` or the candidate that passed (its trial in `result`).
+// max_evaluations; returns `start` or the candidate that passed. `result`: `start`'s trial
+// in, the returned candidate's out.
 Eigen::VectorXd push_past_single_node_stalls(const std::vector<const SensitivityCurve*>& curve_of,
                                              const TrialFunction& trial, const InformedOptions& o, int& evaluations,
                                              const RecordFn& record, const Eigen::VectorXd& start, TrialResult& result) {
-  const Eigen::VectorXi gain = faces_past_single_node_stalls(curve_of, o, start);
+  const Eigen::VectorXi gain = faces_past_single_node_stalls(curve_of, o, start, result);
   std::vector<int> nodes;
   for (int k = 0; k < gain.size(); ++k)
     if (gain[k] > 0) nodes.push_back(k);
