@@ -748,6 +748,38 @@ TEST(SteadyShadowPasses, a_trial_reusing_the_reference_equals_a_full_recompute) 
   EXPECT_GT(r.reuse.reused_sun, 0);
 }
 
+TEST(TransientShadowPasses, each_pass_draws_its_own_points_and_the_loads_agree_within_the_error) {
+  // The sample's transient nadir orbit: the same N points a pass either way, drawn anew at each
+  // pass (the default) or shared by every pass.
+  ThermalModel model = load_model(fs_sample());
+  ASSERT_EQ(model.analysis.type, AnalysisType::transient_orbit);
+  ExternalLoadSettings own = small_budgets(), shared = small_budgets();
+  own.sun_rays_per_face = shared.sun_rays_per_face = 256;
+  shared.transient_shadow_passes = false;
+  const RayScene scene(model.mesh);
+  const SurfaceSides sides = surface_sides(model);
+  LoadSamples with_own, with_shared;
+  const Loads a = external_loads(model, scene, sides, nullptr, own, {}, &with_own);
+  const Loads b = external_loads(model, scene, sides, nullptr, shared, {}, &with_shared);
+  ASSERT_EQ(a.solar_W.cols(), b.solar_W.cols());
+  EXPECT_NE(a.solar_W, b.solar_W);  // other points
+  // Every step agrees within the two runs' errors; the orbit means within theirs.
+  for (Eigen::Index n = 0; n < a.solar_W.rows(); ++n) {
+    for (Eigen::Index k = 0; k < a.solar_W.cols(); ++k) {
+      const double se = std::hypot(a.sampling_standard_error_W(n, k), b.sampling_standard_error_W(n, k));
+      EXPECT_LE(std::abs(a.solar_W(n, k) - b.solar_W(n, k)), 5.0 * se + 1e-9 * std::abs(b.solar_W(n, k)))
+          << model.nodes[n].name << " step " << k;
+    }
+    const double se = std::hypot(a.orbit_mean_standard_error_W[n], b.orbit_mean_standard_error_W[n]);
+    EXPECT_LE(std::abs(a.solar_W.row(n).mean() - b.solar_W.row(n).mean()), 4.0 * se + 1e-9) << model.nodes[n].name;
+  }
+  // Independent passes: the orbit mean's error is at most the shared points' (errors that add
+  // as standard deviations there, as variances here).
+  for (Eigen::Index n = 0; n < a.orbit_mean_standard_error_W.size(); ++n)
+    EXPECT_LE(a.orbit_mean_standard_error_W[n], b.orbit_mean_standard_error_W[n] * (1.0 + 1e-9) + 1e-12)
+        << model.nodes[n].name;
+}
+
 TEST(OrbitLoads, eclipse_edges_carry_the_sunlit_direct_sun_at_the_exact_switch_instants) {
   // Convex cube, nadir: at an edge the direct sun is alpha S sum_faces A max(0, n . s) with the
   // sun direction of that instant (no self-shadowing), although the spacecraft is at the shadow.

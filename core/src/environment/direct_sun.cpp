@@ -122,10 +122,11 @@ void direct_sun_loads(LoadRun& run) {
   if (progress) progress("direct sun: " + std::to_string(steps) + " step(s)");
   Eigen::Vector3d last_dir = Eigen::Vector3d::Zero();
   Eigen::VectorXd lit;
-  // Sample points per side: the same at every pass, or (shadow_division > 1: a steady orbit,
-  // external_loads.h) each pass's own, from its own scramble seed.
+  // Sample points per side: the same at every pass, or (own_shadow_points: a steady orbit's
+  // passes, sun_rays_per_pass of them, or a transient orbit's, all of them; external_loads.h)
+  // each pass's own, from its own scramble seed.
   std::vector<std::vector<std::array<float, 3>>> sun_points(ns);
-  const bool own_points = run.shadow_division > 1;
+  const bool own_points = run.own_shadow_points;
   std::vector<char> todo(ns, 1);
   for (int k = 0; k < steps; ++k) {
     const OrbitState& st = states[k];

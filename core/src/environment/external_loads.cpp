@@ -100,6 +100,8 @@ LoadRun::LoadRun(const ThermalModel& model_in, const RayScene& scene_in, const S
     shadow_division = shadow_pass_division(sun_passes(states));
   }
   sun_rays_per_pass = shadow_rays_per_pass(sun_rays, shadow_division);
+  own_shadow_points = shadow_division > 1 || (orbit && settings.transient_shadow_passes &&
+                                              model.analysis.type != AnalysisType::steady && flux > 0.0);
   sun_variance = Eigen::MatrixXd::Zero(num_nodes, steps);
   // One Sobol table for every pass (the largest count any side or pilot draws).
   int max_rays = std::max({settings.sun_pilot_rays, settings.earth_pilot_rays, settings.earth_rays_per_face, 1});
@@ -208,7 +210,7 @@ void finish_run(LoadRun& run) {
   // deviations); shadow passes with their own points are independent (variances add).
   // Over the positions only (the knots, after them, are not orbit samples).
   const int S = run.positions;
-  if (run.shadow_division > 1)
+  if (run.own_shadow_points)
     loads.orbit_mean_standard_error_W = (run.sun_variance.leftCols(S).rowwise().sum() / double(S * S) +
                                          earth_sd.leftCols(S).rowwise().mean().cwiseAbs2())
                                             .cwiseSqrt();

@@ -50,6 +50,10 @@ struct LoadRun {
   // each shadow pass draws its own points, sun_rays_per_pass of them (sun_rays / division);
   // else division 1 and every pass draws the same sun_rays points.
   int shadow_division = 1;
+  // Each shadow pass draws its own points (its own scramble seed): a steady orbit's passes
+  // (division > 1) and a transient orbit's (ExternalLoadSettings::transient_shadow_passes,
+  // division 1); else every pass traces the same points.
+  bool own_shadow_points = false;
   Eigen::VectorXi sun_rays_per_pass;
   Eigen::MatrixXd sun_variance;  // #nodes x steps: variance [W^2] of the direct sun's shadow samples
   std::vector<int> ref_of;  // per side: its twin (same key) in the reference, -1 if none

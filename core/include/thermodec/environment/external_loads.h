@@ -82,8 +82,15 @@ struct ExternalLoadSettings {
   int max_kink_knots = -1;
   //! Steady analysis of an orbit whose sun moves in body axes: each shadow pass draws its own
   //! sample points, fewer of them (shadow_pass_division). false: every pass traces the same
-  //! points, all of them (what a transient analysis always does).
+  //! points, all of them.
   bool steady_shadow_passes = true;
+  //! Transient analysis of an orbit whose sun moves in body axes: each shadow pass draws its own
+  //! N sample points (its own scramble seed), all N of them, instead of the same N at every
+  //! pass. The passes' shadow errors are then independent, and a node's temperature, which
+  //! integrates its loads over its thermal time constant, averages them instead of following one
+  //! error for the whole orbit (docs/thermal.md). The same rays either way. false: every pass
+  //! traces the same points.
+  bool transient_shadow_passes = true;
   std::uint64_t seed = 1;         //!< sampling seed (combined with each side's identity)
   bool solar_reflections = true;  //!< solar-band diffuse reflections between faces
   //! Memory cap [bytes] for the per-ray records of LoadSamples (what each sun and Earth ray

@@ -27,8 +27,8 @@ struct Loads {
   Eigen::MatrixXd sampling_standard_error_W;
   //! N sampling standard error [W] of the orbit mean of the absorbed loads (what a steady
   //! analysis solves for): the mean over steps of sampling_standard_error_W, except that shadow
-  //! errors of passes with their own sample points (ExternalLoadSettings::steady_shadow_passes)
-  //! add as independent errors. Empty when not computed.
+  //! errors of passes with their own sample points (ExternalLoadSettings::steady_shadow_passes,
+  //! ::transient_shadow_passes) add as independent errors. Empty when not computed.
   Eigen::VectorXd orbit_mean_standard_error_W;
   //! S flags: spacecraft in the Earth's shadow.
   std::vector<char> in_shadow;
