@@ -89,6 +89,17 @@ void run_simulate(const SimulateOptions& o) {
                 nf.pairs.size(), nf.worst.max_abs_K, nf.worst.node.c_str(), nf.worst.time_s,
                 (unsigned long long)nf.seeds[nf.worst_pair.first], (unsigned long long)nf.seeds[nf.worst_pair.second],
                 nf.median_abs_K);
+    std::string by_node;
+    nlohmann::json per_node = nlohmann::json::object();
+    for (const auto& w : nf.per_node) {
+      char buf[96];
+      std::snprintf(buf, sizeof buf, "%s%s %.2g", by_node.empty() ? "" : ", ", w.node.c_str(), w.max_abs_K);
+      by_node += buf;
+      per_node[w.node] = {{"max_abs_dT_K", w.max_abs_K},
+                          {"time_s", w.time_s},
+                          {"seeds", {nf.seeds[w.pair.first], nf.seeds[w.pair.second]}}};
+    }
+    std::printf("worst pair per node [K]: %s\n", by_node.c_str());
     double total = 0.0;
     for (double t : nf.run_time_s) total += t;
     std::printf("run time: %.2f s per simulation (mean of %d)\n", total / nf.run_time_s.size(),
@@ -100,6 +111,7 @@ void run_simulate(const SimulateOptions& o) {
                             {"worst_seeds", {nf.seeds[nf.worst_pair.first], nf.seeds[nf.worst_pair.second]}},
                             {"node", nf.worst.node},
                             {"time_s", nf.worst.time_s},
+                            {"per_node", per_node},
                             {"run_time_s", nf.run_time_s}};
   } else {
     NodeCouplings couplings;

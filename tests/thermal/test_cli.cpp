@@ -106,6 +106,18 @@ TEST(SimulateCli, noise_floor_reports_max_difference_between_seeds_and_run_time)
   const auto seeds = j.at("noise_floor").at("worst_seeds").get<std::vector<int>>();
   ASSERT_EQ(seeds.size(), 2u);
   EXPECT_LT(seeds[0], seeds[1]);
+  // Every node's own worst pair; the largest of them is the floor, on the floor's node.
+  EXPECT_NE(out.find("worst pair per node [K]: "), std::string::npos) << out;
+  const auto& per_node = j.at("noise_floor").at("per_node");
+  EXPECT_EQ(per_node.size(), j.at("nodes").size());
+  double largest = 0.0;
+  for (const auto& [name, w] : per_node.items()) {
+    EXPECT_LE(w.at("max_abs_dT_K").get<double>(), dT) << name;
+    largest = std::max(largest, w.at("max_abs_dT_K").get<double>());
+    EXPECT_EQ(w.at("seeds").size(), 2u) << name;
+  }
+  EXPECT_EQ(largest, dT);
+  EXPECT_EQ(per_node.at(j.at("noise_floor").at("node").get<std::string>()).at("max_abs_dT_K").get<double>(), dT);
 }
 
 TEST(CompareCli, marks_differences_within_two_sigma_of_the_results_noise) {

@@ -350,6 +350,12 @@ NoiseFloor noise_floor_of(std::vector<SimulationResult> results, std::vector<std
     for (int j = i + 1; j < runs; ++j) {
       out.pairs.emplace_back(i, j);
       out.differences.push_back(compare_results(results[i], results[j]));
+      const auto& by_node = out.differences.back().per_node;
+      if (out.per_node.empty())
+        for (const auto& d : by_node) out.per_node.push_back({d.node, -1.0, 0.0, {i, j}});
+      for (std::size_t n = 0; n < by_node.size() && n < out.per_node.size(); ++n)
+        if (by_node[n].max_abs_K > out.per_node[n].max_abs_K)
+          out.per_node[n] = {by_node[n].node, by_node[n].max_abs_K, by_node[n].time_s, {i, j}};
       if (out.differences.back().max_abs_K >= out.worst.max_abs_K) {
         out.worst = out.differences.back();
         out.worst_pair = {i, j};

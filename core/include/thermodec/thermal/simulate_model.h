@@ -141,6 +141,15 @@ struct NoiseFloor {
   TemperatureDifference worst;                     //!< the largest of them: the noise floor
   std::pair<int, int> worst_pair{0, 0};
   double median_abs_K = 0.0;                       //!< median over pairs of max |dT| [K]
+  //! Per node (the first run's order): its worst pair, max over pairs and times of |dT| [K],
+  //! with that pair and time: where the floor would be if only that node counted.
+  struct NodeWorst {
+    std::string node;
+    double max_abs_K = 0.0;
+    double time_s = 0.0;
+    std::pair<int, int> pair{0, 0};  //!< indices into `seeds`
+  };
+  std::vector<NodeWorst> per_node;
   std::vector<double> run_time_s;                  //!< wall time of each run [s]
   SimulationResult first;                          //!< the first run's result
 };
