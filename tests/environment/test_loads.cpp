@@ -712,6 +712,24 @@ std::int64_t recorded_sun_rays(const LoadSamples& samples) {
 }
 }  // namespace
 
+namespace {
+// The loads of `model` with shadow passes drawing their own points (`own`) and sharing them
+// (`shared`), with their samples.
+struct OwnAndShared {
+  Loads own, shared;
+  LoadSamples own_samples, shared_samples;
+};
+OwnAndShared own_and_shared_points(const ThermalModel& model, const ExternalLoadSettings& own,
+                                   const ExternalLoadSettings& shared) {
+  const RayScene scene(model.mesh);
+  const SurfaceSides sides = surface_sides(model);
+  OwnAndShared r;
+  r.own = external_loads(model, scene, sides, nullptr, own, {}, &r.own_samples);
+  r.shared = external_loads(model, scene, sides, nullptr, shared, {}, &r.shared_samples);
+  return r;
+}
+}  // namespace
+
 TEST(SteadyShadowPasses, orbit_mean_matches_shared_points_within_the_error_with_far_fewer_rays) {
   ThermalModel model = load_model(fs_sample());
   model.analysis.type = AnalysisType::steady;
@@ -719,11 +737,9 @@ TEST(SteadyShadowPasses, orbit_mean_matches_shared_points_within_the_error_with_
   own.sun_rays_per_face = shared.sun_rays_per_face = 1024;
   own.sun_pilot_rays = shared.sun_pilot_rays = 1024;
   shared.steady_shadow_passes = false;
-  const RayScene scene(model.mesh);
-  const SurfaceSides sides = surface_sides(model);
-  LoadSamples with_own, with_shared;
-  const Loads a = external_loads(model, scene, sides, nullptr, own, {}, &with_own);
-  const Loads b = external_loads(model, scene, sides, nullptr, shared, {}, &with_shared);
+  const OwnAndShared r = own_and_shared_points(model, own, shared);
+  const Loads &a = r.own, &b = r.shared;
+  const LoadSamples &with_own = r.own_samples, &with_shared = r.shared_samples;
   ASSERT_TRUE(with_own.per_ray && with_shared.per_ray);
   // The sample's nadir orbit has 36 sunlit positions of 60: D = 11, 94 of 1024 points a pass.
   EXPECT_LT(recorded_sun_rays(with_own) * 8, recorded_sun_rays(with_shared));
@@ -756,11 +772,8 @@ TEST(TransientShadowPasses, each_pass_draws_its_own_points_and_the_loads_agree_w
   ExternalLoadSettings own = small_budgets(), shared = small_budgets();
   own.sun_rays_per_face = shared.sun_rays_per_face = 256;
   shared.transient_shadow_passes = false;
-  const RayScene scene(model.mesh);
-  const SurfaceSides sides = surface_sides(model);
-  LoadSamples with_own, with_shared;
-  const Loads a = external_loads(model, scene, sides, nullptr, own, {}, &with_own);
-  const Loads b = external_loads(model, scene, sides, nullptr, shared, {}, &with_shared);
+  const OwnAndShared r = own_and_shared_points(model, own, shared);
+  const Loads &a = r.own, &b = r.shared;
   ASSERT_EQ(a.solar_W.cols(), b.solar_W.cols());
   EXPECT_NE(a.solar_W, b.solar_W);  // other points
   // Every step agrees within the two runs' errors; the orbit means within theirs.
