@@ -48,7 +48,7 @@ struct LoadRun {
   Eigen::VectorXi sun_rays, earth_rays;
   // Steady orbit with the sun moving in body axes (ExternalLoadSettings::steady_shadow_passes):
   // each shadow pass draws its own points, sun_rays_per_pass of them (sun_rays / division);
-  // else division 1 and every pass draws the same sun_rays points.
+  // else division 1 and every pass draws sun_rays points.
   int shadow_division = 1;
   // Each shadow pass draws its own points (its own scramble seed): a steady orbit's passes
   // (division > 1) and a transient orbit's (ExternalLoadSettings::transient_shadow_passes,
