@@ -16,20 +16,6 @@ std::string gib(double bytes) {
   return buf;
 }
 
-// Noise-targeted sampling runs the model once at its own counts to estimate the noise, then
-// again with the boosts, whose extra samples of each kind are capped at max_extra x the model's
-// total and at max_samples (thermal/simulate_model.h): the estimate takes both runs at those
-// caps. A sun sample is traced at every shadow pass, so its cap counts once per pass.
-void add_noise_targeting(SimulationCost& c, const NoiseTargetingBound& noise) {
-  const auto boosted = [&](double base, double passes) {
-    return 2.0 * base + std::min(noise.max_extra * base, noise.max_samples * passes);
-  };
-  c.ir_rays = boosted(c.ir_rays, 1.0);
-  c.sun_rays = boosted(c.sun_rays, std::max(1, c.shadow_passes));
-  c.earth_ray_tests *= 2.0 + noise.max_extra;
-  c.earth_rays = boosted(c.earth_rays, 1.0);
-}
-
 // The view-factor rows are an upper bound that geometry decides how far below it they stay;
 // beyond the machine's memory, a run may be killed by the system after hours of work.
 std::string memory_excess(const SimulationCost& c) {
@@ -51,7 +37,7 @@ void guard_simulation_cost(const std::string& command, const ThermalModel& model
   for (const LoadCase& c : all) {
     const ThermalModel m = cases.empty() ? model : with_case(model, c);
     SimulationCost cost = simulation_cost(m, settings, scope);
-    if (noise.max_extra > 0.0) add_noise_targeting(cost, noise);
+    if (noise.max_extra > 0.0) cost = noise_targeted_cost(cost, noise.max_extra, noise.max_samples);
     const std::string which = cases.empty() ? std::string() : " (case " + c.name + ")";
     if (!quiet)
       std::cerr << command << ": estimated cost" << which << (noise.max_extra > 0.0 ? " with noise-targeted sampling" : "")

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <string>
 
+#include "thermodec/environment/external_loads.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/radiation/radiative_couplings.h"
 #include "thermodec/thermal/simulation_cost.h"
@@ -153,4 +154,29 @@ TEST(SimulationCost, a_huge_sampling_boost_is_refused_for_its_rays_and_sample_ta
   const std::string why = simulation_cost_excess(cost, model, {}, only_memory);
   EXPECT_TRUE(has(why, "memory")) << why;
   EXPECT_TRUE(has(why, "sample table")) << why;
+}
+
+TEST(SimulationCost, noise_targeting_adds_its_extra_shadow_samples_at_the_passes_rate_of_the_models_own) {
+  // The extra sun samples noise targeting may add are per-side counts, traced as the model's
+  // own: at every pass of a transient orbit, at every D-th of a steady one (each pass draws
+  // count / D of them). Bound by the cap on extra samples, so only it decides the extra rays.
+  ThermalModel model = grid_model(20, 4, false);
+  model.analysis.type = AnalysisType::steady;
+  const SimulationCost steady = simulation_cost(model);
+  model.analysis.type = AnalysisType::transient_orbit;
+  const SimulationCost transient = simulation_cost(model);
+  ASSERT_GT(steady.shadow_passes, 1);
+  EXPECT_EQ(steady.shadow_division, shadow_pass_division(steady.shadow_passes));
+  EXPECT_GT(steady.shadow_division, 1);
+  EXPECT_EQ(transient.shadow_division, 1);
+  const double cap = 1e6;
+  const double extra_steady = noise_targeted_cost(steady, 1e9, cap).sun_rays - 2.0 * steady.sun_rays;
+  const double extra_transient = noise_targeted_cost(transient, 1e9, cap).sun_rays - 2.0 * transient.sun_rays;
+  EXPECT_DOUBLE_EQ(extra_transient, cap * transient.shadow_passes);
+  EXPECT_DOUBLE_EQ(extra_steady, cap * steady.shadow_passes / steady.shadow_division);
+  // The IR rays and Earth rays are traced once a run: the estimating run, the boosted run and
+  // the extra samples, the cap binding when max_extra does not.
+  const SimulationCost c = noise_targeted_cost(transient, 2.0, 1e300);
+  EXPECT_DOUBLE_EQ(c.ir_rays, 4.0 * transient.ir_rays);
+  EXPECT_DOUBLE_EQ(c.earth_rays, 4.0 * transient.earth_rays);
 }

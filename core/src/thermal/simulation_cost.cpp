@@ -84,7 +84,8 @@ void add_loads(SimulationCost& c, const ThermalModel& model, const ModelSimulati
   // A steady orbit analysis draws 1/D of the points at each pass (external_loads.h).
   const bool divided = ls.steady_shadow_passes && model.analysis.type == AnalysisType::steady &&
                        model.environment.type == EnvironmentType::orbit;
-  const Eigen::VectorXi sun_per_pass = shadow_rays_per_pass(sun, divided ? shadow_pass_division(passes.shadow) : 1);
+  c.shadow_division = divided ? shadow_pass_division(passes.shadow) : 1;
+  const Eigen::VectorXi sun_per_pass = shadow_rays_per_pass(sun, c.shadow_division);
   const int most_per_pass = sides.size() > 0 ? sun_per_pass.maxCoeff() : 0;
   c.sun_rays = double(passes.shadow) *
                std::max(sum(sun_per_pass), double(std::min(ls.sun_pilot_rays, most_per_pass)) * sides.size());
@@ -163,6 +164,17 @@ std::string SimulationCost::summary() const {
     s += ")";
   }
   return s + "; memory " + bytes_text(memory_bytes()) + " + view-factor rows up to " + bytes_text(view_factor_bytes_max);
+}
+
+SimulationCost noise_targeted_cost(SimulationCost c, double max_extra, double max_extra_samples) {
+  const auto boosted = [&](double base, double passes) {
+    return 2.0 * base + std::min(max_extra * base, max_extra_samples * passes);
+  };
+  c.ir_rays = boosted(c.ir_rays, 1.0);
+  c.sun_rays = boosted(c.sun_rays, double(std::max(1, c.shadow_passes)) / double(std::max(1, c.shadow_division)));
+  c.earth_ray_tests *= 2.0 + max_extra;
+  c.earth_rays = boosted(c.earth_rays, 1.0);
+  return c;
 }
 
 std::string simulation_cost_excess(const SimulationCost& c, const ThermalModel& model,

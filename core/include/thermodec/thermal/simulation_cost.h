@@ -33,6 +33,9 @@ struct SimulationCost {
   int nodes = 0;                //!< thermal nodes N
   int load_positions = 0;       //!< orbit positions where loads are ray traced (1 for a fixed sun)
   int shadow_passes = 0;        //!< lit positions with a new sun direction in body axes (shadow traces)
+  //! A side's shadow samples traced at each pass are its count / this (rounded up): D for a
+  //! steady orbit's passes (shadow_pass_division), 1 otherwise.
+  int shadow_division = 1;
   double ir_rays = 0.0;         //!< IR view-factor rays: every side's count (per-node minimums, boosts)
   //! Shadow rays, at most: every side's full count at each shadow pass (the pilot rays stop
   //! early on fully lit or fully shadowed sides).
@@ -72,6 +75,13 @@ struct SimulationCost {
 //! material, a sampling boost outside [1, 10000], bad orbit elements).
 SimulationCost simulation_cost(const ThermalModel& model, const ModelSimulationSettings& settings = {},
                                SimulationCostScope scope = SimulationCostScope::simulation);
+
+//! `cost` with noise-targeted sampling's two runs (thermal/simulate_model.h): the run at the
+//! model's counts that estimates the noise, then the boosted one, whose extra samples of each
+//! kind are at most `max_extra` x the model's total and at most `max_extra_samples` per-side
+//! samples in all. A sun sample is traced at every shadow pass, once per `shadow_division`
+//! passes on a steady orbit (as the model's own samples are), so its cap counts that often.
+SimulationCost noise_targeted_cost(SimulationCost cost, double max_extra, double max_extra_samples);
 
 //! Limits above which a run is refused (docs/model-format.md, "Validation"). The defaults leave
 //! the sample satellite 200x below the ray limit, and a 100 000-face model at default settings
