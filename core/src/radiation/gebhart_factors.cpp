@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -127,6 +128,15 @@ bool gather_row(const int* cols, const double* vals, int nnz, const double* rho,
   return taken;
 }
 
+// y[0, C) += w x[0, C), with gather_row's arithmetic (the same clones, no fused multiply-add):
+// a row updated entry by entry here gets the bits gather_row would give it.
+#if defined(__GNUC__) && defined(__x86_64__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void add_scaled_row(double w, const double* __restrict x, int C, double* __restrict y) {
+  for (int c = 0; c < C; ++c) y[c] += w * x[c];
+}
+
 // F's rows as index arrays (compressed storage).
 struct RowsOfF {
   SparseRows copy;  // (only if F was not compressed)
@@ -141,6 +151,71 @@ struct RowsOfF {
   }
   int nnz(int t) const { return outer[t + 1] - outer[t]; }
 };
+
+// F's columns as index lists: column s holds the rows t that see side s (F(t, s) != 0 stored)
+// and each entry's position in F's storage. Who receives what a pushed side reflects, without
+// scanning all of F. Built once per solve (two passes over F's indices), on the first round
+// that pushes few rows.
+struct ColumnsOfF {
+  std::vector<int> outer;  // S + 1 offsets into row / entry
+  std::vector<int> row;    // receiving row t, ascending within a column
+  std::vector<int> entry;  // position of F(t, s) in RowsOfF's cols / vals
+  ColumnsOfF(const RowsOfF& f, int S) : outer(S + 1, 0) {
+    const int nnz = f.outer[S];
+    for (int e = 0; e < nnz; ++e) ++outer[f.cols[e] + 1];
+    for (int s = 0; s < S; ++s) outer[s + 1] += outer[s];
+    row.resize(nnz);
+    entry.resize(nnz);
+    std::vector<int> next(outer.begin(), outer.end() - 1);
+    for (int t = 0; t < S; ++t)
+      for (int e = f.outer[t]; e < f.outer[t + 1]; ++e) {
+        const int q = next[f.cols[e]]++;
+        row[q] = t;
+        entry[q] = e;
+      }
+  }
+};
+
+// A round pushing at most S / kFewPushedRows rows reaches its receivers through ColumnsOfF;
+// more, and the plain scan of every row (gather_row with `slot`) costs no more.
+constexpr int kFewPushedRows = 8;
+
+// R_t += sum_s F(t, s) rho_s P[slot[s]] over the pushed sides s, through F's columns: the
+// receiving rows, each summed over its entries in F's storage order (the order gather_row
+// takes them in: the same bits). `row_max` follows every receiving row.
+void push_through_columns(const RowsOfF& f, const ColumnsOfF& cf, const Eigen::VectorXd& rho,
+                          const std::vector<int>& pushed, const std::vector<int>& slot, const RowMatrixXd& P,
+                          RowMatrixXd& R, Eigen::VectorXd& row_max) {
+  const int S = static_cast<int>(R.rows()), C = static_cast<int>(R.cols());
+  // Receiving rows and their entries (counting sort by row).
+  std::vector<int> start(S + 1, 0);
+  for (int s : pushed)
+    for (int q = cf.outer[s]; q < cf.outer[s + 1]; ++q) ++start[cf.row[q] + 1];
+  std::vector<int> receivers;
+  for (int t = 0; t < S; ++t) {
+    if (start[t + 1] > 0) receivers.push_back(t);
+    start[t + 1] += start[t];
+  }
+  std::vector<int> entries(start[S]), next(start.begin(), start.end() - 1);
+  for (int s : pushed)
+    for (int q = cf.outer[s]; q < cf.outer[s + 1]; ++q) entries[next[cf.row[q]]++] = cf.entry[q];
+  const int m = static_cast<int>(receivers.size());
+  tbb::parallel_for(tbb::blocked_range<int>(0, m, 16), [&](const tbb::blocked_range<int>& r) {
+    for (int k = r.begin(); k != r.end(); ++k) {
+      const int t = receivers[k];
+      int* first = entries.data() + start[t];
+      int* last = entries.data() + start[t + 1];
+      std::sort(first, last);  // F's storage order within row t
+      for (const int* e = first; e != last; ++e) {
+        const int s = f.cols[*e];
+        const double w = f.vals[*e] * rho[s];
+        if (w == 0.0) continue;
+        add_scaled_row(w, P.data() + std::size_t(slot[s]) * C, C, &R(t, 0));
+      }
+      row_max[t] = R.row(t).cwiseAbs().maxCoeff();
+    }
+  });
+}
 
 // Residual R = E + F diag(rho) X - X, row by row (rows are independent: any schedule gives
 // the same bits), and each row's largest |entry| in `row_max`.
@@ -160,10 +235,11 @@ void residual(const RowsOfF& f, const Eigen::VectorXd& rho, const RowMatrixXd& E
 // reflection of what it has not yet passed on), and the residual follows exactly,
 // R_t += sum_s F(t, s) rho_s P_s over the pushed rows P. With the reference's solution as
 // the start, only the few percent of the rows near a trial's change carry a residual above
-// the threshold (Juno: 300-1600 of 24 000 at first), so a round costs a scan of F's indices
-// plus the pushed entries, not a full sweep. Rows are updated independently: deterministic.
-void push_round(const RowsOfF& f, const Eigen::VectorXd& rho, double threshold, RowMatrixXd& X, RowMatrixXd& R,
-               Eigen::VectorXd& row_max, std::vector<int>& slot, RowMatrixXd& P) {
+// the threshold (Juno: 300-1600 of 24 000 at first), so a round costs the pushed sides'
+// columns of F (ColumnsOfF), not a full sweep; a round pushing many rows scans F's rows
+// instead. Rows are updated independently: deterministic, and the same bits either way.
+void push_round(const RowsOfF& f, std::unique_ptr<ColumnsOfF>& columns, const Eigen::VectorXd& rho, double threshold,
+                RowMatrixXd& X, RowMatrixXd& R, Eigen::VectorXd& row_max, std::vector<int>& slot, RowMatrixXd& P) {
   const int S = X.rows(), C = X.cols();
   std::vector<int> pushed;
   for (int s = 0; s < S; ++s)
@@ -179,11 +255,16 @@ void push_round(const RowsOfF& f, const Eigen::VectorXd& rho, double threshold, 
     row_max[s] = 0.0;
     slot[s] = k;
   }
-  tbb::parallel_for(tbb::blocked_range<int>(0, S, 64), [&](const tbb::blocked_range<int>& r) {
-    for (int t = r.begin(); t != r.end(); ++t)
-      if (gather_row(f.cols + f.outer[t], f.vals + f.outer[t], f.nnz(t), rho.data(), slot.data(), P.data(), C, &R(t, 0)))
-        row_max[t] = R.row(t).cwiseAbs().maxCoeff();
-  });
+  if (static_cast<long long>(n) * kFewPushedRows <= S) {
+    if (!columns) columns = std::make_unique<ColumnsOfF>(f, S);
+    push_through_columns(f, *columns, rho, pushed, slot, P, R, row_max);
+  } else {
+    tbb::parallel_for(tbb::blocked_range<int>(0, S, 64), [&](const tbb::blocked_range<int>& r) {
+      for (int t = r.begin(); t != r.end(); ++t)
+        if (gather_row(f.cols + f.outer[t], f.vals + f.outer[t], f.nnz(t), rho.data(), slot.data(), P.data(), C, &R(t, 0)))
+          row_max[t] = R.row(t).cwiseAbs().maxCoeff();
+    });
+  }
   for (int s : pushed) slot[s] = -1;
 }
 
@@ -209,6 +290,7 @@ GebhartFactors gebhart_factors(const FaceViewFactors& vf, const Eigen::VectorXd&
   Eigen::VectorXd row_max(S);
   std::vector<int> slot(S, -1);
   const RowsOfF f(vf.F);
+  std::unique_ptr<ColumnsOfF> columns;  // built when a round first pushes few rows
   residual(f, rho, E, X, R, row_max);
   bool fresh = true;  // R computed afresh since the last round
   for (int round = 0;; ++round) {
@@ -221,7 +303,7 @@ GebhartFactors gebhart_factors(const FaceViewFactors& vf, const Eigen::VectorXd&
       out.max_change = S ? row_max.maxCoeff() : 0.0;
     }
     if (out.max_change <= threshold || round == settings.max_iterations) break;
-    push_round(f, rho, threshold, X, R, row_max, slot, P);
+    push_round(f, columns, rho, threshold, X, R, row_max, slot, P);
     fresh = false;
   }
   if (out.max_change > threshold)
