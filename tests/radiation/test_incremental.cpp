@@ -63,8 +63,11 @@ TEST(IncrementalCouplings, equal_a_full_recompute_of_the_candidate) {
     EXPECT_LT(stats.rows_kept, stats.reused_sides);
     EXPECT_EQ(inc.to_space, full.to_space);
     EXPECT_EQ(inc.view_factors_standard_error, full.view_factors_standard_error);
-    EXPECT_LT((inc.radiative_couplings_m2 - full.radiative_couplings_m2).cwiseAbs().maxCoeff(), 1e-9);
-    EXPECT_LT((inc.to_space_couplings_m2 - full.to_space_couplings_m2).cwiseAbs().maxCoeff(), 1e-9);
+    // The same view factors, Gebhart solves from different starts: each within the solve's
+    // tolerance (per entry of B) of the exact factors, times the nodes' areas (~10 m^2 here).
+    const double gebhart_m2 = 10.0 * 2.0 * GebhartSettings{}.tolerance;
+    EXPECT_LT((inc.radiative_couplings_m2 - full.radiative_couplings_m2).cwiseAbs().maxCoeff(), gebhart_m2);
+    EXPECT_LT((inc.to_space_couplings_m2 - full.to_space_couplings_m2).cwiseAbs().maxCoeff(), gebhart_m2);
     EXPECT_EQ(stats.changed_sides, 2 * 3 * 3);
     EXPECT_EQ(stats.removed_sides, 2 * 6 * 6);
     EXPECT_LT(stats.rays_retraced, stats.rays_total) << "unchanged rays are reused";
@@ -131,7 +134,8 @@ TEST(IncrementalCouplings, sidedness_changes_and_new_nodes_are_handled_like_a_fu
     const NodeCouplings inc = radiative_couplings_incremental(prepared, *cand, &st);
     const NodeCouplings full = radiative_couplings(*cand, ref.radiation);
     EXPECT_EQ(inc.view_factors, full.view_factors);
-    EXPECT_LT((inc.radiative_couplings_m2 - full.radiative_couplings_m2).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_LT((inc.radiative_couplings_m2 - full.radiative_couplings_m2).cwiseAbs().maxCoeff(),
+              10.0 * 2.0 * GebhartSettings{}.tolerance);  // (as above)
     // Splitting a node changes the face count of both halves, hence their sides' ray counts
     // (RadiationSettings::min_rays_per_node): those sides are traced afresh, nothing else.
     if (cand == &split && ref.radiation.min_rays_per_node == 0) EXPECT_EQ(st.rays_retraced, 0);
