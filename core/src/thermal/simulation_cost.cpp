@@ -82,9 +82,7 @@ void add_loads(SimulationCost& c, const ThermalModel& model, const ModelSimulati
   const OrbitPasses passes = orbit_passes(model, c.load_positions);
   c.shadow_passes = passes.shadow;
   // A steady orbit analysis draws 1/D of the points at each pass (external_loads.h).
-  const bool divided = ls.steady_shadow_passes && model.analysis.type == AnalysisType::steady &&
-                       model.environment.type == EnvironmentType::orbit;
-  c.shadow_division = divided ? shadow_pass_division(passes.shadow) : 1;
+  c.shadow_division = shadow_pass_division(model, ls, passes.shadow);
   const Eigen::VectorXi sun_per_pass = shadow_rays_per_pass(sun, c.shadow_division);
   const int most_per_pass = sides.size() > 0 ? sun_per_pass.maxCoeff() : 0;
   c.sun_rays = double(passes.shadow) *

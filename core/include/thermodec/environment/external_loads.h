@@ -116,6 +116,11 @@ struct ExternalLoadSettings {
 //! time, measured on CAD meshes: docs/benchmarks.md ("Thermal: shadow passes of a steady orbit").
 int shadow_pass_division(int shadow_passes);
 
+//! The division `model`'s loads use over its `shadow_passes` sunlit passes: shadow_pass_division
+//! for a steady analysis of an orbit with settings.steady_shadow_passes, 1 otherwise. The one
+//! place the loads (external_loads) and their cost estimate (thermal/simulation_cost.h) decide it.
+int shadow_pass_division(const ThermalModel& model, const ExternalLoadSettings& settings, int shadow_passes);
+
 //! Shadow sample points per side and pass: `rays` per side divided by `division`, rounded up,
 //! and at least min(rays, 16) (a scrambled net's first strata).
 Eigen::VectorXi shadow_rays_per_pass(const Eigen::VectorXi& rays, int division);
