@@ -12,6 +12,11 @@ using namespace thermodec::test;
 
 namespace {
 
+// How far an incremental trial's couplings may lie from a full recompute's [m^2]: the same view
+// factors, Gebhart solves from different starts, each within the solve's tolerance (per entry
+// of B) of the exact factors, times the nodes' areas (~10 m^2 here).
+double gebhart_m2() { return 10.0 * 2.0 * GebhartSettings{}.tolerance; }
+
 // A small satellite: a body box, a two-sided solar panel, an antenna plate facing the body.
 // `antenna_shift` moves the antenna [m]; `antenna_n` is its grid resolution.
 ThermalModel satellite(double antenna_shift, int antenna_n, int rays = 300, std::uint64_t seed = 1) {
@@ -63,11 +68,8 @@ TEST(IncrementalCouplings, equal_a_full_recompute_of_the_candidate) {
     EXPECT_LT(stats.rows_kept, stats.reused_sides);
     EXPECT_EQ(inc.to_space, full.to_space);
     EXPECT_EQ(inc.view_factors_standard_error, full.view_factors_standard_error);
-    // The same view factors, Gebhart solves from different starts: each within the solve's
-    // tolerance (per entry of B) of the exact factors, times the nodes' areas (~10 m^2 here).
-    const double gebhart_m2 = 10.0 * 2.0 * GebhartSettings{}.tolerance;
-    EXPECT_LT((inc.radiative_couplings_m2 - full.radiative_couplings_m2).cwiseAbs().maxCoeff(), gebhart_m2);
-    EXPECT_LT((inc.to_space_couplings_m2 - full.to_space_couplings_m2).cwiseAbs().maxCoeff(), gebhart_m2);
+    EXPECT_LT((inc.radiative_couplings_m2 - full.radiative_couplings_m2).cwiseAbs().maxCoeff(), gebhart_m2());
+    EXPECT_LT((inc.to_space_couplings_m2 - full.to_space_couplings_m2).cwiseAbs().maxCoeff(), gebhart_m2());
     EXPECT_EQ(stats.changed_sides, 2 * 3 * 3);
     EXPECT_EQ(stats.removed_sides, 2 * 6 * 6);
     EXPECT_LT(stats.rays_retraced, stats.rays_total) << "unchanged rays are reused";
@@ -134,8 +136,7 @@ TEST(IncrementalCouplings, sidedness_changes_and_new_nodes_are_handled_like_a_fu
     const NodeCouplings inc = radiative_couplings_incremental(prepared, *cand, &st);
     const NodeCouplings full = radiative_couplings(*cand, ref.radiation);
     EXPECT_EQ(inc.view_factors, full.view_factors);
-    EXPECT_LT((inc.radiative_couplings_m2 - full.radiative_couplings_m2).cwiseAbs().maxCoeff(),
-              10.0 * 2.0 * GebhartSettings{}.tolerance);  // (as above)
+    EXPECT_LT((inc.radiative_couplings_m2 - full.radiative_couplings_m2).cwiseAbs().maxCoeff(), gebhart_m2());
     // Splitting a node changes the face count of both halves, hence their sides' ray counts
     // (RadiationSettings::min_rays_per_node): those sides are traced afresh, nothing else.
     if (cand == &split && ref.radiation.min_rays_per_node == 0) EXPECT_EQ(st.rays_retraced, 0);

@@ -96,7 +96,7 @@ LoadRun::LoadRun(const ThermalModel& model_in, const RayScene& scene_in, const S
   ref_of.assign(ns, -1);
   sun_rays = rays_per_side_of_node(sides, settings.sun_rays_per_face, settings.sun_min_rays_per_node, sides.load_boost);
   earth_rays = rays_per_side_of_node(sides, settings.earth_rays_per_face, settings.earth_min_rays_per_node, sides.load_boost);
-  if (orbit && flux > 0.0) shadow_division = shadow_pass_division(model, settings, sun_passes(states));
+  if (flux > 0.0) shadow_division = shadow_pass_division(model, settings, sun_passes(states));
   sun_rays_per_pass = shadow_rays_per_pass(sun_rays, shadow_division);
   own_shadow_points = shadow_division > 1 || (orbit && settings.transient_shadow_passes &&
                                               model.analysis.type != AnalysisType::steady && flux > 0.0);
