@@ -117,6 +117,12 @@ EarthSampling sample_earth(LoadRun& run) {
       samples->earth_view_factor = hits.view_factor;
       samples->earth_relative_error = hits.relative_error;
     }
+    // A trial sums only the sides whose hits changed (lighting_per_step copies the others'
+    // sums from the reference): the rest are not flattened (on Juno's trials, most of the
+    // sides traced again keep every reference outcome).
+    if (!samples && ref_lit)
+      for (int s = 0; s < ns; ++s)
+        if (!earth_todo[s] || replayed[s]) std::vector<std::pair<float, Eigen::Vector3f>>().swap(hits.rays[s]);
     hits.flatten(samples ? &samples->earth : nullptr);
   } else {
     // The same per-side counts as the cone sampling of the nadir case (per-node budgets,
