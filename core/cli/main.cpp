@@ -6,6 +6,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/common/interrupt_cleanup.h"
 #include "thermodec/common/printable.h"
+#include "thermodec/common/release_free_memory.h"
 #include "thermodec/common/version.h"
 #include "thermodec/thermal/simulation_cost.h"
 
@@ -70,6 +71,7 @@ int run_and_exit(CLI::App& app, int argc, char** argv);
 int main(int argc, char** argv) {
   using namespace thermodec::cli;
   thermodec::remove_temporaries_on_interrupt("thermodec");
+  thermodec::keep_freed_memory_for_reuse();  // (one job per process: trials reuse freed blocks)
   CLI::App app{
       "thermodec: simulation-driven mesh reduction for radiative thermal analysis of spacecraft.\n"
       "It splits a model into thermal nodes, measures how sensitive each node is to decimation,\n"
