@@ -56,10 +56,10 @@ VerificationStatistics difference_upper_bound(const std::vector<Eigen::MatrixXd>
 }
 
 std::vector<std::uint64_t> verification_seeds(std::uint64_t search_seed, int replicates) {
-  // The seeds after the search's own: the noise floor's runs of the original use the first of
-  // them, so they serve as the first pairs' originals (no trial draws from these seeds).
+  // An odd 64-bit offset (golden ratio) far from the search's seed + small integers.
   std::vector<std::uint64_t> out;
-  for (int k = 0; k < replicates; ++k) out.push_back(search_seed + 1 + static_cast<std::uint64_t>(k));
+  const std::uint64_t base = search_seed + 0x9E3779B97F4A7C15ull;
+  for (int k = 0; k < replicates; ++k) out.push_back(base + static_cast<std::uint64_t>(k));
   return out;
 }
 

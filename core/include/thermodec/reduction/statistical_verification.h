@@ -46,10 +46,8 @@ double student_t_975(int dof);
 //! \throw InvalidInput if fewer than 2 replicates or shapes differ.
 VerificationStatistics difference_upper_bound(const std::vector<Eigen::MatrixXd>& replicate_dT_K);
 
-//! Seeds of R verification pairs (one per pair): s_j = search_seed + 1 + j. No trial of the
-//! search draws from them (trials use the search seed, their salts hash into per-side keys);
-//! the reference's noise-floor runs of the original do (search_seed + 1, ...), and those runs
-//! are the first pairs' originals (reduce_model): the same simulations, not simulated twice.
+//! Seeds of R verification pairs (one per pair), disjoint from `search_seed` + [0, 2^20) (the
+//! reference, its noise-floor runs and every trial salt are derived from the search seed that way).
 std::vector<std::uint64_t> verification_seeds(std::uint64_t search_seed, int replicates);
 
 }  // namespace thermodec
@@ -69,8 +67,7 @@ struct VerificationCase {
 };
 
 //! The original's verification runs, kept between verifications of several candidates of one
-//! reduction: per case, the results for seeds s_0, s_1, ... (filled on first use, or before it
-//! with runs already made at those seeds, e.g. the noise floor's).
+//! reduction: per case, the results for seeds s_0, s_1, ... (filled on first use).
 struct VerificationOriginals {
   std::vector<std::vector<SimulationResult>> per_case;
 };
