@@ -118,8 +118,7 @@ EarthSampling sample_earth(LoadRun& run) {
       samples->earth_relative_error = hits.relative_error;
     }
     // A trial sums only the sides whose hits changed (lighting_per_step copies the others'
-    // sums from the reference): the rest are not flattened (on Juno's trials, most of the
-    // sides traced again keep every reference outcome).
+    // sums from the reference): the rest are not flattened.
     if (!samples && ref_lit)
       for (int s = 0; s < ns; ++s)
         if (!earth_todo[s] || replayed[s]) std::vector<std::pair<float, Eigen::Vector3f>>().swap(hits.rays[s]);

@@ -1,5 +1,6 @@
 #pragma once
-//! Returning freed memory to the system between the large stages of a run.
+//! Freed heap memory: handed back to the system between the large stages of a run, or kept
+//! for reuse in a process that runs one job.
 
 namespace thermodec {
 
