@@ -32,6 +32,8 @@ struct EarthSampling {
   bool ref_lit = false;          // the reference's per-step lighting sums are usable
   EarthHits hits;                // Earth fixed in body axes
   EscapingRays escaping;         // else
+  // Side s's per-step lighting sums are the reference's (the same rays, the same sums).
+  bool sums_from_reference(int s) const { return ref_lit && (!earth_todo[s] || replayed[s]); }
 };
 
 EarthSampling sample_earth(LoadRun& run) {
@@ -119,9 +121,9 @@ EarthSampling sample_earth(LoadRun& run) {
     }
     // A trial sums only the sides whose hits changed (lighting_per_step copies the others'
     // sums from the reference): the rest are not flattened.
-    if (!samples && ref_lit)
+    if (!samples)
       for (int s = 0; s < ns; ++s)
-        if (!earth_todo[s] || replayed[s]) std::vector<std::pair<float, Eigen::Vector3f>>().swap(hits.rays[s]);
+        if (e.sums_from_reference(s)) std::vector<std::pair<float, Eigen::Vector3f>>().swap(hits.rays[s]);
     hits.flatten(samples ? &samples->earth : nullptr);
   } else {
     // The same per-side counts as the cone sampling of the nadir case (per-node budgets,
@@ -154,9 +156,6 @@ Eigen::MatrixXf lighting_per_step(const LoadRun& run, const EarthSampling& e) {
   const LoadSamples* ref = run.ref;
   const std::vector<int>& ref_of = run.ref_of;
   const EarthHits& hits = e.hits;
-  const bool ref_lit = e.ref_lit;
-  const std::vector<char>& earth_todo = e.earth_todo;
-  const std::vector<char>& replayed = e.replayed;
   Eigen::MatrixXf lit_per_step;
   std::vector<float> sx(steps), sy(steps), sz(steps);
   for (int k = 0; k < steps; ++k) {
@@ -172,7 +171,7 @@ Eigen::MatrixXf lighting_per_step(const LoadRun& run, const EarthSampling& e) {
   tbb::parallel_for(tbb::blocked_range<int>(0, ns, 16), [&](const tbb::blocked_range<int>& range) {
     for (int s = range.begin(); s < range.end(); ++s) {
       float* acc = lit_per_step.col(s).data();
-      if (ref_lit && (!earth_todo[s] || replayed[s])) {  // the same rays, the same sums
+      if (e.sums_from_reference(s)) {
         lit_per_step.col(s) = ref->earth_lit_per_step.col(ref_of[s]);
         continue;
       }
