@@ -19,6 +19,7 @@
 #include "thermodec/rays/surface_sides.h"
 #include "thermodec/reduction/record_budget.h"
 #include "thermodec/reduction/reduce_model.h"
+#include "thermodec/reduction/statistical_verification.h"
 #include "thermodec/report/reduction_report.h"
 #include "thermodec/thermal/simulate_model.h"
 #include "thermodec/thermal/temperature_noise.h"
@@ -457,6 +458,23 @@ TEST(ReduceModel, uniform_result_is_verified_within_tolerance) {
   const ReductionRun run = reduce_model(model, s);
   EXPECT_LE(run.max_temperature_difference_K, 0.5);
   EXPECT_LE(run.faces_after, run.faces_before);
+  // The verification took its first original from the noise floor's run (its seed s_0): the same
+  // statistics, to the bit, as a verification that simulates every original itself.
+  ThermalModel original = model;
+  for (std::size_t k = 0; k < original.nodes.size(); ++k) original.nodes[k].sampling_boost = run.sampling_boost[k];
+  ModelSimulationSettings ss = s.reference.simulation;
+  ss.loads.earth_view_by_rays = true;  // (as reduce_model simulates)
+  const VerificationStatistics v = verify_statistically({{&original, &run.reduced.model}}, ss,
+                                                        s.verification_replicates, model.radiation.seed);
+  EXPECT_EQ(v.seeds, run.verification.seeds);
+  // ... and that run is the noise floor's: the original at s_0 against the original at the
+  // model's seed (the reference) gives the run's noise floor.
+  ThermalModel at_s0 = original, at_seed = original;
+  at_s0.radiation.seed = v.seeds.front();
+  const double floor = compare_results(simulate_model(at_seed, ss), simulate_model(at_s0, ss)).max_abs_K;
+  EXPECT_EQ(floor, run.noise_floor_K);
+  EXPECT_EQ(v.upper_bound_K, run.verification.upper_bound_K);
+  EXPECT_EQ(v.max_abs_dT_K, run.verification.max_abs_dT_K);
 }
 
 TEST(ReduceModel, same_input_gives_same_reduction) {

@@ -195,15 +195,16 @@ double first_search_margin_K(double noise_floor_K, int R) {
   return (student_t_975(R - 1) / std::sqrt(double(R)) + 1.0) * sigma;
 }
 
+// `originals`: the original's verification runs so far (the noise floor's), kept for every attempt.
 void verified_search(ReductionRun& run, const Searcher& search,
                      const std::vector<std::unique_ptr<ReductionReference>>& refs, const ReduceSettings& settings,
-                     std::uint64_t search_seed, const std::function<void(const std::string&)>& say) {
+                     std::uint64_t search_seed, VerificationOriginals& originals,
+                     const std::function<void(const std::string&)>& say) {
   const double tol = settings.tolerance_K;
   const double vtol = settings.verification_tolerance_K > 0.0 ? settings.verification_tolerance_K : tol;
   const int R = settings.verification_replicates;
   double margin = first_search_margin_K(run.noise_floor_K, R);
   bool accepted = false;
-  VerificationOriginals originals;  // the original's runs serve every attempt
   ReductionOutcome least;  // the rejected candidate of least upper bound
   double least_bound = std::numeric_limits<double>::infinity();
   for (int attempt = 0; attempt < settings.verification_attempts && !accepted && margin < tol; ++attempt) {
@@ -424,28 +425,34 @@ std::vector<NodeBudget> node_budgets(const std::vector<std::unique_ptr<Reduction
 }
 
 // The reference of one case (appended to `refs`) and its noise floor: the same model simulated
-// with `runs` - 1 other seeds. Every run is independent of the others, so they run side by side
-// (run_side_by_side): the reference's build and a whole simulation fill each other's idle core.
+// with `runs` - 1 other seeds, the verification's first ones (verification_seeds: no trial
+// draws from them); those runs are moved to `other_runs`, the first pairs' originals. Every
+// run is independent of the others, so they run side by side (run_side_by_side): the
+// reference's build and a whole simulation fill each other's idle core.
 NoiseFloor reference_and_noise_floor(const ThermalModel& model, const ReductionReferenceSettings& settings, int runs,
-                                     std::vector<std::unique_ptr<ReductionReference>>& refs) {
+                                     std::vector<std::unique_ptr<ReductionReference>>& refs,
+                                     std::vector<SimulationResult>& other_runs) {
   std::unique_ptr<ReductionReference> ref;
   std::vector<SimulationResult> results(runs);
   std::vector<std::uint64_t> seeds(runs);
   std::vector<double> run_time_s(runs - 1);
+  const std::vector<std::uint64_t> others = verification_seeds(model.radiation.seed, runs - 1);
   run_side_by_side(runs, 2, [&](int k) {
     if (k == 0) {
       ref = std::make_unique<ReductionReference>(model, settings);
       return;
     }
     ThermalModel m = model;
-    m.radiation.seed = model.radiation.seed + static_cast<std::uint64_t>(k);
+    m.radiation.seed = others[k - 1];
     const auto t0 = Clock::now();
     results[k] = simulate_model(m, settings.simulation);
     run_time_s[k - 1] = since(t0);
   });
   results[0] = ref->result();
-  for (int k = 0; k < runs; ++k) seeds[k] = model.radiation.seed + static_cast<std::uint64_t>(k);
+  seeds[0] = model.radiation.seed;
+  for (int k = 1; k < runs; ++k) seeds[k] = others[k - 1];
   refs.push_back(std::move(ref));
+  other_runs.assign(results.begin() + 1, results.end());
   NoiseFloor noise = noise_floor_of(std::move(results), std::move(seeds));
   noise.run_time_s = std::move(run_time_s);
   return noise;
@@ -494,6 +501,7 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   for (const LoadCase& c : settings.extra_cases) cases.push_back(c);
   const bool several = cases.size() > 1;
   std::vector<std::unique_ptr<ReductionReference>> refs;
+  VerificationOriginals originals;  // the original's verification runs: the noise floor's, then the rest
   // The record budget is the run's: every case's reference keeps its records at once, so each
   // gets an equal share.
   ReductionReferenceSettings per_case = settings.reference;
@@ -502,7 +510,14 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
     const std::string tag = several ? "case " + cases[c].name + ": " : "";
     say(tag + "reference: simulating and keeping reusable rays and samples, beside the noise floor's " +
         std::to_string(settings.noise_runs - 1) + " run(s) with other seeds");
-    const NoiseFloor noise = reference_and_noise_floor(with_case(model, cases[c]), per_case, settings.noise_runs, refs);
+    std::vector<SimulationResult> other_runs;
+    const NoiseFloor noise =
+        reference_and_noise_floor(with_case(model, cases[c]), per_case, settings.noise_runs, refs, other_runs);
+    // The noise floor's runs are the verification's first originals (their seeds are s_0, ...).
+    const std::vector<std::uint64_t> vs = verification_seeds(model.radiation.seed, settings.verification_replicates);
+    originals.per_case.emplace_back();
+    for (std::size_t j = 0; j < other_runs.size() && j < vs.size() && noise.seeds[j + 1] == vs[j]; ++j)
+      originals.per_case.back().push_back(std::move(other_runs[j]));
     release_free_memory();  // (the reference's tracing and load sampling: every trial runs beside what is left)
     say(tag + describe_records(refs.back()->record_use()));
     CaseResult cr;
@@ -611,7 +626,7 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
     search.sweep(run);
     if (run.sweep_only) return run;  // an MPI rank other than 0: its curves went to rank 0
   }
-  verified_search(run, search, refs, settings, model.radiation.seed, say);
+  verified_search(run, search, refs, settings, model.radiation.seed, originals, say);
   if (settings.strategy == ReductionStrategy::informed)
     search.predictions(run, run.search_tolerance_K > 0.0 ? run.search_tolerance_K : tol);
   run.seconds_search = since(t_search) - run.seconds_verification;
