@@ -192,6 +192,10 @@ std::vector<int> one_to_one(const std::vector<int>& model_node, const thermodec:
 
 }  // namespace
 
+void refuse_costly(const thermodec::SimulationCostCheck& check) {
+  thermodec::refuse_costly_run(check, false, "run it with the CLI's --force (thermodec simulate MODEL --force)");
+}
+
 NodeTemperatures simulate_document(const DocumentModelRequest& request, const std::string& result_file) {
   const thermodec::Mesh& mesh = *request.mesh;
   const int doc_nodes = static_cast<int>(mesh.node_names.size());
@@ -205,6 +209,7 @@ NodeTemperatures simulate_document(const DocumentModelRequest& request, const st
   thermodec::ModelSimulationSettings settings;
   settings.progress = request.progress;
   thermodec::apply_bare_mesh_ray_budgets(model, settings);  // as `thermodec simulate` (no-op for model files)
+  refuse_costly(thermodec::check_front_end_simulation_cost(model, settings));
   const thermodec::FrontEndSimulation sim = thermodec::simulate_as_front_end(model, settings);
   if (sim.sampling) out.sampling = sim.sampling->describe(model.nodes);
   const thermodec::SimulationResult& r = sim.result;
@@ -253,6 +258,7 @@ DocumentReduction reduce_document(const DocumentModelRequest& request, double to
   settings.reference.simulation.progress = nullptr;
   thermodec::apply_large_model_sweep(model, settings);  // as `thermodec reduce` does for this model
   for (const auto& f : case_files) settings.extra_cases.push_back(thermodec::load_case(f, model));
+  refuse_costly(thermodec::check_simulation_cost(model, settings.reference.simulation, settings.extra_cases));
   const thermodec::ReductionRun run = merge_nodes ? thermodec::reduce_with_node_merging(model, settings, {})
                                                   : thermodec::reduce_model(model, settings);
 
@@ -291,6 +297,7 @@ DocumentSensitivity sensitivity_document(const DocumentModelRequest& request, do
 
   // Same sweep as `thermodec reduce --strategy informed` (cap = 2 x tolerance).
   const thermodec::ReduceSettings defaults;
+  refuse_costly(thermodec::check_simulation_cost(model, defaults.reference.simulation));
   if (request.progress) request.progress("reference simulation");
   const thermodec::ReductionReference reference(model, defaults.reference);
   thermodec::SensitivityOptions options = defaults.sensitivity;

@@ -7,6 +7,7 @@
 
 #include "thermodec/mesh/mesh.h"
 #include "thermodec/nodes/thermal_model.h"
+#include "thermodec/thermal/simulation_cost.h"
 #include "core_calls.h"
 
 namespace thermodec_meshlab {
@@ -21,5 +22,11 @@ namespace thermodec_meshlab {
 //! model lacks), thermodec::IOError.
 thermodec::ThermalModel document_model(const DocumentModelRequest& request, std::vector<int>& model_node,
                                        std::string& description);
+
+//! The core's cost refusal (thermodec::refuse_costly_run), before any work of every filter that
+//! simulates. No override in the filters: MeshLab 2020.09 cannot cancel a running filter, and a
+//! meshlabserver script must list every parameter of its filter (a new one would break the
+//! scripts users have); the CLI's --force runs such a model.
+void refuse_costly(const thermodec::SimulationCostCheck& check);
 
 }  // namespace thermodec_meshlab

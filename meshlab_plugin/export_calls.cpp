@@ -18,6 +18,8 @@ std::vector<std::string> export_document(const DocumentModelRequest& request, co
                                               : "MeshLab document with " + request.model_file;
   if (!request.model_file.empty()) settings.protected_inputs.push_back(request.model_file);
   if (!model.mesh_path.empty()) settings.protected_inputs.push_back(model.mesh_path);
+  if (thermodec::export_format(what.format).needs_simulation)
+    refuse_costly(thermodec::check_front_end_simulation_cost(model, settings.simulation, settings.noise));
   std::vector<std::string> files;
   for (const auto& f : thermodec::export_model(std::move(model), what.format, what.out, what.stem, settings))
     files.push_back(f.string());

@@ -193,6 +193,41 @@ class SimulateIsTheCliSimulate(unittest.TestCase):
             self.assertTrue(any(m.startswith("sampling:") for m in messages), messages)
 
 
+class CostlyRunsAreRefusedBeforeAnyWork(unittest.TestCase):
+    """The core's cost check, as the CLI applies it: a run estimated at hours of work is refused
+    at once, naming the setting, unless force=True."""
+
+    def costly_cube(self, folder):
+        # A million load positions on an orbit: hours of thermal solve.
+        return thermodec.load_model(write_cube_model(
+            folder, '{"mesh": "cube.obj", "environment": {"type": "orbit"}, '
+            '"analysis": {"type": "transient_orbit", "steps_per_orbit": 1000000}}'))
+
+    def test_simulate_export_and_reduce_refuse(self):
+        with tempfile.TemporaryDirectory() as folder:
+            model = self.costly_cube(folder)
+            for call in (lambda: thermodec.simulate_model(model, noise_target_K=0.0),
+                         lambda: thermodec.simulate_model(model),
+                         lambda: thermodec.export_model(model, "esatan", os.path.join(folder, "m.d")),
+                         lambda: thermodec.reduce_model(model)):
+                with self.assertRaises(thermodec.InvalidInput) as caught:
+                    call()
+                message = str(caught.exception)
+                self.assertIn("over the limit", message)
+                self.assertIn("analysis.steps_per_orbit = 1000000", message)
+                self.assertIn("force=True", message)
+            self.assertFalse(os.path.exists(os.path.join(folder, "m.d")))
+
+    def test_within_the_limits_nothing_changes(self):
+        with tempfile.TemporaryDirectory() as folder:
+            model = thermodec.load_model(write_cube_model(folder, '{"mesh": "cube.obj"}'))
+            model.radiation.rays_per_face = 64
+            model.radiation.min_rays_per_node = 0
+            a = thermodec.simulate_model(model, noise_target_K=0.0)
+            b = thermodec.simulate_model(model, noise_target_K=0.0, force=True)
+            np.testing.assert_array_equal(a.temperature_K, b.temperature_K)
+
+
 class BadFilesRaiseInsteadOfCrashing(unittest.TestCase):
     """Front ends (FreeCAD, scripts) call the core through this module: files that once crashed
     or hung the host process must raise a thermodec error."""

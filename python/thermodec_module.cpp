@@ -31,6 +31,7 @@
 #include "thermodec/report/reduction_report.h"
 #include "thermodec/thermal/result_json.h"
 #include "thermodec/thermal/simulate_model.h"
+#include "thermodec/thermal/simulation_cost.h"
 
 namespace py = pybind11;
 using namespace thermodec;
@@ -40,6 +41,9 @@ PYBIND11_MAKE_OPAQUE(std::vector<thermodec::Node>)
 PYBIND11_MAKE_OPAQUE(std::vector<thermodec::Conductance>)
 
 namespace {
+
+// How a Python caller overrides the core's cost refusal (thermal/simulation_cost.h).
+constexpr const char* kForceHint = "pass force=True to run anyway";
 
 void bind_errors(py::module_& m) {
   // Translators run newest first, so the base goes first and each subclass is caught as itself.
@@ -434,7 +438,7 @@ void bind_functions(py::module_& m) {
   // thermal/simulate_model.h, thermal/result_json.h
   m.def("simulate_model",
         [](ThermalModel model, std::function<void(const std::string&)> progress, std::optional<std::uint64_t> seed,
-           double noise_target_K) {
+           double noise_target_K, bool force) {
           ModelSimulationSettings settings;
           if (progress) {
             settings.progress = [progress](const std::string& message) {
@@ -445,20 +449,22 @@ void bind_functions(py::module_& m) {
           if (seed) model.radiation.seed = *seed;
           NoiseTargeting noise;
           noise.target_K = noise_target_K;
+          refuse_costly_run(check_front_end_simulation_cost(model, settings, noise), force, kForceHint);
           py::gil_scoped_release unlocked;
           return simulate_as_front_end(model, settings, noise).result;
         },
         py::arg("model"), py::arg("progress") = nullptr, py::arg("seed") = py::none(),
-        py::arg("noise_target_K") = NoiseTargeting{}.target_K,
+        py::arg("noise_target_K") = NoiseTargeting{}.target_K, py::arg("force") = false,
         "The simulation `thermodec simulate` runs (thermal/simulate_model.h, simulate_as_front_end): "
         "noise-targeted sampling (noise_target_K [K], 0 = off; boosts already in the model are kept), "
         "then couplings, external loads, solve; bit-identical to the CLI's for the same model and seed "
         "(seed: None = the model's radiation.seed). progress(message) is called with stage names. "
-        "Raises InvalidInput, SolverError.");
+        "A run the core estimates over its cost limits is refused before any work unless force=True "
+        "(as the CLI's --force). Raises InvalidInput, SolverError.");
   // exchange/export_model.h
   m.def("export_model",
         [](const ThermalModel& model, const std::string& format, const std::filesystem::path& out, const std::string& stem,
-           std::function<void(const std::string&)> progress) {
+           std::function<void(const std::string&)> progress, bool force) {
           ExportSettings settings;
           settings.title = model.mesh_path.string();
           settings.protected_inputs = {model.mesh_path};
@@ -468,13 +474,18 @@ void bind_functions(py::module_& m) {
               progress(message);
             };
           }
-          export_format(format);  // an unknown name is refused before any work
+          // An unknown name is refused before any work, and so is a costly simulation.
+          if (export_format(format).needs_simulation)
+            refuse_costly_run(check_front_end_simulation_cost(model, settings.simulation, settings.noise), force,
+                              kForceHint);
           py::gil_scoped_release unlocked;
           return export_model(model, format, out, stem, settings);
         },
         py::arg("model"), py::arg("format"), py::arg("out"), py::arg("stem") = "model", py::arg("progress") = nullptr,
+        py::arg("force") = false,
         "`thermodec export`: format = a name of export_formats() (out = a file, a folder or a prefix as its "
-        "'output' says); returns the files written (docs/exchange.md). Raises InvalidInput, SolverError.");
+        "'output' says); returns the files written (docs/exchange.md); force as for simulate_model. "
+        "Raises InvalidInput, SolverError.");
   // exchange/export_formats.h
   m.def(
       "export_formats",
@@ -516,12 +527,30 @@ void bind_functions(py::module_& m) {
         "Decimation to a global ratio of removed faces with the paper's per-node rule.");
 
   // reduction/reduce_model.h, report/reduction_report.h
-  m.def("reduce_model", &reduce_model, py::arg("model"), py::arg("settings") = ReduceSettings{}, release{},
-        "Simulation-driven reduction (`thermodec reduce`): as few faces as the temperature tolerance allows.");
-  m.def("reduce_with_node_merging", &reduce_with_node_merging, py::arg("model"), py::arg("settings") = ReduceSettings{},
-        py::arg("merge") = NodeMergeSettings{}, release{},
-        "`thermodec reduce --merge-nodes`: nodes merged as well as decimated under the one tolerance; the "
-        "reduced model carries the node map. Raises InvalidInput (e.g. a keep pattern matching no node).");
+  m.def(
+      "reduce_model",
+      [](const ThermalModel& model, const ReduceSettings& settings, bool force) {
+        refuse_costly_run(check_simulation_cost(model, settings.reference.simulation, settings.extra_cases), force,
+                          kForceHint);
+        py::gil_scoped_release unlocked;
+        return reduce_model(model, settings);
+      },
+      py::arg("model"), py::arg("settings") = ReduceSettings{}, py::arg("force") = false,
+      "Simulation-driven reduction (`thermodec reduce`): as few faces as the temperature tolerance allows; "
+      "force as for simulate_model.");
+  m.def(
+      "reduce_with_node_merging",
+      [](const ThermalModel& model, const ReduceSettings& settings, const NodeMergeSettings& merge, bool force) {
+        refuse_costly_run(check_simulation_cost(model, settings.reference.simulation, settings.extra_cases), force,
+                          kForceHint);
+        py::gil_scoped_release unlocked;
+        return reduce_with_node_merging(model, settings, merge);
+      },
+      py::arg("model"), py::arg("settings") = ReduceSettings{}, py::arg("merge") = NodeMergeSettings{},
+      py::arg("force") = false,
+      "`thermodec reduce --merge-nodes`: nodes merged as well as decimated under the one tolerance; the "
+      "reduced model carries the node map; force as for simulate_model. Raises InvalidInput (e.g. a keep "
+      "pattern matching no node).");
   m.def("apply_large_model_sweep", &apply_large_model_sweep, py::arg("model"), py::arg("settings"),
         "Model files over 2000 faces: the sweep on halving face counts `thermodec reduce` uses (in place).");
   m.def("reduction_report", [](const ReductionRun& run) {

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "thermodec/common/errors.h"
+#include "thermodec/common/physical_memory.h"
 #include "thermodec/environment/external_loads.h"
 #include "thermodec/environment/orbit.h"
 #include "thermodec/radiation/face_view_factors.h"
@@ -223,6 +225,54 @@ std::string simulation_cost_excess(const SimulationCost& c, const ThermalModel& 
     return "memory " + bytes_text(c.memory_bytes()) + " (limit " + bytes_text(limits.max_memory_bytes) + "), " + why;
   }
   return {};
+}
+
+namespace {
+// The view-factor rows are an upper bound that geometry decides how far below it they stay;
+// beyond the machine's memory, a run may be killed by the system after hours of work.
+std::string memory_excess(const SimulationCost& c) {
+  const double machine = double(physical_memory_bytes());
+  const double need = c.memory_bytes() + c.view_factor_bytes_max;
+  if (machine <= 0.0 || need <= machine) return {};
+  return "memory up to " + bytes_text(need) + " (view-factor rows up to " + bytes_text(c.view_factor_bytes_max) +
+         ": radiation.rays_per_face over " + std::to_string(c.sides) + " face sides) is more than this machine's " +
+         bytes_text(machine);
+}
+}  // namespace
+
+SimulationCostCheck check_simulation_cost(const ThermalModel& model, const ModelSimulationSettings& settings,
+                                          const std::vector<LoadCase>& cases, SimulationCostScope scope,
+                                          double noise_max_extra, double noise_max_samples) {
+  std::vector<LoadCase> all{own_case(model)};
+  all.insert(all.end(), cases.begin(), cases.end());
+  SimulationCostCheck out;
+  for (const LoadCase& c : all) {
+    const ThermalModel m = cases.empty() ? model : with_case(model, c);
+    SimulationCost cost = simulation_cost(m, settings, scope);
+    if (noise_max_extra > 0.0) cost = noise_targeted_cost(cost, noise_max_extra, noise_max_samples);
+    const std::string which = cases.empty() ? std::string() : " (case " + c.name + ")";
+    out.estimates.push_back("estimated cost" + which + (noise_max_extra > 0.0 ? " with noise-targeted sampling" : "") +
+                            ": " + cost.summary());
+    if (!out.excess.empty()) continue;
+    std::string excess = simulation_cost_excess(cost, m, settings);
+    if (excess.empty()) excess = memory_excess(cost);
+    if (!excess.empty()) out.excess = excess, out.excess_case = which;
+  }
+  return out;
+}
+
+SimulationCostCheck check_front_end_simulation_cost(const ThermalModel& model, const ModelSimulationSettings& settings,
+                                                    const NoiseTargeting& targeting) {
+  const bool noise = targeting.target_K > 0.0 && !has_sampling_boosts(model);
+  return check_simulation_cost(model, settings, {}, SimulationCostScope::simulation, noise ? targeting.budget : 0.0,
+                               noise ? targeting.max_samples : 0.0);
+}
+
+void refuse_costly_run(const SimulationCostCheck& check, bool force, const std::string& how_to_force) {
+  if (check.excess.empty() || force) return;
+  throw InvalidInput("estimated cost" + check.excess_case + " over the limit: " + check.excess +
+                     "; lower that setting, or " + how_to_force +
+                     " (docs/model-format.md, \"Validation\")");
 }
 
 }  // namespace thermodec

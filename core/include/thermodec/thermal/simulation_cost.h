@@ -11,7 +11,9 @@
 //! computed in milliseconds: surface sides and their ray counts exactly, sunlit orbit positions
 //! from the orbit geometry, the time grids of every refinement level.
 #include <string>
+#include <vector>
 
+#include "thermodec/nodes/load_case.h"
 #include "thermodec/nodes/thermal_model.h"
 #include "thermodec/thermal/simulate_model.h"
 
@@ -98,5 +100,33 @@ struct SimulationCostLimits {
 std::string simulation_cost_excess(const SimulationCost& cost, const ThermalModel& model,
                                    const ModelSimulationSettings& settings = {},
                                    const SimulationCostLimits& limits = {});
+
+//! What every front end checks before a simulation's expensive work (the CLI's simulating
+//! commands, the Python module, MeshLab's filters and so FreeCAD's workbench): the estimate of
+//! one simulation of `model`, and of it in each of `cases`, with noise-targeted sampling's two
+//! runs and extra samples when `noise_max_extra` > 0 (noise_targeted_cost). `excess` names the
+//! first estimate over SimulationCostLimits, or whose memory with the view-factor rows' upper
+//! bound is beyond this machine's, and the setting that drives it; empty when all are within.
+struct SimulationCostCheck {
+  //! Per case: "estimated cost[ (case NAME)][ with noise-targeted sampling]: " + summary().
+  std::vector<std::string> estimates;
+  //! Why the first estimate over a limit is (simulation_cost_excess or this machine's memory),
+  //! empty if none is; `excess_case` = " (case NAME)" for it when there are cases.
+  std::string excess, excess_case;
+};
+SimulationCostCheck check_simulation_cost(const ThermalModel& model, const ModelSimulationSettings& settings,
+                                          const std::vector<LoadCase>& cases = {},
+                                          SimulationCostScope scope = SimulationCostScope::simulation,
+                                          double noise_max_extra = 0.0, double noise_max_samples = 0.0);
+
+//! check_simulation_cost for simulate_as_front_end's run: noise targeting's extras counted when
+//! it is on and the model carries no boosts of its own (apply_noise_targeting's rule).
+SimulationCostCheck check_front_end_simulation_cost(const ThermalModel& model, const ModelSimulationSettings& settings,
+                                                    const NoiseTargeting& targeting = {});
+
+//! Throws InvalidInput "estimated cost[ (case NAME)] over the limit: WHY; lower that setting, or
+//! HOW_TO_FORCE ..." when `check` has an excess and `force` is false (e.g. how_to_force = "pass
+//! --force to run anyway").
+void refuse_costly_run(const SimulationCostCheck& check, bool force, const std::string& how_to_force);
 
 }  // namespace thermodec
