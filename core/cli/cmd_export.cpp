@@ -58,11 +58,8 @@ void run_export(const ExportOptions& o) {
   // The outputs are checked before the cost estimate and the simulation (export_model checks
   // them again): a kind, extension or folder that cannot take them is said at once.
   check_export_outputs(format, o.out, fs::path(o.model).stem().string(), settings.protected_inputs);
-  const NoiseTargetingBound noise = settings.noise.target_K > 0.0 && !has_sampling_boosts(model)
-                                        ? NoiseTargetingBound{settings.noise.budget, settings.noise.max_samples}
-                                        : NoiseTargetingBound{};
   if (format.needs_simulation)
-    guard_simulation_cost("export", model, settings.simulation, o.quiet, {}, SimulationCostScope::simulation, noise);
+    guard_simulation_cost("export", check_front_end_simulation_cost(model, settings.simulation, settings.noise), o.quiet);
   if (!o.quiet) settings.simulation.progress = [](const std::string& m) { std::cerr << "export: " << m << "\n"; };
   const auto files = export_model(std::move(model), format.name, o.out, fs::path(o.model).stem().string(), settings);
   if (!o.quiet)

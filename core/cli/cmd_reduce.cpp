@@ -149,7 +149,7 @@ void run_reduce(const ReduceCliOptions& o) {
             << (ranks.size > 1 ? ", sensitivity sweep over " + std::to_string(ranks.size) + " MPI ranks" : std::string())
             << (o.merge_nodes ? ", merging nodes" : "")
             << "\n";
-  guard_simulation_cost("reduce", model, s.reference.simulation, o.quiet || !root, s.extra_cases);
+  guard_simulation_cost("reduce", check_simulation_cost(model, s.reference.simulation, s.extra_cases), o.quiet || !root);
   ReductionRun run = o.merge_nodes ? reduce_with_node_merging(model, s, o.merge) : reduce_model(model, s);
   if (run.sweep_only) return;  // an MPI rank other than 0: its curves went to rank 0
   run.ranks = ranks.size;

@@ -59,10 +59,7 @@ void run_simulate(const SimulateOptions& o) {
   if (!o.vtk_dir.empty() && std::filesystem::exists(o.vtk_dir, ec) && !std::filesystem::is_directory(o.vtk_dir, ec))
     throw InvalidInput("--vtk " + o.vtk_dir + " is a file; it must be a folder (created if missing)");
   if (!o.vtk_dir.empty() && o.noise_floor) throw InvalidInput("--vtk writes one simulation; it does not combine with --noise-floor");
-  const NoiseTargetingBound noise = o.noise.target_K > 0.0 && !has_sampling_boosts(model)
-                                        ? NoiseTargetingBound{o.noise.budget, o.noise.max_samples}
-                                        : NoiseTargetingBound{};
-  guard_simulation_cost("simulate", model, settings, o.quiet, {}, SimulationCostScope::simulation, noise);
+  guard_simulation_cost("simulate", check_front_end_simulation_cost(model, settings, o.noise), o.quiet);
   if (!o.quiet) settings.progress = [](const std::string& m) { std::cerr << "simulate: " << m << "\n"; };
 
   nlohmann::json extra;

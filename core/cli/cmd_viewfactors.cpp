@@ -45,7 +45,7 @@ void run(const ViewFactorsOptions& o) {
   if (o.rays != -1) settings.rays_per_face = o.rays;
   if (o.seed != -1) settings.seed = static_cast<std::uint64_t>(o.seed);
   model.radiation = settings;
-  guard_simulation_cost("viewfactors", model, {}, false, {}, SimulationCostScope::view_factors);
+  guard_simulation_cost("viewfactors", check_simulation_cost(model, {}, {}, SimulationCostScope::view_factors), false);
   const auto t0 = std::chrono::steady_clock::now();
   const NodeCouplings c = radiative_couplings(model, settings);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -52,21 +52,11 @@ bool force_costly_runs();
 
 //! Noise-targeted sampling's bound on extra samples (thermal/simulate_model.h,
 //! decide_sampling_boosts): max_extra x the model's total of a kind, at most max_samples; 0 = off.
-struct NoiseTargetingBound {
-  double max_extra = 0.0;
-  double max_samples = 0.0;
-};
-
-//! Before the expensive work of `command`: estimates one simulation of `model` (and of it in each
-//! of `cases`) with `settings` (thermal/simulation_cost.h), prints the estimate on stderr unless
-//! `quiet`, and refuses a run over SimulationCostLimits with InvalidInput naming the setting
-//! that drives it, unless `--force` was given (then a warning). The estimate includes the second
-//! run and the extra samples of noise-targeted sampling when `noise` is on, and a run whose
-//! memory with its view-factor rows' upper bound exceeds the machine's is refused the same way.
-void guard_simulation_cost(const std::string& command, const thermodec::ThermalModel& model,
-                           const thermodec::ModelSimulationSettings& settings, bool quiet,
-                           const std::vector<thermodec::LoadCase>& cases = {},
-                           thermodec::SimulationCostScope scope = thermodec::SimulationCostScope::simulation,
-                           const NoiseTargetingBound& noise = {});
+//! Before the expensive work of `command`: prints the core's estimate (check_simulation_cost,
+//! thermal/simulation_cost.h: one simulation, and one per load case, with noise-targeted
+//! sampling's extras where they apply) on stderr unless `quiet`, and refuses a run over
+//! SimulationCostLimits or the machine's memory with InvalidInput naming the setting that drives
+//! it, unless `--force` was given (then a warning).
+void guard_simulation_cost(const std::string& command, const thermodec::SimulationCostCheck& check, bool quiet);
 
 }  // namespace thermodec::cli

@@ -6,10 +6,7 @@
 
 namespace thermodec::cli {
 
-void guard_simulation_cost(const std::string& command, const ThermalModel& model,
-                           const ModelSimulationSettings& settings, bool quiet, const std::vector<LoadCase>& cases,
-                           SimulationCostScope scope, const NoiseTargetingBound& noise) {
-  const SimulationCostCheck check = check_simulation_cost(model, settings, cases, scope, noise.max_extra, noise.max_samples);
+void guard_simulation_cost(const std::string& command, const SimulationCostCheck& check, bool quiet) {
   if (!quiet)
     for (const std::string& line : check.estimates) std::cerr << command << ": " << line << "\n";
   refuse_costly_run(check, force_costly_runs(), "pass --force to run anyway");
