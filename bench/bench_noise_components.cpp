@@ -21,6 +21,7 @@
 //                            band's), to compare
 //   BENCH_EXACT_PAIRS="body_my:wing_my,..." those couplings held at the first seed's value (the
 //                            rows kept closed through the couplings to space)
+//   BENCH_NO_STRATA=1        IR rows counted without planar strata (as a reduction's reference)
 //   BENCH_PAIRS="wing_my:boom,dish:space" (with BENCH_ONLY_PAIRS=1: nothing else) both
 //                            directions' one-way couplings per seed
 // Usage: bench_noise_components [MODEL]
@@ -155,6 +156,7 @@ void trace(Study& st) {
   for (int k = 0; k < st.K; ++k) {
     RadiationSettings rs = st.model.radiation;
     rs.seed = st.seeds[k];
+    rs.planar_strata = std::getenv("BENCH_NO_STRATA") == nullptr;  // as simulate traces
     st.vf[k] = face_view_factors(*st.scene, st.sides, rs);
     // BENCH_IR_RECIPROCAL: the IR couplings from side-pair reciprocal view factors.
     const FaceViewFactors ir = std::getenv("BENCH_IR_RECIPROCAL") ? reciprocal_view_factors(st.vf[k]) : st.vf[k];

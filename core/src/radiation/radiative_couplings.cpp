@@ -227,10 +227,17 @@ NodeCouplings aggregate_couplings(const FaceViewFactors& vf, const Eigen::Vector
   RowMatrixXd Y = rho.asDiagonal() * B;
   for (int t = 0; t < S; ++t) Y(t, group[t]) += emissivity[t];
   RowMatrixXd V(S, C);
+  Eigen::RowVectorXd space_score = Eigen::RowVectorXd::Zero(C);  // an escaping ray scores 1 for space
+  space_score[SP] = 1.0;
   tbb::parallel_for(tbb::blocked_range<int>(0, S, 64), [&](const tbb::blocked_range<int>& r) {
     for (int s = r.begin(); s != r.end(); ++s) {
       auto v = V.row(s);
       v.setZero();
+      if (!vf.controlled.empty() && vf.controlled[s].strata.count > 0) {
+        // a regression estimate (planar control variates): what the crossings leave
+        v = controlled_score_variance(vf.controlled[s], Y, space_score) / rays_of(s);
+        continue;
+      }
       for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(vf.F, s); it; ++it)
         v.noalias() += it.value() * Y.row(it.col()).cwiseAbs2();
       v[SP] += vf.to_space[s];

@@ -19,7 +19,14 @@ struct SideRows {
   //! Per row: the reference row it equals (a candidate side none of whose rays can meet the
   //! change), copied at assembly instead of held twice; -1: the row is in `hits`.
   std::vector<int> reference_row;
-  explicit SideRows(int n) : hits(n), space(n, 0), back_hits(n, 0), reference_row(n, -1) {}
+  //! Per row: post-stratified fractions (planar_strata.h) that replace `hits` / `space` when
+  //! the row is weighted (`weighted[s]`), sorted by side.
+  std::vector<std::vector<std::pair<int, double>>> weighted_hits;
+  std::vector<double> weighted_space;
+  std::vector<char> weighted;
+  std::vector<ControlledSide> controlled;  //!< per side if any row is weighted
+  explicit SideRows(int n)
+      : hits(n), space(n, 0), back_hits(n, 0), reference_row(n, -1), weighted_hits(n), weighted_space(n, 0.0), weighted(n, 0) {}
 
   void keep_reference(int s, int ref_side) {
     hits[s].clear();
@@ -46,6 +53,49 @@ struct SideRows {
     c.touched.clear();
     back_hits[s] = back;
     return gone;
+  }
+
+  //! Row s from the counters of its strata: stratum k's counts weigh weight[k] each (its
+  //! exact share over its rays); clears the counters.
+  //! `cs` receives the side's strata, counts and per-stratum hits (for the variance); rows
+  //! are then weighted. `controlled` must have been sized to the sides.
+  void take_strata(int s, std::vector<tracing::Counter>& strata, const std::vector<double>& weight, std::int64_t back,
+                   ControlledSide cs) {
+    auto& row = weighted_hits[s];
+    row.clear();
+    double sp = 0.0;
+    double R = 0.0;
+    for (double n : cs.rays_per_stratum) R += n;
+    cs.hits.assign(weight.size(), {});
+    for (std::size_t k = 0; k < weight.size(); ++k) {
+      tracing::Counter& c = strata[k];
+      std::sort(c.touched.begin(), c.touched.end());
+      c.touched.erase(std::unique(c.touched.begin(), c.touched.end()), c.touched.end());
+      for (int idx : c.touched) {
+        const std::int32_t n = c.count[idx];
+        if (n == 0) continue;
+        c.count[idx] = 0;
+        if (idx == c.space()) sp += weight[k] * n;
+        else if (idx != c.gone()) row.emplace_back(idx, weight[k] * n);
+        if (idx != c.gone()) cs.hits[k].emplace_back(idx == c.space() ? -1 : idx, n / R);
+      }
+      c.touched.clear();
+    }
+    controlled[s] = std::move(cs);
+    // Entries of the same side from several strata, summed in stratum order (deterministic).
+    std::stable_sort(row.begin(), row.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::size_t w = 0;
+    for (std::size_t i = 0; i < row.size(); ++i) {
+      if (w > 0 && row[w - 1].first == row[i].first) row[w - 1].second += row[i].second;
+      else row[w++] = row[i];
+    }
+    row.resize(w);
+    hits[s].clear();
+    space[s] = 0;
+    reference_row[s] = -1;
+    weighted_space[s] = sp;
+    weighted[s] = 1;
+    back_hits[s] = back;
   }
 };
 
@@ -77,6 +127,10 @@ inline FaceViewFactors assemble(const SurfaceSides& sides, const SideRows& rows,
   Eigen::VectorXi nnz(S);
   for (int s = 0; s < S; ++s) {
     const int r = rows.reference_row[s];
+    if (rows.weighted[s]) {
+      nnz[s] = static_cast<int>(rows.weighted_hits[s].size());
+      continue;
+    }
     nnz[s] = r < 0 ? static_cast<int>(rows.hits[s].size()) : reference->vf.F.outerIndexPtr()[r + 1] - reference->vf.F.outerIndexPtr()[r];
   }
   vf.F.reserve(nnz);
@@ -96,12 +150,18 @@ inline FaceViewFactors assemble(const SurfaceSides& sides, const SideRows& rows,
       space = static_cast<std::int32_t>(std::lround(reference->vf.to_space[r] * rays[s]));
       back = reference->vf.back_hits_per_side[r];
     }
-    for (const auto& [t, n] : r < 0 ? rows.hits[s] : kept) vf.F.insert(s, t) = n * inv;
-    vf.to_space[s] = space * inv;
+    if (rows.weighted[s]) {
+      for (const auto& [t, x] : rows.weighted_hits[s]) vf.F.insert(s, t) = x;
+      vf.to_space[s] = rows.weighted_space[s];
+    } else {
+      for (const auto& [t, n] : r < 0 ? rows.hits[s] : kept) vf.F.insert(s, t) = n * inv;
+      vf.to_space[s] = space * inv;
+    }
     vf.back_hits_on_one_sided += back;
     vf.back_hits_per_side[s] = static_cast<int>(back);
   }
   vf.F.makeCompressed();
+  vf.controlled = rows.controlled;
   return vf;
 }
 

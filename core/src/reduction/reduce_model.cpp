@@ -466,6 +466,8 @@ ReductionRun reduce_model(const ThermalModel& model_in, const ReduceSettings& se
   // computed again whole (sample at 0.5 K: sweep 40 s against 63 s with the raster).
   ReduceSettings settings = settings_in;
   settings.reference.simulation.loads.earth_view_by_rays = true;
+  // Likewise IR rows counted ray by ray (no planar strata): a trial moves single rays' hits.
+  settings.reference.simulation.planar_strata = false;
   const double tol = settings.tolerance_K;
   if (!std::isfinite(tol) || tol <= 0)
     throw InvalidInput("tolerance must be a finite temperature difference > 0 K (got " + std::to_string(tol) + ")");

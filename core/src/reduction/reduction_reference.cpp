@@ -109,6 +109,9 @@ ReductionReference::ReductionReference(const ThermalModel& model, const Reductio
   impl_->model = model;
   impl_->settings = settings;
   impl_->settings.simulation.progress = {};  // trials run by the hundred: keep them quiet
+  // Trials move single rays' hits: IR rows are counted ray by ray, and so are the full
+  // simulations (verify) compared with them.
+  impl_->settings.simulation.planar_strata = false;
   const int n = static_cast<int>(model.nodes.size());
   if (n < 1) throw InvalidInput("the model has no thermal nodes");
   impl_->faces_per_node = Eigen::VectorXi::Zero(n);

@@ -122,7 +122,9 @@ SimulationResult simulate_model(const ThermalModel& model, const ModelSimulation
   tbb::parallel_invoke(
       [&] {
         say("view factors (" + std::to_string(model.radiation.rays_per_face) + " rays per face side)");
-        view_factors = face_view_factors(scene, sides, model.radiation);
+        RadiationSettings radiation = model.radiation;
+        radiation.planar_strata = settings.planar_strata;
+        view_factors = face_view_factors(scene, sides, radiation);
         say("IR Gebhart factors and node couplings");
         const int num_nodes = static_cast<int>(model.nodes.size());
         const Eigen::VectorXd eps = side_emissivity(model, sides);

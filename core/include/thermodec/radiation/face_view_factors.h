@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "thermodec/nodes/thermal_model.h"
+#include "thermodec/radiation/planar_strata.h"
 #include "thermodec/rays/ray_scene.h"
 #include "thermodec/rays/surface_sides.h"
 
@@ -27,6 +28,9 @@ struct FaceViewFactors {
   std::int64_t rays_traced = 0;
   std::int64_t back_hits_on_one_sided = 0;  //!< rays that passed through the back of a one-sided face
   Eigen::VectorXi back_hits_per_side;        //!< #S the same, per emitting side
+  //! #S (or empty: none) sides whose rows are regression estimates with planar control
+  //! variates (RadiationSettings::planar_strata); strata.count = 0 for a plain row.
+  std::vector<ControlledSide> controlled;
 };
 
 //! Rays each side emits: max(rays_per_face, ceil(min_rays_per_node / n)) for a side of a node
