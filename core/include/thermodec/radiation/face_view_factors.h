@@ -18,8 +18,10 @@ namespace thermodec {
 //! seed and its ray count).
 struct FaceViewFactors {
   SurfaceSides sides;
-  //! #S x #S: F(s, t) = fraction of the rays of side s whose first hit is side t [-]. The
-  //! back of a one-sided face neither emits nor absorbs: rays pass through it (see docs).
+  //! #S x #S: F(s, t) = fraction of the rays of side s whose first hit is side t [-], or for
+  //! a side in `controlled` the same rays weighed by its planar control variates
+  //! (planar_strata.h). The back of a one-sided face neither emits nor absorbs: rays pass
+  //! through it (see docs).
   Eigen::SparseMatrix<double, Eigen::RowMajor> F;
   Eigen::VectorXd to_space;  //!< #S fraction of rays escaping to infinity [-]
   int rays_per_side = 0;      //!< RadiationSettings::rays_per_face (side_rays: the counts emitted)
