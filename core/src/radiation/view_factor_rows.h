@@ -19,8 +19,8 @@ struct SideRows {
   //! Per row: the reference row it equals (a candidate side none of whose rays can meet the
   //! change), copied at assembly instead of held twice; -1: the row is in `hits`.
   std::vector<int> reference_row;
-  //! Per row: post-stratified fractions (planar_strata.h) that replace `hits` / `space` when
-  //! the row is weighted (`weighted[s]`), sorted by side.
+  //! Per row: fractions weighed by planar control variates (planar_strata.h) that replace
+  //! `hits` / `space` when the row is weighted (`weighted[s]`), sorted by side.
   std::vector<std::vector<std::pair<int, double>>> weighted_hits;
   std::vector<double> weighted_space;
   std::vector<char> weighted;
@@ -55,10 +55,10 @@ struct SideRows {
     return gone;
   }
 
-  //! Row s from the counters of its strata: stratum k's counts weigh weight[k] each (its
-  //! exact share over its rays); clears the counters.
-  //! `cs` receives the side's strata, counts and per-stratum hits (for the variance); rows
-  //! are then weighted. `controlled` must have been sized to the sides.
+  //! Row s from the counters of its strata (one per mask of crossed hulls): a count of mask k
+  //! weighs weight[k] (stratum_weights); clears the counters. `cs` (the side's hulls and rays
+  //! per mask) is stored in `controlled[s]` with the per-mask hits the variance needs;
+  //! `controlled` must have been sized to the sides.
   void take_strata(int s, std::vector<tracing::Counter>& strata, const std::vector<double>& weight, std::int64_t back,
                    ControlledSide cs) {
     auto& row = weighted_hits[s];
