@@ -11,6 +11,7 @@
 #include "thermodec/common/errors.h"
 #include "thermodec/nodes/load_model.h"
 #include "thermodec/radiation/radiative_couplings.h"
+#include "thermodec/thermal/simulate_model.h"
 
 namespace thermodec::cli {
 namespace {
@@ -44,6 +45,7 @@ void run(const ViewFactorsOptions& o) {
   RadiationSettings settings = model.radiation;
   if (o.rays != -1) settings.rays_per_face = o.rays;
   if (o.seed != -1) settings.seed = static_cast<std::uint64_t>(o.seed);
+  settings.planar_strata = ModelSimulationSettings{}.planar_strata;  // the rows `simulate` computes
   model.radiation = settings;
   guard_simulation_cost("viewfactors", check_simulation_cost(model, {}, {}, SimulationCostScope::view_factors), false);
   const auto t0 = std::chrono::steady_clock::now();

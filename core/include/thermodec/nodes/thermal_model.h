@@ -138,8 +138,9 @@ struct RadiationSettings {
   //! well as big ones. 0 = rays_per_face for every side. A side's count changes only when its
   //! own node's face count does (correlated sampling stays intact).
   int min_rays_per_node = 250000;
-  //! Post-stratify each side's rays by the flat nodes in front of it (radiation/planar_strata.h):
-  //! exact unoccluded shares instead of counted ones. Set by simulate_model
+  //! Weigh each side's rays by control variates, the crossings of the flat nodes in front of
+  //! it (radiation/planar_strata.h), whose unoccluded shares are known in closed form. Set by
+  //! simulate_model
   //! (ModelSimulationSettings::planar_strata), not stored in model files; a reduction's
   //! reference, whose rows are updated ray by ray, traces without it.
   bool planar_strata = false;

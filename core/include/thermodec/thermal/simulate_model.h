@@ -21,8 +21,8 @@ namespace thermodec {
 struct ModelSimulationSettings {
   ExternalLoadSettings loads;    //!< loads.seed is replaced by the model's radiation seed
   SimulationSettings solver;
-  //! IR and solar-reflection view factors post-stratified by flat nodes (docs/radiation.md,
-  //! "Planar strata"); a reduction turns it off (its incremental trials count rays one by one).
+  //! IR and solar-reflection view-factor rows with planar control variates (docs/radiation.md,
+  //! "Planar control variates"); a reduction turns it off (its trials count rays one by one).
   bool planar_strata = true;
   //! Optional progress messages (stage names with elapsed seconds).
   std::function<void(const std::string&)> progress;
