@@ -140,9 +140,8 @@ struct RadiationSettings {
   int min_rays_per_node = 250000;
   //! Weigh each side's rays by control variates, the crossings of the flat nodes in front of
   //! it (radiation/planar_strata.h), whose unoccluded shares are known in closed form. Set by
-  //! simulate_model
-  //! (ModelSimulationSettings::planar_strata), not stored in model files; a reduction's
-  //! reference, whose rows are updated ray by ray, traces without it.
+  //! simulate_model (ModelSimulationSettings::planar_strata) and `viewfactors`, not stored in
+  //! model files; a reduction's reference, whose rows are updated ray by ray, traces without it.
   bool planar_strata = false;
 };
 
