@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "thermodec/mesh/face_geometry.h"
 #include "thermodec/radiation/polygon_view_factor.h"
@@ -69,22 +70,19 @@ int closed_side(const NodeHull& h, const std::vector<Eigen::Vector3d>& pts, doub
 
 namespace {
 
-// The hull of one flat part (faces of one node in one plane), or none if its faces cover less
-// than 90 % of it (an L-shaped plate: directions crossing the hull would mostly miss it).
-bool flat_part_hull(const Mesh& mesh, const std::vector<int>& faces, int node, const Eigen::Vector3d& normal,
-                    double offset, double area, NodeHull& h) {
+// A hull in the plane normal . y = offset from points of the node (projected onto it): its
+// frame, convex hull and the single-precision copies of the per-ray test. False if the points
+// span no area.
+bool hull_in_plane(int node, const Eigen::Vector3d& normal, double offset, const std::vector<Eigen::Vector3d>& points,
+                   NodeHull& h) {
   h.node = node;
   h.normal = normal;
   h.offset = offset;
   sampling::basis(h.normal, h.axis_u, h.axis_v);
   std::vector<Eigen::Vector2d> uv;
-  for (int f : faces)
-    for (int c = 0; c < 3; ++c) {
-      const Eigen::Vector3d x = mesh.V.row(mesh.F(f, c));
-      uv.emplace_back(h.axis_u.dot(x), h.axis_v.dot(x));
-    }
+  for (const Eigen::Vector3d& x : points) uv.emplace_back(h.axis_u.dot(x), h.axis_v.dot(x));
   h.vertices_uv = convex_hull(std::move(uv));
-  if (h.vertices_uv.size() < 3 || area < 0.9 * polygon_area(h.vertices_uv)) return false;
+  if (h.vertices_uv.size() < 3) return false;
   for (const Eigen::Vector2d& p : h.vertices_uv) h.vertices.push_back(h.offset * h.normal + p.x() * h.axis_u + p.y() * h.axis_v);
   for (int d = 0; d < 3; ++d) {
     h.fnormal[d] = float(h.normal[d]);
@@ -98,6 +96,54 @@ bool flat_part_hull(const Mesh& mesh, const std::vector<int>& faces, int node, c
     h.edges.push_back({float(-e.y()), float(e.x()), float(-e.y() * p0.x() + e.x() * p0.y())});
   }
   return true;
+}
+
+std::vector<Eigen::Vector3d> face_corners(const Mesh& mesh, const std::vector<int>& faces) {
+  std::vector<Eigen::Vector3d> x;
+  for (int f : faces)
+    for (int c = 0; c < 3; ++c) x.emplace_back(mesh.V.row(mesh.F(f, c)));
+  return x;
+}
+
+// The hull of one flat part (faces of one node in one plane), or none if its faces cover less
+// than 90 % of it (an L-shaped plate: directions crossing the hull would mostly miss it).
+bool flat_part_hull(const Mesh& mesh, const std::vector<int>& faces, int node, const Eigen::Vector3d& normal,
+                    double offset, double area, NodeHull& h) {
+  return hull_in_plane(node, normal, offset, face_corners(mesh, faces), h) && area >= 0.9 * polygon_area(h.vertices_uv);
+}
+
+// The aperture of a node shaped as a concave cap (a dish's front): its front faces' area-
+// weighted mean normal d has at least half their area (|sum A n| >= 0.5 sum A) and points
+// towards the node's centroid c on balance (sum A (c - c_f) . n_f > 0). The hull is the node's
+// outline projected onto its supporting plane normal to d, set 2e-5 x the node's size beyond
+// its farthest vertex (past the 1e-5 origin lift of its rays, sampling::make_emitter). A ray
+// from the concave side crosses it iff it leaves the cap's convex hull through the opening.
+bool aperture_hull(const Mesh& mesh, const std::vector<int>& faces, const Eigen::MatrixXd& N, const Eigen::VectorXd& A,
+                   int node, NodeHull& h) {
+  Eigen::Vector3d sum_an = Eigen::Vector3d::Zero(), c = Eigen::Vector3d::Zero();
+  double area = 0.0;
+  std::vector<Eigen::Vector3d> centroid;
+  for (int f : faces) {
+    centroid.emplace_back((mesh.V.row(mesh.F(f, 0)) + mesh.V.row(mesh.F(f, 1)) + mesh.V.row(mesh.F(f, 2))).transpose() / 3.0);
+    sum_an += A[f] * N.row(f).transpose();
+    c += A[f] * centroid.back();
+    area += A[f];
+  }
+  if (!(area > 0.0) || sum_an.norm() < 0.5 * area) return false;
+  c /= area;
+  double facing = 0.0;
+  for (std::size_t k = 0; k < faces.size(); ++k) facing += A[faces[k]] * (c - centroid[k]).dot(N.row(faces[k]).transpose());
+  if (!(facing > 0.0)) return false;
+  const Eigen::Vector3d d = sum_an.normalized();
+  const std::vector<Eigen::Vector3d> x = face_corners(mesh, faces);
+  double top = -std::numeric_limits<double>::infinity(), size = 0.0;
+  for (const Eigen::Vector3d& p : x) {
+    top = std::max(top, d.dot(p));
+    size = std::max(size, p.cwiseAbs().maxCoeff());
+  }
+  for (const Eigen::Vector3d& p : x) size = std::max(size, (p - x.front()).norm());
+  h.aperture = true;
+  return hull_in_plane(node, d, top + 2e-5 * size, x, h);
 }
 
 }  // namespace
@@ -136,7 +182,7 @@ std::vector<NodeHull> planar_node_hulls(const Mesh& mesh, const SurfaceSides& si
     into->faces.push_back(f);
     into->area += A[f];
   }
-  // The largest parts first (ties: node, then order found), at most max_hulls of them.
+  // Flat nodes, the largest parts first (ties: node, then order found), at most max_hulls.
   std::vector<const Part*> order;
   // Only nodes that are one flat part: a box-shaped node's faces as controls measured worse on
   // the sample (docs/benchmarks.md).
@@ -149,8 +195,39 @@ std::vector<NodeHull> planar_node_hulls(const Mesh& mesh, const SurfaceSides& si
     NodeHull h;
     if (flat_part_hull(mesh, p->faces, p->node, p->normal, p->offset, p->area, h)) out.push_back(std::move(h));
   }
+  // Nodes of several planes: their aperture if they are concave caps (only their own sides
+  // test it, so these do not count against max_hulls).
+  for (int j = 0; j < num_nodes; ++j) {
+    if (parts[j].size() < 2) continue;
+    std::vector<int> faces;
+    for (const Part& p : parts[j]) faces.insert(faces.end(), p.faces.begin(), p.faces.end());
+    std::sort(faces.begin(), faces.end());
+    NodeHull h;
+    if (aperture_hull(mesh, faces, N, A, j, h)) out.push_back(std::move(h));
+  }
   return out;
 }
+
+namespace {
+// SideStrata::joint for every set of two or more of the side's hulls, from the lifted triangle
+// `tri` emitting along n. A set holding a smaller one whose hulls no direction crosses
+// together (joint 0) is 0 without tracing.
+void joint_shares(const std::vector<Eigen::Vector3d>& tri, const Eigen::Vector3d& n, const std::vector<NodeHull>& hulls,
+                  SideStrata& st) {
+  const int M = 1 << st.count;
+  for (int set = 1; set < M; ++set) {
+    if ((set & (set - 1)) == 0) continue;  // one hull: its share
+    bool empty = false;
+    for (int k = 0; k < st.count && !empty; ++k)
+      if (set >> k & 1) empty = st.joint[set & ~(1 << k)] == 0.0;
+    if (empty) continue;
+    std::vector<std::vector<Eigen::Vector3d>> ps;
+    for (int k = 0; k < st.count; ++k)
+      if (set >> k & 1) ps.push_back(hulls[st.hull[k]].vertices);
+    st.joint[set] = triangle_to_polygons_view_factor(tri[0], tri[1], tri[2], n, ps);
+  }
+}
+}  // namespace
 
 std::vector<SideStrata> side_strata(const Mesh& mesh, const SurfaceSides& sides, const std::vector<NodeHull>& hulls,
                                     double min_share) {
@@ -167,9 +244,10 @@ std::vector<SideStrata> side_strata(const Mesh& mesh, const SurfaceSides& sides,
       const std::vector<Eigen::Vector3d> tri{a, a + e.e1, a + e.e2};
       cand.clear();
       for (int k = 0; k < static_cast<int>(hulls.size()); ++k) {
-        if (hulls[k].node == sides.node[s] || closed_side(hulls[k], tri, tol) == 0) continue;
+        // A flat node's hull serves the other nodes' sides, an aperture its own node's.
+        if ((hulls[k].node == sides.node[s]) != hulls[k].aperture || closed_side(hulls[k], tri, tol) == 0) continue;
         const double u = triangle_to_polygon_view_factor(tri[0], tri[1], tri[2], e.n, hulls[k].vertices);
-        if (u >= min_share) cand.emplace_back(u, k);
+        if (u >= min_share && u <= 1.0 - min_share) cand.emplace_back(u, k);  // a near-constant indicator explains nothing
       }
       std::stable_sort(cand.begin(), cand.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
       SideStrata& st = out[s];
@@ -177,8 +255,10 @@ std::vector<SideStrata> side_strata(const Mesh& mesh, const SurfaceSides& sides,
         if (st.count == kMaxStrataPerSide) break;
         st.hull[st.count] = k;
         st.share[st.count] = u;
+        st.joint[1 << st.count] = u;
         ++st.count;
       }
+      joint_shares(tri, e.n, hulls, st);
     }
   });
   return out;
@@ -208,23 +288,29 @@ int stratum_of_ray(const SideStrata& strata, const std::vector<NodeHull>& hulls,
 }
 
 namespace {
-// The means m of the crossing indicators over the side's rays (from the rays per mask) and
-// the pseudo-inverse of their covariance: a hull no ray crossed (or every ray did), or two
-// crossed by the same rays, add nothing.
+// The controls are the products c_T = prod_{k in T} c_k over every non-empty set T of the
+// side's hulls (index T - 1): c_T = 1 for a ray iff T lies within the mask of hulls it crossed.
+int num_controls(const SideStrata& strata) { return (1 << strata.count) - 1; }
+bool within(int set, int mask) { return (set & mask) == set; }
+
+// The means m of the controls over the side's rays (from the rays per mask) and the
+// pseudo-inverse of their covariance: a set no ray crossed (or every ray did), or two crossed
+// by the same rays, add nothing.
 void indicator_moments(const SideStrata& strata, const std::vector<double>& rays_per_stratum, Eigen::VectorXd& m,
                        Eigen::MatrixXd& pinv) {
-  const int k = strata.count, M = 1 << k;
+  const int k = num_controls(strata), M = 1 << strata.count;
   double R = 0.0;
   for (double n : rays_per_stratum) R += n;
   m = Eigen::VectorXd::Zero(k);
   Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(k, k);
-  for (int mask = 0; mask < M && R > 0.0; ++mask) {
+  for (int mask = 1; mask < M && R > 0.0; ++mask) {
     const double f = rays_per_stratum[mask] / R;
-    for (int p = 0; p < k; ++p) {
-      if (!(mask >> p & 1)) continue;
-      m[p] += f;
-      for (int q = 0; q < k; ++q)
-        if (mask >> q & 1) cov(p, q) += f;
+    if (f == 0.0) continue;
+    for (int p = 1; p < M; ++p) {
+      if (!within(p, mask)) continue;
+      m[p - 1] += f;
+      for (int q = 1; q < M; ++q)
+        if (within(q, mask)) cov(p - 1, q - 1) += f;
     }
   }
   cov -= m * m.transpose();
@@ -237,7 +323,7 @@ void indicator_moments(const SideStrata& strata, const std::vector<double>& rays
 }  // namespace
 
 std::vector<double> stratum_weights(const SideStrata& strata, const std::vector<double>& rays_per_stratum) {
-  const int k = strata.count, M = 1 << k;
+  const int k = num_controls(strata), M = 1 << strata.count;
   double R = 0.0;
   for (double n : rays_per_stratum) R += n;
   std::vector<double> w(M, R > 0.0 ? 1.0 / R : 0.0);
@@ -245,13 +331,13 @@ std::vector<double> stratum_weights(const SideStrata& strata, const std::vector<
   Eigen::VectorXd m, gap(k);
   Eigen::MatrixXd pinv;
   indicator_moments(strata, rays_per_stratum, m, pinv);
-  for (int p = 0; p < k; ++p) gap[p] = m[p] - strata.share[p];
+  for (int p = 1; p < M; ++p) gap[p - 1] = m[p - 1] - strata.joint[p];
   const Eigen::VectorXd b = pinv * gap;  // b = cov(c)^+ (m - U)
   const double base = 1.0 + b.dot(m);
   for (int mask = 0; mask < M; ++mask) {
     double x = base;
-    for (int p = 0; p < k; ++p)
-      if (mask >> p & 1) x -= b[p];
+    for (int p = 1; p < M; ++p)
+      if (within(p, mask)) x -= b[p - 1];
     w[mask] = x / R;
   }
   return w;
@@ -260,7 +346,7 @@ std::vector<double> stratum_weights(const SideStrata& strata, const std::vector<
 Eigen::RowVectorXd controlled_score_variance(const ControlledSide& side,
                                             const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>& score,
                                             const Eigen::RowVectorXd& space_score) {
-  const int k = side.strata.count, M = 1 << k, C = static_cast<int>(score.cols());
+  const int k = num_controls(side.strata), M = 1 << side.strata.count, C = static_cast<int>(score.cols());
   Eigen::RowVectorXd mean = Eigen::RowVectorXd::Zero(C), second = Eigen::RowVectorXd::Zero(C);
   Eigen::MatrixXd cross = Eigen::MatrixXd::Zero(k, C);  // E[c_p score]
   Eigen::RowVectorXd e(C);
@@ -272,8 +358,8 @@ Eigen::RowVectorXd controlled_score_variance(const ControlledSide& side,
       second.noalias() += f * y.cwiseAbs2();
     }
     mean += e;
-    for (int p = 0; p < k; ++p)
-      if (mask >> p & 1) cross.row(p) += e;
+    for (int p = 1; p < M; ++p)
+      if (within(p, mask)) cross.row(p - 1) += e;
   }
   Eigen::VectorXd m;
   Eigen::MatrixXd pinv;

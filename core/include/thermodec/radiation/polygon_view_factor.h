@@ -29,4 +29,19 @@ double triangle_to_polygon_view_factor(const Eigen::Vector3d& a, const Eigen::Ve
                                        const Eigen::Vector3d& n, const std::vector<Eigen::Vector3d>& p,
                                        double tolerance = 1e-9, int max_depth = 7);
 
+//! The part of the planar polygon `p` seen from x through the convex polygon `q`: `p` clipped
+//! by the planes through x and each edge of `q` (the cone of directions from x that cross `q`
+//! at a positive distance). Empty if none of it is, or if x lies in q's plane.
+std::vector<Eigen::Vector3d> clip_polygon_to_cone(const std::vector<Eigen::Vector3d>& p, const Eigen::Vector3d& x,
+                                                  const std::vector<Eigen::Vector3d>& q);
+
+//! View factor [-] from the triangle (a, b, c), emitting along `n`, to the directions that
+//! cross every polygon of `ps` (planar, convex, each at a positive distance, in any order),
+//! unoccluded: at each point x, ps[0] clipped to the front half space and to the cones from x
+//! over the others (clip_polygon_to_cone), by the same adaptive rule. The share of rays that
+//! cross two hulls together: the joint means of planar_strata.h's crossing indicators.
+double triangle_to_polygons_view_factor(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                                        const Eigen::Vector3d& n, const std::vector<std::vector<Eigen::Vector3d>>& ps,
+                                        double tolerance = 1e-9, int max_depth = 7);
+
 }  // namespace thermodec
