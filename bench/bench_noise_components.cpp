@@ -21,7 +21,8 @@
 //                            band's), to compare
 //   BENCH_EXACT_PAIRS="body_my:wing_my,..." those couplings held at the first seed's value (the
 //                            rows kept closed through the couplings to space)
-//   BENCH_NO_STRATA=1        IR rows counted without planar strata (as a reduction's reference)
+//   BENCH_NO_STRATA=1        IR rows counted without planar strata, shadows without their
+//                            controls (as a reduction's reference)
 //   BENCH_PAIRS="wing_my:boom,dish:space" (with BENCH_ONLY_PAIRS=1: nothing else) both
 //                            directions' one-way couplings per seed
 // Usage: bench_noise_components [MODEL]
@@ -126,6 +127,7 @@ struct Study {
   Loads loads(int seed, const FaceViewFactors& v) const {
     ExternalLoadSettings ls;
     ls.seed = seed;
+    ls.planar_shadow_controls = std::getenv("BENCH_NO_STRATA") == nullptr;  // as simulate samples
     return external_loads(model, *scene, sides, &v, ls);
   }
   // The first seed's view factors with the rows of the sides `moves` picks from seed k's.

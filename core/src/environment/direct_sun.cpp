@@ -18,6 +18,7 @@
 #include <string>
 
 #include "load_run.h"
+#include "shadow_controls.h"
 
 namespace thermodec::load_rays {
 namespace {
@@ -51,13 +52,32 @@ std::vector<char> may_be_shadowed(const std::vector<Side>& geo, const Occluders&
   return out;
 }
 
+// Points from..to of a side traced along d in groups by the set of hulls their rays cross
+// (shadow_controls.h): adds each set's points to n[mask] and its open ones to open[mask];
+// returns how many are open.
+int count_open_by_mask(SideTracer& tracer, const std::vector<std::array<float, 3>>& points, int from, int to,
+                       const float* d, const SideStrata& strata, const std::vector<NodeHull>& hulls,
+                       std::vector<double>& n, std::vector<double>& open) {
+  std::vector<std::vector<std::array<float, 3>>> by_mask(n.size());
+  for (int k = from; k < to; ++k) by_mask[stratum_of_ray(strata, hulls, points[k].data(), d)].push_back(points[k]);
+  int total = 0;
+  for (std::size_t m = 0; m < by_mask.size(); ++m) {
+    if (by_mask[m].empty()) continue;
+    const int o = tracer.count_open(by_mask[m].data(), 0, static_cast<int>(by_mask[m].size()), d);
+    n[m] += static_cast<double>(by_mask[m].size());
+    open[m] += o;
+    total += o;
+  }
+  return total;
+}
+
 }  // namespace
 
 Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
                                 const Eigen::Vector3d& toward, const Eigen::VectorXi& side_rays, int pilot_rays,
                                 std::uint64_t seed, const tracing::SobolTable& sobol, const Occluders& occ,
                                 const PassContext& pass, std::vector<std::vector<std::array<float, 3>>>& origins,
-                                const std::vector<char>* todo) {
+                                const std::vector<char>* todo, const std::vector<NodeHull>* controls) {
   const int ns = sides.size();
   Eigen::VectorXd frac = Eigen::VectorXd::Zero(ns);
   const float dir[3] = {float(toward.x()), float(toward.y()), float(toward.z())};
@@ -89,9 +109,26 @@ Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& 
         return open;
       };
       const auto sd = side_seeds(seed, sides.key[s], 1);
-      const int open_pilot = trace(sd, 0, pilot);
-      if (open_pilot == 0 || open_pilot == pilot || pilot == rays) {
+      // Shadow control variates (a pass that keeps no records): the side's points counted by
+      // the set of hulls their rays cross, the lit fraction post-stratified by those sets.
+      const SideStrata strata = controls && !recording && !pass.ref_records
+                                    ? shadow_strata(g, sides.node[s], toward, *controls)
+                                    : SideStrata{};
+      std::vector<double> n(std::size_t(1) << strata.count, 0.0), open(n.size(), 0.0);
+      const auto count = [&](int from, int to) {
+        if (strata.count == 0) return trace(sd, from, to);
+        trace(sd, to, to);  // draws the points up to `to` (traces none)
+        return count_open_by_mask(tracer, origins[s], from, to, dir, strata, *controls, n, open);
+      };
+      const int open_pilot = count(0, pilot);
+      if (open_pilot == 0 || open_pilot == pilot || (pilot == rays && strata.count == 0)) {
         frac[s] = double(open_pilot) / pilot;
+      } else if (strata.count > 0) {
+        if (pilot < rays) count(pilot, rays);
+        const std::vector<double> w = stratum_weights(strata, n);
+        double lit = 0.0;
+        for (std::size_t m = 0; m < n.size(); ++m) lit += w[m] * open[m];
+        frac[s] = std::clamp(lit, 0.0, 1.0);
       } else {
         frac[s] = double(open_pilot + trace(sd, pilot, rays)) / rays;
       }
@@ -154,7 +191,8 @@ void direct_sun_loads(LoadRun& run) {
           run.make_pass(ref && static_cast<int>(ref->sun_records.size()) == steps ? &ref->sun_records[k] : nullptr,
                         &run.reused_sun_rays, &run.traced_sun_rays);
       lit = sunlit_fraction(run.scene, geo, sides, st.sun_direction_body, sun_rays, run.settings.sun_pilot_rays,
-                            pass_seed, run.sobol(), run.occ, pass, sun_points, ref ? &todo : nullptr);
+                            pass_seed, run.sobol(), run.occ, pass, sun_points, ref ? &todo : nullptr,
+                            ref || run.shadow_hulls.empty() ? nullptr : &run.shadow_hulls);
       if (pass.recording() && run.recorder.active()) samples->sun_records[k] = run.take_records();
       if (ref)
         for (int s = 0; s < ns; ++s)

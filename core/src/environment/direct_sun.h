@@ -8,6 +8,7 @@
 #include "load_sides.h"
 #include "occluders.h"
 #include "ray_records.h"
+#include "thermodec/radiation/planar_strata.h"
 #include "thermodec/rays/ray_scene.h"
 #include "thermodec/rays/surface_sides.h"
 #include "thermodec/rays/tracing.h"
@@ -21,11 +22,13 @@ namespace thermodec::load_rays {
 // between all P pilot points is missed; it then covers well under 1/P of the face (measured on
 // the sample: P = 16 left 0.6 W seed-to-seed differences on single nodes, P = 64 < 0.2 W).
 // `origins` (per side, filled on first use): the sample points, kept for the next pass unless
-// the caller clears them (a pass with its own seed draws its own points).
+// the caller clears them (a pass with its own seed draws its own points). `controls` (a run that
+// keeps no records): the hulls whose crossings post-stratify the partly lit sides' points
+// (shadow_controls.h); the pilot still decides fully lit or shadowed sides.
 Eigen::VectorXd sunlit_fraction(const RayScene& scene, const std::vector<Side>& geo, const SurfaceSides& sides,
                                 const Eigen::Vector3d& toward, const Eigen::VectorXi& side_rays, int pilot_rays,
                                 std::uint64_t seed, const tracing::SobolTable& sobol, const Occluders& occ,
                                 const PassContext& pass, std::vector<std::vector<std::array<float, 3>>>& origins,
-                                const std::vector<char>* todo = nullptr);
+                                const std::vector<char>* todo = nullptr, const std::vector<NodeHull>* controls = nullptr);
 
 }  // namespace thermodec::load_rays

@@ -29,6 +29,8 @@ LoadRun::LoadRun(const ThermalModel& model_in, const RayScene& scene_in, const S
   geo = side_geometry(scene.mesh(), sides);
   alpha = side_absorptivity(model, sides);
   eps = side_emissivity(model, sides);
+  if (settings.planar_shadow_controls && !ref && ns > 0)
+    shadow_hulls = planar_node_hulls(scene.mesh(), sides, sides.node.maxCoeff() + 1);
 
   orbit = env.type == EnvironmentType::orbit;
   steps = orbit ? (settings.steps_per_orbit > 0 ? settings.steps_per_orbit : model.analysis.steps_per_orbit) : 1;

@@ -16,6 +16,7 @@
 #include "ray_records.h"
 #include "thermodec/environment/external_loads.h"
 #include "thermodec/environment/orbit.h"
+#include "thermodec/radiation/planar_strata.h"
 #include "thermodec/rays/tracing.h"
 
 namespace thermodec::load_rays {
@@ -58,6 +59,9 @@ struct LoadRun {
   Eigen::MatrixXd sun_variance;  // #nodes x steps: variance [W^2] of the direct sun's shadow samples
   std::vector<int> ref_of;  // per side: its twin (same key) in the reference, -1 if none
   std::shared_ptr<const tracing::SobolTable> table;  // one Sobol table for every pass
+  // Shadow control variates (ExternalLoadSettings::planar_shadow_controls, no reference): the
+  // flat nodes' hulls and the concave caps' apertures (planar_node_hulls); empty = off.
+  std::vector<NodeHull> shadow_hulls;
   Occluders occ;
   std::optional<ChangeReach> reach;  // with a reference: which sides the change can reach
   ChangeBox change_box;

@@ -90,6 +90,7 @@ SimulationResult solve_stamped(const ThermalModel& model, const NodeCouplings& c
 ExternalLoadSettings chain_load_settings(const ThermalModel& model, const ModelSimulationSettings& settings) {
   ExternalLoadSettings s = settings.loads;
   s.seed = model.radiation.seed;
+  s.planar_shadow_controls = settings.planar_strata;
   return s;
 }
 

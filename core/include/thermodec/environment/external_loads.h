@@ -91,6 +91,12 @@ struct ExternalLoadSettings {
   //! error for the whole orbit (docs/thermal.md). The same rays either way. false: every pass
   //! traces the same points.
   bool transient_shadow_passes = true;
+  //! Shadow control variates: the partly lit sides' sample points post-stratified by the
+  //! flat nodes' hulls (and a concave cap's aperture for its own sides) that their sun rays
+  //! cross, whose shares of the side are exact (docs/environment.md, "Shadow control
+  //! variates"). `simulate` turns it on with the view factors' planar control variates
+  //! (chain_load_settings); a reduction, whose trials re-trace single rays, leaves it off.
+  bool planar_shadow_controls = false;
   std::uint64_t seed = 1;         //!< sampling seed (combined with each side's identity)
   bool solar_reflections = true;  //!< solar-band diffuse reflections between faces
   //! Memory cap [bytes] for the per-ray records of LoadSamples (what each sun and Earth ray

@@ -36,7 +36,8 @@ SimulationResult simulate_model(const ThermalModel& model, const ModelSimulation
                                 NodeCouplings* couplings_out = nullptr);
 
 //! The load settings of a simulation of `model`: settings.loads with the model's Monte Carlo
-//! seed (model.radiation.seed). The one place a simulation's load sampling takes its seed.
+//! seed (model.radiation.seed) and, with settings.planar_strata, the shadow control variates.
+//! The one place a simulation's load sampling takes its seed.
 ExternalLoadSettings chain_load_settings(const ThermalModel& model, const ModelSimulationSettings& settings);
 
 //! The chain's external loads, given its ray scene and face view factors (which also carry
