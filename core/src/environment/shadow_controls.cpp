@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "thermodec/radiation/polygon_view_factor.h"
+#include "thermodec/radiation/side_strata_of.h"
 
 namespace thermodec::load_rays {
 namespace {
@@ -75,28 +76,9 @@ SideStrata shadow_strata(const Side& g, int node, const Eigen::Vector3d& toward,
     const double s = shadow_share(g, toward, {hulls[k].vertices});
     if (s >= kMin && s <= 1.0 - kMin) cand.emplace_back(s, k);
   }
-  std::stable_sort(cand.begin(), cand.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
-  SideStrata st;
-  for (const auto& [s, k] : cand) {
-    if (st.count == kMaxStrataPerSide) break;
-    st.hull[st.count] = k;
-    st.share[st.count] = s;
-    st.joint[1 << st.count] = s;
-    ++st.count;
-  }
-  const int M = 1 << st.count;
-  for (int set = 1; set < M; ++set) {
-    if ((set & (set - 1)) == 0) continue;
-    bool empty = false;
-    for (int k = 0; k < st.count && !empty; ++k)
-      if (set >> k & 1) empty = st.joint[set & ~(1 << k)] == 0.0;
-    if (empty) continue;
-    std::vector<std::vector<Eigen::Vector3d>> ps;
-    for (int k = 0; k < st.count; ++k)
-      if (set >> k & 1) ps.push_back(hulls[st.hull[k]].vertices);
-    st.joint[set] = shadow_share(g, toward, ps);
-  }
-  return st;
+  return side_strata_of(cand, hulls, [&](const std::vector<std::vector<Eigen::Vector3d>>& ps) {
+    return shadow_share(g, toward, ps);
+  });
 }
 
 }  // namespace thermodec::load_rays

@@ -11,6 +11,7 @@
 
 #include "thermodec/mesh/face_geometry.h"
 #include "thermodec/radiation/polygon_view_factor.h"
+#include "thermodec/radiation/side_strata_of.h"
 #include "thermodec/rays/tracing.h"
 
 namespace thermodec {
@@ -208,27 +209,6 @@ std::vector<NodeHull> planar_node_hulls(const Mesh& mesh, const SurfaceSides& si
   return out;
 }
 
-namespace {
-// SideStrata::joint for every set of two or more of the side's hulls, from the lifted triangle
-// `tri` emitting along n. A set holding a smaller one whose hulls no direction crosses
-// together (joint 0) is 0 without tracing.
-void joint_shares(const std::vector<Eigen::Vector3d>& tri, const Eigen::Vector3d& n, const std::vector<NodeHull>& hulls,
-                  SideStrata& st) {
-  const int M = 1 << st.count;
-  for (int set = 1; set < M; ++set) {
-    if ((set & (set - 1)) == 0) continue;  // one hull: its share
-    bool empty = false;
-    for (int k = 0; k < st.count && !empty; ++k)
-      if (set >> k & 1) empty = st.joint[set & ~(1 << k)] == 0.0;
-    if (empty) continue;
-    std::vector<std::vector<Eigen::Vector3d>> ps;
-    for (int k = 0; k < st.count; ++k)
-      if (set >> k & 1) ps.push_back(hulls[st.hull[k]].vertices);
-    st.joint[set] = triangle_to_polygons_view_factor(tri[0], tri[1], tri[2], n, ps);
-  }
-}
-}  // namespace
-
 std::vector<SideStrata> side_strata(const Mesh& mesh, const SurfaceSides& sides, const std::vector<NodeHull>& hulls,
                                     double min_share) {
   const int S = sides.size();
@@ -249,16 +229,9 @@ std::vector<SideStrata> side_strata(const Mesh& mesh, const SurfaceSides& sides,
         const double u = triangle_to_polygon_view_factor(tri[0], tri[1], tri[2], e.n, hulls[k].vertices);
         if (u >= min_share && u <= 1.0 - min_share) cand.emplace_back(u, k);  // a near-constant indicator explains nothing
       }
-      std::stable_sort(cand.begin(), cand.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
-      SideStrata& st = out[s];
-      for (const auto& [u, k] : cand) {
-        if (st.count == kMaxStrataPerSide) break;
-        st.hull[st.count] = k;
-        st.share[st.count] = u;
-        st.joint[1 << st.count] = u;
-        ++st.count;
-      }
-      joint_shares(tri, e.n, hulls, st);
+      out[s] = side_strata_of(cand, hulls, [&](const std::vector<std::vector<Eigen::Vector3d>>& ps) {
+        return triangle_to_polygons_view_factor(tri[0], tri[1], tri[2], e.n, ps);
+      });
     }
   });
   return out;
